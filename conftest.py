@@ -1,0 +1,99 @@
+"""pytest set-up shared by every test of the suite.
+
+Fixtures:
+- ``shared_data``: the reference data folder ``../shared/data`` (skips with a
+  clear message where it is absent, as in a user's clone);
+- ``grass_session``: a GRASS session in a fresh temporary location
+  (EPSG:28992) with the suite staged in ``dist/`` on the module path, for
+  module tests; skips when GRASS is not installed.
+- ``mapset``: a fresh mapset in that location for one test, made current.
+"""
+
+import os
+import shutil
+import subprocess
+import sys
+import uuid
+
+import pytest
+
+ROOT = os.path.dirname(os.path.abspath(__file__))
+DIST = os.environ.get("HISTO_DIST", os.path.join(ROOT, "dist"))
+SHARED_DATA = os.path.abspath(os.path.join(ROOT, "..", "shared", "data"))
+SCHEMAS = os.path.abspath(os.path.join(ROOT, "..", "shared", "schemas"))
+
+if ROOT not in sys.path:
+    sys.path.insert(0, ROOT)
+TESTSUITE = os.path.join(ROOT, "testsuite")
+if TESTSUITE not in sys.path:
+    sys.path.insert(0, TESTSUITE)
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "grass: needs GRASS GIS and the staged suite")
+    config.addinivalue_line("markers", "acceptance: runs on the reference data in ../shared/data")
+
+
+def _need(path, what):
+    if not os.path.exists(path):
+        pytest.skip("{} not found at '{}': reference data is only beside the project "
+                    "checkout (see ../shared/data/README.md)".format(what, path))
+    return path
+
+
+@pytest.fixture(scope="session")
+def shared_data():
+    return _need(SHARED_DATA, "reference data folder")
+
+
+@pytest.fixture(scope="session")
+def schemas():
+    return _need(SCHEMAS, "CityJSON schemas")
+
+
+def _grass_gisbase():
+    grass = shutil.which("grass")
+    if not grass:
+        return None
+    out = subprocess.run([grass, "--config", "path"], capture_output=True, text=True)
+    return out.stdout.strip() or None
+
+
+@pytest.fixture(scope="session")
+def grass_session(tmp_path_factory):
+    """A GRASS session in a temporary EPSG:28992 location with the staged suite."""
+    gisbase = _grass_gisbase()
+    if not gisbase:
+        pytest.skip("GRASS GIS is not installed (run the tests through `make test`)")
+    if not os.path.isdir(os.path.join(DIST, "scripts")):
+        pytest.skip("the suite is not built in dist/ (run the tests through `make test`)")
+    dbase = str(tmp_path_factory.mktemp("grassdata"))
+    location = "histo_test"
+    subprocess.run(["grass", "-c", "EPSG:28992", os.path.join(dbase, location), "-e"],
+                   check=True, capture_output=True)
+    python_path = os.path.join(gisbase, "etc", "python")
+    if python_path not in sys.path:
+        sys.path.insert(0, python_path)
+    os.environ["GRASS_ADDON_BASE"] = DIST
+    os.environ["PATH"] = os.pathsep.join(
+        [os.path.join(DIST, "scripts"), os.path.join(DIST, "bin"), os.environ["PATH"]])
+    os.environ.pop("GRASS_OVERWRITE", None)
+    import grass.script as gs
+    import grass.script.setup  # noqa: F401  (8.2 needs the explicit import)
+
+    gs.setup.init(gisbase, dbase, location, "PERMANENT")
+    yield {"gisbase": gisbase, "dbase": dbase, "location": location}
+    gs.setup.finish()
+
+
+@pytest.fixture
+def mapset(grass_session):
+    """A fresh mapset, current for the duration of one test."""
+    import grass.script as gs
+
+    name = "t_" + uuid.uuid4().hex[:8]
+    gs.run_command("g.mapset", flags="c", mapset=name, quiet=True)
+    yield name
+    gs.run_command("g.mapset", mapset="PERMANENT", quiet=True)
+    shutil.rmtree(os.path.join(grass_session["dbase"], grass_session["location"], name),
+                  ignore_errors=True)

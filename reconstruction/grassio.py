@@ -1,0 +1,307 @@
+"""GRASS input and output shared by the histo modules.
+
+This is the only part of the library that talks to GRASS: it moves rasters
+into numpy arrays and vector maps into shapely geometries with their
+attributes, and back. Everything else in the library is pure.
+
+Vector maps travel through a temporary GeoJSON file (v.out.ogr / v.in.ogr),
+which keeps categories, attribute columns and area topology (shared
+boundaries, holes) without any extra Python dependency.
+"""
+
+import atexit
+import json
+import math
+import os
+import shutil
+import tempfile
+
+import numpy as np
+
+import grass.script as gs
+
+_TEMP_MAPS = {"raster": set(), "vector": set()}
+_TEMP_FILES = set()
+_CLEANUP_REGISTERED = []
+
+
+def _cleanup():
+    for kind, names in _TEMP_MAPS.items():
+        if names:
+            gs.run_command(
+                "g.remove", flags="f", type=kind, name=",".join(sorted(names)),
+                quiet=True, errors="ignore",
+            )
+            names.clear()
+    for path in list(_TEMP_FILES):
+        shutil.rmtree(path, ignore_errors=True)
+        _TEMP_FILES.discard(path)
+
+
+def _ensure_cleanup():
+    if not _CLEANUP_REGISTERED:
+        atexit.register(_cleanup)
+        _CLEANUP_REGISTERED.append(True)
+
+
+def register_cleanup():
+    """Register removal of every temporary map and file at exit.
+
+    Call right after ``gs.parser()``; temporary names made by
+    :func:`temp_map` and :func:`temp_file` are then removed on success and on
+    failure alike.
+    """
+    _ensure_cleanup()
+
+
+def temp_map(kind, prefix):
+    """A unique temporary map name of ``kind`` (raster or vector), removed at exit."""
+    _ensure_cleanup()
+    name = gs.append_uuid("tmp_histo_{}".format(prefix)).replace("-", "_")
+    _TEMP_MAPS[kind].add(name)
+    return name
+
+
+def temp_file(suffix=""):
+    """A path for a temporary file (not created yet), removed at exit."""
+    _ensure_cleanup()
+    directory = tempfile.mkdtemp(prefix="histo_")
+    _TEMP_FILES.add(directory)
+    return os.path.join(directory, "data" + suffix)
+
+
+def forget_temp_map(kind, name):
+    """Keep a temporary map (e.g. after renaming it to a real output)."""
+    _TEMP_MAPS[kind].discard(name)
+
+
+# ---------------------------------------------------------------------------
+# Checks
+# ---------------------------------------------------------------------------
+
+def require_projected():
+    """Fail unless the current location has a projected CRS in metres."""
+    proj = gs.parse_command("g.proj", flags="g")
+    name = proj.get("name", "")
+    if proj.get("proj", "") in ("ll", "") or "lat" in name.lower() and "long" in name.lower():
+        gs.fatal(
+            _("Location is not projected: the histo modules need map units in metres "
+              "(e.g. EPSG:28992); create a projected location and import the maps there")
+        )
+    units = proj.get("units", proj.get("unit", "")).lower()
+    if units and not units.startswith("met"):
+        gs.warning(_("Map units are <{}>, not metres: sizes are taken in map units").format(units))
+
+
+def require_raster(name):
+    if not gs.find_file(name, element="cell")["fullname"]:
+        gs.fatal(_("Raster map <{}> not found").format(name))
+
+
+def require_vector(name):
+    if not gs.find_file(name, element="vector")["fullname"]:
+        gs.fatal(_("Vector map <{}> not found").format(name))
+
+
+def require_new_file(path, option):
+    """Fail if an output file exists and --overwrite was not given."""
+    if path and os.path.exists(path) and not gs.overwrite():
+        gs.fatal(_("File '{}' given as {}= exists; use --overwrite to replace it").format(path, option))
+
+
+def vector_counts(name):
+    """Topology counts of a vector map (points, areas, ...) as integers."""
+    info = gs.vector_info_topo(name)
+    return {k: int(v) for k, v in info.items() if isinstance(v, (int, float))}
+
+
+# ---------------------------------------------------------------------------
+# Rasters
+# ---------------------------------------------------------------------------
+
+def region():
+    """The current computational region as a dict of floats and ints."""
+    reg = gs.region()
+    return reg
+
+
+def raster_region_matches(names):
+    """True when all rasters share extent and resolution."""
+    infos = [gs.raster_info(n) for n in names]
+    keys = ("north", "south", "east", "west", "nsres", "ewres")
+    first = infos[0]
+    return all(all(abs(float(i[k]) - float(first[k])) < 1e-6 for k in keys) for i in infos[1:])
+
+
+def read_raster(name, dtype=np.float64):
+    """Read a raster in the current region into a numpy array (NULL -> nan)."""
+    from grass.script import array as garray
+
+    arr = garray.array(mapname=name, dtype=dtype)
+    return np.array(arr)
+
+
+def write_raster(name, values, title=None, cell=True, null=None):
+    """Write a numpy array (current region) as a raster map.
+
+    ``cell=True`` writes a CELL map with ``null`` as the NULL value.
+    """
+    from grass.script import array as garray
+
+    arr = garray.array(dtype=np.int32 if cell else np.float64)
+    arr[...] = values
+    arr.write(name, title=title, null=null, overwrite=gs.overwrite())
+
+
+# ---------------------------------------------------------------------------
+# Vectors
+# ---------------------------------------------------------------------------
+
+def _read_geojson(name, layer, feature_type, where=None):
+    path = temp_file(".geojson")
+    kwargs = {}
+    if where:
+        kwargs["where"] = where
+    # stderr is kept back: v.out.ogr warns about every unlabelled area (holes)
+    proc = gs.start_command(
+        "v.out.ogr", input=name, layer=layer, type=feature_type, output=path,
+        format="GeoJSON", flags="m", overwrite=True, quiet=True,
+        stderr=gs.PIPE, **kwargs,
+    )
+    _, err = proc.communicate()
+    if proc.returncode != 0 or not os.path.exists(path):
+        gs.fatal(_("Cannot read {} features of vector map <{}>: {}").format(
+            feature_type, name, gs.decode(err).strip()))
+    with open(path) as f:
+        data = json.load(f)
+    return data.get("features", [])
+
+
+def read_features(name, feature_type="area", layer=1, where=None):
+    """Read the features of a vector map.
+
+    Returns ``(geometries, attributes)``: a list of shapely geometries (areas of
+    one category merged into one (Multi)Polygon) and a dict column -> list of
+    values, always with a ``cat`` column.
+    """
+    from shapely.geometry import shape
+
+    features = _read_geojson(name, layer, feature_type, where)
+    geoms = []
+    columns = {}
+    for i, feature in enumerate(features):
+        geoms.append(shape(feature["geometry"]) if feature.get("geometry") else None)
+        props = feature.get("properties") or {}
+        for key, value in props.items():
+            columns.setdefault(key, [None] * i).append(value)
+        for key in columns:
+            if len(columns[key]) < i + 1:
+                columns[key].append(None)
+    if "cat" not in columns:
+        columns["cat"] = list(range(1, len(geoms) + 1))
+    return geoms, columns
+
+
+def read_points(name, layer=1, where=None):
+    """Read points as an (n, 2) array and their attribute columns."""
+    geoms, columns = read_features(name, "point", layer, where)
+    xy = np.array([[g.x, g.y] for g in geoms], dtype=float).reshape(-1, 2)
+    return xy, columns
+
+
+def _json_value(value):
+    if value is None:
+        return None
+    if isinstance(value, (np.integer,)):
+        return int(value)
+    if isinstance(value, (np.floating, float)):
+        value = float(value)
+        return None if math.isnan(value) else value
+    if isinstance(value, np.bool_):
+        return int(value)
+    return value
+
+
+def write_features(name, geometries, columns=None, snap=-1, feature_type=None,
+                   title=None, cats=None):
+    """Write shapely geometries with attribute columns as a new vector map.
+
+    ``columns`` is a dict of column name -> sequence of values (int, float,
+    str or None); the map gets a ``cat`` column from ``cats`` (default 1..n).
+    Polygons become areas with shared boundaries where they touch.
+    """
+    from shapely.geometry import mapping
+
+    columns = dict(columns or {})
+    n = len(geometries)
+    cats = list(cats) if cats is not None else list(range(1, n + 1))
+    features = []
+    for i, geom in enumerate(geometries):
+        props = {"cat": int(cats[i])}
+        for key, values in columns.items():
+            props[key] = _json_value(values[i])
+        features.append({"type": "Feature", "geometry": mapping(geom), "properties": props})
+    path = temp_file(".geojson")
+    with open(path, "w") as f:
+        json.dump({"type": "FeatureCollection", "features": features}, f)
+    kwargs = {"snap": snap, "key": "cat"}
+    if feature_type:
+        kwargs["type"] = feature_type
+    # Geometry only: the table is written below with quoted column names, since
+    # domain names such as "case" are SQL keywords that v.in.ogr cannot create.
+    gs.run_command(
+        "v.in.ogr", input=path, output=name, flags="ot", quiet=True,
+        overwrite=gs.overwrite(), **kwargs,
+    )
+    _write_table(name, cats, columns)
+    if title:
+        gs.run_command("v.support", map=name, comment=title, quiet=True)
+    return name
+
+
+def _sql_type(values):
+    kinds = {type(_json_value(v)) for v in values if _json_value(v) is not None}
+    if kinds and kinds <= {int, bool}:
+        return "INTEGER"
+    if kinds and kinds <= {int, float, bool}:
+        return "DOUBLE PRECISION"
+    return "TEXT"
+
+
+def _sql_literal(value, sql_type):
+    value = _json_value(value)
+    if value is None:
+        return "NULL"
+    if sql_type == "INTEGER":
+        return str(int(value))
+    if sql_type == "DOUBLE PRECISION":
+        return repr(float(value))
+    return "'{}'".format(str(value).replace("'", "''"))
+
+
+def _write_table(name, cats, columns):
+    """Create the attribute table of a new map in one transaction and link it."""
+    table = name.split("@")[0]
+    types = {key: _sql_type(values) for key, values in columns.items()}
+    definition = ", ".join(['"cat" INTEGER PRIMARY KEY'] + [
+        '"{}" {}'.format(key, sql_type) for key, sql_type in types.items()])
+    lines = ['DROP TABLE IF EXISTS "{}";'.format(table),
+             'CREATE TABLE "{}" ({});'.format(table, definition), "BEGIN TRANSACTION;"]
+    names = ", ".join(['"cat"'] + ['"{}"'.format(k) for k in columns])
+    for i, cat in enumerate(cats):
+        values = [str(int(cat))] + [_sql_literal(columns[k][i], t) for k, t in types.items()]
+        lines.append('INSERT INTO "{}" ({}) VALUES ({});'.format(table, names, ", ".join(values)))
+    lines.append("COMMIT;")
+    sql = temp_file(".sql")
+    with open(sql, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    gs.run_command("db.execute", input=sql, quiet=True)
+    gs.run_command("v.db.connect", map=name, table=table, key="cat", layer=1, flags="o", quiet=True)
+
+
+def column_names(name, layer=1):
+    """Attribute column names of a vector map (empty when it has no table)."""
+    try:
+        return list(gs.vector_columns(name, layer=layer).keys())
+    except Exception:
+        return []
