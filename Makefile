@@ -7,7 +7,10 @@
 #  - the project's own commands (deps, build, test, demo, bench), which set up
 #    everything they need on a fresh Debian machine first.
 
-PGM = histo
+# The toolbox's own page (histo.html). Written with `override` on purpose:
+# g.extension lists every Makefile line starting with "PGM" as a module, and
+# the toolbox page is not a module.
+override PGM := histo
 
 # Library first, then the modules (explicit: a wildcard would pick up testsuite/).
 SUBDIRS = \
@@ -95,9 +98,10 @@ demo: build
 bench: build
 	bash testsuite/benchmarks/run_all.sh
 
-# Install for the current user, through g.extension from this checkout.
+# Install for the current user, through g.extension from this checkout
+# (offline), into $$GRASS_ADDON_BASE or ~/.grass8/addons.
 user-install: deps
-	bash demo/g_extension_install.sh "$(CURDIR)"
+	bash tools/g_extension_install.sh "$(CURDIR)"
 
 clean-dist:
 	rm -rf $(DIST) $(STAMPS)
