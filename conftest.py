@@ -81,7 +81,7 @@ def grass_session(tmp_path_factory):
     import grass.script as gs
     import grass.script.setup  # noqa: F401  (8.2 needs the explicit import)
 
-    gs.setup.init(gisbase, dbase, location, "PERMANENT")
+    gs.setup.init(dbase, location, "PERMANENT", grass_path=gisbase)
     yield {"gisbase": gisbase, "dbase": dbase, "location": location}
     gs.setup.finish()
 

@@ -27,7 +27,7 @@ _CLEANUP_REGISTERED = []
 
 def _cleanup():
     for kind, names in _TEMP_MAPS.items():
-        if names:
+        if names and os.environ.get("GISRC"):
             gs.run_command(
                 "g.remove", flags="f", type=kind, name=",".join(sorted(names)),
                 quiet=True, errors="ignore",
@@ -137,7 +137,8 @@ def read_raster(name, dtype=np.float64):
     """Read a raster in the current region into a numpy array (NULL -> nan)."""
     from grass.script import array as garray
 
-    arr = garray.array(mapname=name, dtype=dtype)
+    null = np.nan if np.dtype(dtype).kind == "f" else None
+    arr = garray.array(mapname=name, dtype=dtype, null=null)
     return np.array(arr)
 
 
@@ -165,7 +166,8 @@ def _read_geojson(name, layer, feature_type, where=None):
     # stderr is kept back: v.out.ogr warns about every unlabelled area (holes)
     proc = gs.start_command(
         "v.out.ogr", input=name, layer=layer, type=feature_type, output=path,
-        format="GeoJSON", flags="m", overwrite=True, quiet=True,
+        format="GeoJSON", flags="" if feature_type == "point" else "m",
+        overwrite=True, quiet=True,
         stderr=gs.PIPE, **kwargs,
     )
     _, err = proc.communicate()
@@ -295,8 +297,11 @@ def _write_table(name, cats, columns):
     sql = temp_file(".sql")
     with open(sql, "w") as f:
         f.write("\n".join(lines) + "\n")
-    gs.run_command("db.execute", input=sql, quiet=True)
-    gs.run_command("v.db.connect", map=name, table=table, key="cat", layer=1, flags="o", quiet=True)
+    connection = gs.db_connection(force=True)
+    gs.run_command("db.execute", input=sql, driver=connection["driver"],
+                   database=connection["database"], quiet=True)
+    gs.run_command("v.db.connect", map=name, table=table, key="cat", layer=1, flags="o",
+                   driver=connection["driver"], database=connection["database"], quiet=True)
 
 
 def column_names(name, layer=1):

@@ -1,0 +1,75 @@
+"""GRASS I/O of the core library, in a temporary GRASS location."""
+
+import numpy as np
+import pytest
+from shapely.geometry import Point, Polygon, box
+
+pytestmark = pytest.mark.grass
+
+
+@pytest.fixture
+def io(mapset):
+    import grass.script as gs
+
+    from reconstruction import grassio
+
+    gs.run_command("g.region", n=446100, s=446000, e=84100, w=84000, res=1)
+    return grassio
+
+
+def test_areas_round_trip_keeps_cats_holes_shared_edges_and_keyword_columns(io):
+    import grass.script as gs
+
+    courtyard = Polygon([(84050, 446050), (84090, 446050), (84090, 446090), (84050, 446090)],
+                        [[(84060, 446060), (84080, 446060), (84080, 446080), (84060, 446080)]])
+    geoms = [box(84000, 446000, 84010, 446010), box(84010, 446000, 84020, 446010), courtyard]
+    io.write_features("plots", geoms, {"case": [1, 2, 3], "eaves": [6.5, None, 9.25],
+                                       "source": ["2pm", "aligned", "o'neil"]}, cats=[5, 6, 9])
+    topo = gs.vector_info_topo("plots")
+    assert topo["areas"] == 4  # three plots and the courtyard hole
+    assert topo["centroids"] == 3
+    read, columns = io.read_features("plots")
+    order = np.argsort(columns["cat"])
+    assert [columns["cat"][i] for i in order] == [5, 6, 9]
+    assert [columns["case"][i] for i in order] == [1, 2, 3]
+    assert [columns["eaves"][i] for i in order] == [6.5, None, 9.25]
+    assert [columns["source"][i] for i in order] == ["2pm", "aligned", "o'neil"]
+    areas = [read[i].area for i in order]
+    assert areas == pytest.approx([100, 100, 1600 - 400])
+    assert read[order[0]].intersection(read[order[1]]).area == 0
+    assert read[order[0]].touches(read[order[1]])
+
+
+def test_points_round_trip(io):
+    io.write_features("pts", [Point(84001.5, 446002.5), Point(84050, 446070)],
+                      {"label": [1, 4], "class": ["building", "street"]})
+    xy, columns = io.read_points("pts")
+    assert xy.shape == (2, 2)
+    assert sorted(map(tuple, xy)) == [(84001.5, 446002.5), (84050.0, 446070.0)]
+    assert sorted(columns["class"]) == ["building", "street"]
+
+
+def test_raster_round_trip_with_nulls(io):
+    values = np.arange(100 * 100, dtype=np.int32).reshape(100, 100) % 7
+    values[0, 0] = -1
+    io.write_raster("cls", values, null=-1)
+    back = io.read_raster("cls")
+    assert np.isnan(back[0, 0])
+    assert np.array_equal(back[1:, :], values[1:, :])
+    assert back[0, 1] == values[0, 1]
+
+
+def test_temporary_maps_are_removed_at_cleanup(io):
+    import grass.script as gs
+
+    name = io.temp_map("vector", "t")
+    io.write_features(name, [box(84000, 446000, 84010, 446010)])
+    assert gs.find_file(name, element="vector")["fullname"]
+    io._cleanup()
+    assert not gs.find_file(name, element="vector")["fullname"]
+
+
+def test_region_check_and_projection(io):
+    io.require_projected()  # EPSG:28992: passes
+    io.write_raster("a", np.zeros((100, 100), dtype=np.int32))
+    assert io.raster_region_matches(["a", "a"])
