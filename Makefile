@@ -58,8 +58,8 @@ $(STAMPS)/apt:
 	    && command -v svn >/dev/null 2>&1; then \
 	  echo "GRASS GIS and its Make system are installed"; \
 	else \
-	  apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends \
-	    grass-core grass-dev subversion make gcc; \
+	  apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q \
+	    grass-core grass-dev subversion make gcc python3-pip; \
 	fi
 	@touch $@
 
