@@ -1,0 +1,157 @@
+"""CityJSON 2.0 output of LoD2 solids.
+
+One ``Building`` per footprint with one ``Solid`` geometry of lod "2.0" and
+its semantic surfaces, vertices shared and de-duplicated over the whole
+model, stored as integers with a millimetre ``transform``. Built from the
+flat arrays of a :class:`reconstruction.solids.SolidSet` in bulk.
+"""
+
+import json
+import math
+
+import numpy as np
+
+from .solids import SEMANTIC_NAMES
+
+CITYJSON_VERSION = "2.0"
+LOD = "2.0"
+
+
+def crs_url(epsg):
+    """The OGC URL of an EPSG code (``28992`` -> https://www.opengis.net/def/crs/EPSG/0/28992).
+
+    A string that already is such a URL is returned as is; ``EPSG:7415`` works too.
+    """
+    text = str(epsg).strip()
+    if text.startswith("http://") or text.startswith("https://"):
+        return text
+    if ":" in text:
+        text = text.split(":")[-1]
+    code = int(text)
+    return "https://www.opengis.net/def/crs/EPSG/0/{}".format(code)
+
+
+def _attr_value(value):
+    if value is None:
+        return None
+    if isinstance(value, (np.integer,)):
+        return int(value)
+    if isinstance(value, (np.floating, float)):
+        value = float(value)
+        return None if math.isnan(value) else value
+    if isinstance(value, np.bool_):
+        return bool(value)
+    return value
+
+
+def citymodel(ss, semantics, ids, attributes=None, reference_system=None, title=None):
+    """The CityJSON document (a dict) of a set of solids.
+
+    ``ss``: a :class:`~reconstruction.solids.SolidSet`; ``semantics``: a code
+    per face (0 ground, 1 wall, 2 roof); ``ids``: an identifier per solid;
+    ``attributes``: dict name -> sequence of values per solid (None/nan
+    values are left out); ``reference_system``: EPSG code or OGC URL.
+    """
+    attributes = attributes or {}
+    S = len(ss)
+    if len(ss.vertices):
+        uniq, inv = np.unique(ss.vertices, axis=0, return_inverse=True)
+        inv = inv.reshape(-1)
+        lo = uniq.min(axis=0)
+        hi = uniq.max(axis=0)
+        verts = (uniq - lo).tolist()
+        rings = inv[ss.rings].tolist()
+    else:
+        lo = hi = np.zeros(3, dtype=np.int64)
+        verts, rings = [], []
+    fs = ss.face_start.tolist()
+    sstart = ss.solid_start.tolist()
+    sem = np.asarray(semantics, dtype=np.int64).tolist()
+    attr_lists = {k: [_attr_value(v) for v in vals] for k, vals in attributes.items()}
+    surfaces_all = [{"type": name} for name in SEMANTIC_NAMES]
+    objects = {}
+    for s in range(S):
+        f0, f1 = sstart[s], sstart[s + 1]
+        shell = [[rings[fs[f]:fs[f + 1]]] for f in range(f0, f1)]
+        values = sem[f0:f1]
+        used = sorted(set(values))
+        if used == [0, 1, 2]:
+            surfaces = surfaces_all
+        else:
+            remap = {u: k for k, u in enumerate(used)}
+            surfaces = [surfaces_all[u] for u in used]
+            values = [remap[v] for v in values]
+        obj = {"type": "Building",
+               "geometry": [{"type": "Solid", "lod": LOD, "boundaries": [shell],
+                             "semantics": {"surfaces": surfaces, "values": [values]}}]}
+        attrs = {k: vals[s] for k, vals in attr_lists.items() if vals[s] is not None}
+        if attrs:
+            obj["attributes"] = attrs
+        objects[str(ids[s])] = obj
+    metadata = {"geographicalExtent": (np.concatenate([lo, hi]) / 1000.0).tolist()}
+    if reference_system is not None:
+        metadata["referenceSystem"] = crs_url(reference_system)
+    if title:
+        metadata["title"] = str(title)
+    return {
+        "type": "CityJSON",
+        "version": CITYJSON_VERSION,
+        "transform": {"scale": [0.001, 0.001, 0.001], "translate": (lo / 1000.0).tolist()},
+        "metadata": metadata,
+        "CityObjects": objects,
+        "vertices": verts,
+    }
+
+
+def write(path, model):
+    """Write a CityJSON document compactly."""
+    text = json.dumps(model, separators=(",", ":"))
+    with open(path, "w") as f:
+        f.write(text)
+
+
+def consistency_errors(model):
+    """cjio-style consistency checks of a CityJSON document.
+
+    Vertex indices in range, no orphan and no duplicate vertices, rings
+    without duplicate consecutive vertices, semantic values matching the
+    boundaries. Returns a list of error strings (empty when consistent).
+    """
+    errors = []
+    nv = len(model.get("vertices", []))
+    used = np.zeros(nv, dtype=bool)
+    for oid, obj in model.get("CityObjects", {}).items():
+        for g in obj.get("geometry", []):
+            if g.get("type") != "Solid":
+                errors.append("{}: geometry is not a Solid".format(oid))
+                continue
+            shells = g["boundaries"]
+            for shell in shells:
+                for surface in shell:
+                    for ring in surface:
+                        r = np.asarray(ring)
+                        if len(r) < 3:
+                            errors.append("{}: ring with fewer than 3 vertices".format(oid))
+                        if len(r) and (r.min() < 0 or r.max() >= nv):
+                            errors.append("{}: vertex index out of range".format(oid))
+                            continue
+                        if len(r) and np.any(r == np.roll(r, -1)):
+                            errors.append("{}: duplicate consecutive vertices".format(oid))
+                        used[r] = True
+            sem = g.get("semantics")
+            if sem is not None:
+                values = sem["values"]
+                if len(values) != len(shells) or any(
+                        len(v) != len(sh) for v, sh in zip(values, shells)):
+                    errors.append("{}: semantic values do not match the boundaries".format(oid))
+                else:
+                    ns = len(sem["surfaces"])
+                    if any(x is not None and not 0 <= x < ns for v in values for x in v):
+                        errors.append("{}: semantic value out of range".format(oid))
+    if nv and not used.all():
+        errors.append("{} orphan vertices".format(int((~used).sum())))
+    if nv:
+        v = np.asarray(model["vertices"])
+        if len(np.unique(v, axis=0)) != len(v):
+            errors.append("duplicate vertices")
+    return errors

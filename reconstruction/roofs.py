@@ -1,0 +1,750 @@
+"""Roofs of LoD2 buildings: flat, hip, gable, mansard and crow-stepped gable.
+
+The roof set of Morlighem (2021), Section 3.4.2, built in numpy:
+
+- **hip**: the straight skeleton of the footprint raised at the roof pitch.
+  The long faces get the pitch of the thesis's Eq. 3.13,
+  ``atan(height / (baseline / 2))``, the hip ends (the shortest edge and the
+  edge opposite it) a steeper pitch in ``[pitch_min, 90)`` degrees; the roof
+  is then scaled so that its ridge sits exactly at the roof height.
+- **gable**: a hip roof whose ends are vertical.
+- **mansard**: the skeleton truncated at the roof height with a flat top; the
+  inset (horizontal run of the lower faces) stays below half the shortest edge.
+- **stepped**: a gable roof whose street end (the shortest edge until the
+  street edge is known) is a crow-stepped facade of the given step height and
+  thickness, kept inside the footprint.
+- **flat**: the footprint at the eaves.
+
+Roofs are computed relative to the eaves (z = 0 along the footprint) in local
+coordinates. Convex footprints use the exact identity *straight skeleton of
+a convex polygon = lower envelope of the edge planes*: every skeleton node is
+the intersection of three planes (sloped edge planes, vertical gable planes,
+the flat mansard top) that lies on the envelope, so all footprints with the
+same number of vertices are solved in one numpy pass. Concave footprints (L,
+U, T shapes) use CGAL's weighted straight skeleton through ``pySVCGAL``
+(optional: without it they fall back to a flat roof).
+
+A roof is a dict ``{"vertices": (m, 3) float, "faces": [ring, ...],
+"boundary": bool}`` whose first ``n`` vertices are the footprint at z = 0;
+faces are rings of vertex indices oriented outwards (seen from outside,
+counter-clockwise). ``boundary`` is True when the roof's free boundary is
+exactly the footprint outline (walls are then plain quads); otherwise
+:mod:`reconstruction.solids` walks the boundary to build the walls.
+"""
+
+import contextlib
+import io
+import itertools
+import math
+import os
+
+import numpy as np
+
+ROOF_TYPES = ("flat", "hip", "gable", "mansard", "stepped")
+
+#: Roof type probabilities (weights in percent) by period of construction and
+#: footprint shape, as in the thesis's Table B.1 as implemented in its published
+#: procedural-modelling script (histo3d, ``blender_procedural_mod.py``):
+#: "stepped" is its "dutch" roof. For n-sided footprints the script's
+#: complex-hip weights are used, since hip and gable roofs work on any
+#: footprint here; the split year is 1915 (the thesis's table; the script
+#: uses 1930).
+ROOF_PROBABILITIES = {
+    ("before", 4): {"flat": 10, "hip": 20, "gable": 20, "mansard": 10, "stepped": 40},
+    ("after", 4): {"flat": 25, "hip": 25, "gable": 25, "mansard": 10, "stepped": 15},
+    ("before", "n"): {"flat": 15, "hip": 65, "mansard": 20},
+    ("after", "n"): {"flat": 40, "hip": 40, "mansard": 20},
+}
+SPLIT_YEAR = 1915
+#: Roofs lower than this (m) are flat when the type is drawn (thesis: < 1 m).
+MIN_PITCHED_HEIGHT = 1.0
+
+_TOL = 1e-6
+
+
+def draw_roof_types(n_vertices, years, attic, rng, probabilities=None):
+    """Draw a roof type per footprint with the thesis's probabilities.
+
+    ``n_vertices``: vertices per footprint; ``years``: construction year (or
+    the map year) per footprint, None/nan = before 1915; ``attic``: roof
+    height, below :data:`MIN_PITCHED_HEIGHT` the roof is flat. Returns an
+    object array of roof type names.
+    """
+    probabilities = probabilities or ROOF_PROBABILITIES
+    n_vertices = np.asarray(n_vertices)
+    years = np.asarray([np.nan if y is None else y for y in np.broadcast_to(
+        np.asarray(years, dtype=object), n_vertices.shape)], dtype=float)
+    out = np.empty(n_vertices.shape, dtype=object)
+    u = rng.random(n_vertices.shape)
+    after = np.where(np.isnan(years), False, years > SPLIT_YEAR)
+    for period, is_after in (("before", False), ("after", True)):
+        for shape in (4, "n"):
+            sel = (after == is_after) & ((n_vertices == 4) if shape == 4 else (n_vertices != 4))
+            weights = probabilities[(period, shape)]
+            names = list(weights)
+            cum = np.cumsum([weights[k] for k in names], dtype=float)
+            cum /= cum[-1]
+            idx = np.minimum(np.searchsorted(cum, u[sel], side="right"), len(names) - 1)
+            out[sel] = np.asarray(names, dtype=object)[idx]
+    out[np.asarray(attic, dtype=float) < MIN_PITCHED_HEIGHT] = "flat"
+    return out
+
+
+# ---------------------------------------------------------------------------
+# Footprint helpers
+# ---------------------------------------------------------------------------
+
+def edge_lengths(xy):
+    """Lengths of the edges ``xy[i] -> xy[i+1]`` of one ring (n, 2)."""
+    return np.hypot(*(np.roll(xy, -1, axis=0) - xy).T)
+
+
+def is_convex(xy, tol=1e-9):
+    """True when a counter-clockwise ring has no reflex vertex."""
+    d1 = xy - np.roll(xy, 1, axis=0)
+    d2 = np.roll(xy, -1, axis=0) - xy
+    cross = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
+    return bool(np.all(cross > -tol * np.hypot(*d1.T) * np.hypot(*d2.T)))
+
+
+def opposite_edge(xy, i):
+    """The edge most anti-parallel to edge ``i`` and not adjacent to it, or None."""
+    n = len(xy)
+    d = np.roll(xy, -1, axis=0) - xy
+    d = d / np.maximum(np.hypot(*d.T), 1e-300)[:, None]
+    best, best_cos = None, -math.cos(math.radians(45))
+    for j in range(n):
+        if j in (i, (i - 1) % n, (i + 1) % n):
+            continue
+        c = float(d[i] @ d[j])
+        if c < best_cos:
+            best, best_cos = j, c
+    return best
+
+
+def end_edges(xy):
+    """Gable ends of a concave footprint: edges between two convex corners that
+    are shorter than both neighbouring edges (the ends of the L/U/T arms)."""
+    n = len(xy)
+    d1 = xy - np.roll(xy, 1, axis=0)
+    d2 = np.roll(xy, -1, axis=0) - xy
+    convex = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0] > 0
+    length = edge_lengths(xy)
+    ends = []
+    for i in range(n):
+        if convex[i] and convex[(i + 1) % n] and length[i] < length[i - 1] \
+                and length[i] < length[(i + 1) % n]:
+            ends.append(i)
+    return ends
+
+
+# ---------------------------------------------------------------------------
+# Convex footprints: lower envelope of planes, in batch
+# ---------------------------------------------------------------------------
+
+def envelope_roofs(xy, slopes, top=None):
+    """Roofs over convex footprints with the same number of vertices.
+
+    ``xy``: (B, n, 2) counter-clockwise footprints in local coordinates;
+    ``slopes``: (B, n) tangent of each edge's pitch, ``inf`` for a vertical
+    (gable) end; ``top``: (B,) height of a flat top (mansard) or None.
+    Returns a list of roof dicts (see the module doc); z is relative to the
+    eaves, unscaled.
+    """
+    xy = np.asarray(xy, dtype=float)
+    B, n, _ = xy.shape
+    slopes = np.asarray(slopes, dtype=float)
+    has_top = top is not None
+    P = n + 1 if has_top else n
+    nxt = np.roll(xy, -1, axis=1)
+    t = nxt - xy
+    length = np.hypot(t[..., 0], t[..., 1])
+    t = t / np.maximum(length, 1e-300)[..., None]
+    nrm = np.stack([-t[..., 1], t[..., 0]], axis=-1)          # inward normals
+    c = np.einsum("bij,bij->bi", nrm, xy)                      # d_j(x) = nrm.x - c
+    vertical = ~np.isfinite(slopes)
+    s = np.where(vertical, 1.0, slopes)
+    # plane rows a.x = r
+    rows = np.zeros((B, P, 3))
+    rhs = np.zeros((B, P))
+    rows[:, :n, 0] = np.where(vertical, nrm[..., 0], s * nrm[..., 0])
+    rows[:, :n, 1] = np.where(vertical, nrm[..., 1], s * nrm[..., 1])
+    rows[:, :n, 2] = np.where(vertical, 0.0, -1.0)
+    rhs[:, :n] = np.where(vertical, c, s * c)
+    if has_top:
+        top = np.asarray(top, dtype=float)
+        rows[:, n, 2] = 1.0
+        rhs[:, n] = top
+    norm = np.linalg.norm(rows, axis=-1)
+    rows_u = rows / norm[..., None]
+    rhs_u = rhs / norm
+    combos = np.array(list(itertools.combinations(range(P), 3)), dtype=int)
+    C = len(combos)
+    M = rows_u[:, combos]                                      # (B, C, 3, 3)
+    r = rhs_u[:, combos]                                       # (B, C, 3)
+    det = np.linalg.det(M)
+    ok = np.abs(det) > 1e-9
+    M = np.where(ok[..., None, None], M, np.eye(3))
+    nodes = np.linalg.solve(M, r[..., None])[..., 0]            # (B, C, 3)
+    # distances of the nodes to every edge line and plane values
+    d = np.einsum("bcx,bjx->bcj", nodes[..., :2], nrm) - c[:, None, :]   # (B, C, n)
+    plane_z = np.where(vertical[:, None, :], np.inf, s[:, None, :] * d)
+    env = plane_z.min(axis=-1)
+    if has_top:
+        env = np.minimum(env, top[:, None])
+    z = nodes[..., 2]
+    scale = 1.0 + np.abs(xy).max(axis=(1, 2))[:, None]
+    tol = _TOL * scale
+    valid = ok & (d.min(axis=-1) > -tol) & (z > tol) & (np.abs(z - env) < tol * (1 + np.abs(env)))
+    active = np.empty((B, C, P), dtype=bool)
+    active[..., :n] = np.where(vertical[:, None, :], np.abs(d) < tol[..., None],
+                               np.abs(plane_z - z[..., None]) < tol[..., None] * (1 + np.abs(z[..., None])))
+    if has_top:
+        active[..., n] = np.abs(z - top[:, None]) < tol * (1 + np.abs(z))
+    active &= valid[..., None]
+    # candidate points of every face: 2 base vertices + C nodes
+    K = C + 2
+    pts = np.zeros((B, P, K, 3))
+    mask = np.zeros((B, P, K), dtype=bool)
+    j = np.arange(n)
+    pts[:, :n, 0, :2] = xy
+    pts[:, :n, 1, :2] = nxt
+    mask[:, :n, :2] = True
+    pts[:, :, 2:, :] = nodes[:, None, :, :]
+    mask[:, :, 2:] = np.transpose(active, (0, 2, 1))
+    cnt = mask.sum(axis=-1)
+    centre = (pts * mask[..., None]).sum(axis=2) / np.maximum(cnt, 1)[..., None]
+    rel = pts - centre[:, :, None, :]
+    # sorting coordinates: xy for sloped faces and the top, (u, z) for vertical ones
+    a1 = rel[..., 0].copy()
+    a2 = rel[..., 1].copy()
+    vert_faces = np.zeros((B, P), dtype=bool)
+    vert_faces[:, :n] = vertical
+    tt = np.zeros((B, P, 2))
+    tt[:, :n] = t
+    u = rel[..., 0] * tt[..., 0][..., None] + rel[..., 1] * tt[..., 1][..., None]
+    a1 = np.where(vert_faces[..., None], u, a1)
+    a2 = np.where(vert_faces[..., None], rel[..., 2], a2)
+    ang = np.arctan2(a2, a1)
+    ang = np.where(mask, ang, np.inf)
+    order = np.argsort(ang, axis=-1, kind="stable")
+    # vertex index of each candidate: base j, j+1 -> j, (j+1)%n; node k -> n + k
+    index = np.empty((P, K), dtype=int)
+    index[:, 2:] = n + np.arange(C)
+    index[:n, 0] = j
+    index[:n, 1] = (j + 1) % n
+    index[n:, :2] = -1
+    ring_idx = np.take_along_axis(np.broadcast_to(index, (B, P, K)), order, axis=-1)
+    ring_list = ring_idx.tolist()
+    cnt_list = cnt.tolist()
+    verts = np.concatenate([np.concatenate([xy, np.zeros((B, n, 1))], axis=-1), nodes], axis=1)
+    roofs = []
+    for b in range(B):
+        faces = []
+        for p in range(P):
+            k = cnt_list[b][p]
+            if k >= 3:
+                faces.append(ring_list[b][p][:k])
+            elif p < n:
+                faces = None        # an edge without a face: degenerate input
+                break
+        roofs.append({"vertices": verts[b], "faces": faces, "boundary": True,
+                      "zmax": float(nodes[b, valid[b], 2].max()) if valid[b].any() else 0.0})
+    return roofs
+
+
+# ---------------------------------------------------------------------------
+# Concave footprints: CGAL's straight skeleton through pySVCGAL
+# ---------------------------------------------------------------------------
+
+_CGAL = []
+
+
+@contextlib.contextmanager
+def _quiet_stdout():
+    """Silence what the C++ library writes straight to file descriptors 1 and 2."""
+    import sys
+
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except Exception:  # pragma: no cover
+            pass
+    try:
+        saved = [os.dup(1), os.dup(2)]
+    except OSError:  # pragma: no cover
+        yield
+        return
+    try:
+        with open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), 1)
+            os.dup2(null.fileno(), 2)
+            try:
+                yield
+            finally:
+                _flush_c_stdout()
+                os.dup2(saved[0], 1)
+                os.dup2(saved[1], 2)
+    finally:
+        for fd in saved:
+            os.close(fd)
+
+
+def _flush_c_stdout():
+    """Flush C stdio and C++ std::cout (the CGAL wrapper writes to both)."""
+    import ctypes
+
+    try:
+        ctypes.CDLL(None).fflush(None)
+    except Exception:  # pragma: no cover
+        pass
+    try:
+        lib = ctypes.CDLL("libstdc++.so.6")
+        for name in ("_ZSt4cout", "_ZSt4clog", "_ZSt4cerr"):
+            stream = ctypes.addressof(ctypes.c_char.in_dll(lib, name))
+            lib._ZNSo5flushEv(ctypes.c_void_p(stream))
+    except Exception:  # pragma: no cover
+        pass
+
+
+def cgal_available():
+    """True when pySVCGAL (CGAL's straight skeleton) can be imported."""
+    if not _CGAL:
+        try:
+            with _quiet_stdout(), contextlib.redirect_stdout(open(os.devnull, "w")):
+                from pySVCGAL.pySVCGAL import pySVCGAL_straight_skeleton_2d_extrude
+            _CGAL.append(pySVCGAL_straight_skeleton_2d_extrude)
+        except Exception:  # pragma: no cover - optional dependency
+            _CGAL.append(None)
+    return _CGAL[0] is not None
+
+
+def cgal_roofs(footprints, pitches, heights):
+    """Roofs over any simple footprints with CGAL's weighted straight skeleton.
+
+    ``footprints``: list of (n, 2) counter-clockwise rings (local coordinates);
+    ``pitches``: list of per-edge pitch angles in degrees (90 = gable end);
+    ``heights``: list of flat-top heights (mansard) or None. Returns a list of
+    roof dicts (faces are triangles) or None where CGAL failed.
+    """
+    if not cgal_available():
+        return [None] * len(footprints)
+    extrude = _CGAL[0]
+    objects = []
+    for xy, pitch, h in zip(footprints, pitches, heights):
+        # pySVCGAL takes the angle of edge i at position i+1 (verified in tests)
+        ang = np.roll(np.asarray(pitch, dtype=float), 1)
+        objects.append({
+            "shape_mode": 0, "restrict_height": h is not None,
+            "height": float(h) if h is not None else 0.0,
+            "planes": [[[(float(x), float(y), 0.0) for x, y in xy]]],
+            "angles": [[ang.tolist()]],
+        })
+    data = {"force_z_zero": False, "only_tests_for_valid": False, "join_mode": 0,
+            "verbose": False, "objects": objects}
+    try:
+        with _quiet_stdout(), contextlib.redirect_stdout(io.StringIO()):
+            result = extrude(data)
+    except Exception:
+        return [None] * len(footprints)
+    out = [None] * len(footprints)
+    for obj in result.get("objects", []):
+        i = obj["object_index"]
+        xy = footprints[i]
+        n = len(xy)
+        v = np.asarray(obj["vertices"], dtype=float).reshape(-1, 3)
+        if len(v) < n or not np.allclose(v[:n, :2], xy, atol=1e-3):
+            continue
+        v[:n, :2] = xy
+        v[:n, 2] = 0.0
+        faces = [list(f) for f in obj["faces"] if not all(k < n for k in f)]
+        if not faces:
+            continue
+        # orient outwards: the roof seen from above is counter-clockwise
+        nz = 0.0
+        for f in faces:
+            a, b, cc = v[f[0]], v[f[1]], v[f[2]]
+            nz += (b[0] - a[0]) * (cc[1] - a[1]) - (b[1] - a[1]) * (cc[0] - a[0])
+        if nz < 0:
+            faces = [f[::-1] for f in faces]
+        out[i] = {"vertices": v, "faces": faces, "boundary": False,
+                  "zmax": float(v[:, 2].max())}
+    return out
+
+
+# ---------------------------------------------------------------------------
+# Roof parameters per type
+# ---------------------------------------------------------------------------
+
+def hip_end_pitch(xy, height, end, pitch_min, rng):
+    """Pitch (degrees) of the hip ends: the long faces' pitch from Eq. 3.13 with
+    the end edge as baseline, the ends drawn in [max(pitch_min, long), 89]."""
+    base = float(edge_lengths(xy)[end])
+    p_long = math.degrees(math.atan2(height, base / 2.0))
+    low = min(max(pitch_min, p_long), 89.0)
+    return p_long, float(rng.uniform(low, 89.0)) if low < 89.0 else 89.0
+
+
+def _ends_quad_or_ngon(xy, end):
+    opp = opposite_edge(xy, end)
+    return [end] if opp is None else [end, opp]
+
+
+def roof_slopes(xy, roof_type, height, end, pitch_min, rng):
+    """Per-edge slopes (tan of pitch; inf = vertical) of a convex footprint."""
+    n = len(xy)
+    slopes = np.ones(n)
+    if roof_type == "hip":
+        p_long, p_end = hip_end_pitch(xy, height, end, pitch_min, rng)
+        ratio = math.tan(math.radians(p_end)) / math.tan(math.radians(p_long))
+        if n == 4:
+            for e in _ends_quad_or_ngon(xy, end):
+                slopes[e] = ratio
+    elif roof_type in ("gable", "stepped"):
+        for e in _ends_quad_or_ngon(xy, end):
+            slopes[e] = np.inf
+    return slopes
+
+
+def mansard_inset(xy, inset_range, rng):
+    """Mansard inset drawn in ``inset_range``, kept below half the shortest edge."""
+    lo, hi = inset_range
+    cap = 0.45 * float(edge_lengths(xy).min())
+    inset = float(rng.uniform(lo, hi)) if hi > lo else float(lo)
+    return max(min(inset, cap), 1e-3)
+
+
+def scale_roof(roof, height):
+    """Scale a roof's heights so that its highest point is at ``height``."""
+    if roof is None or roof["faces"] is None or roof["zmax"] <= 1e-9:
+        return None
+    v = roof["vertices"].copy()
+    v[:, 2] *= height / roof["zmax"]
+    return dict(roof, vertices=v, zmax=height)
+
+
+def flat_roof(xy):
+    """The flat roof: the footprint itself at the eaves."""
+    n = len(xy)
+    v = np.concatenate([xy, np.zeros((n, 1))], axis=1)
+    return {"vertices": v, "faces": [list(range(n))], "boundary": True, "zmax": 0.0}
+
+
+# ---------------------------------------------------------------------------
+# Crow-stepped gable
+# ---------------------------------------------------------------------------
+
+def _clip_strip(xy, e, thickness):
+    """Split a convex footprint at distance ``thickness`` from edge ``e``.
+
+    Returns ``(body, qa, qb)``: the main body ring starting with the inner
+    edge ``qa -> qb`` (parallel to edge e), or None when the strip would cut
+    more than the two edges next to ``e``.
+    """
+    n = len(xy)
+    a, b = xy[e], xy[(e + 1) % n]
+    t = (b - a) / np.hypot(*(b - a))
+    nrm = np.array([-t[1], t[0]])
+    d = (xy - a) @ nrm
+    others = [k for k in range(n) if k not in (e, (e + 1) % n)]
+    if min(d[k] for k in others) <= thickness + 0.05:
+        return None
+    prev_v = xy[(e - 1) % n]
+    next_v = xy[(e + 2) % n]
+    qa = a + (prev_v - a) * (thickness / d[(e - 1) % n])
+    qb = b + (next_v - b) * (thickness / d[(e + 2) % n])
+    body = [qa, qb] + [xy[(e + 2 + k) % n] for k in range(n - 2)]
+    return np.array(body), qa, qb
+
+
+def _orient(ring_pts, normal):
+    """Reverse a ring (list of 3D points' indices + coordinates) if its Newell
+    normal points away from ``normal``."""
+    p = ring_pts
+    q = np.roll(p, -1, axis=0)
+    nn = np.array([((p[:, 1] - q[:, 1]) * (p[:, 2] + q[:, 2])).sum(),
+                   ((p[:, 2] - q[:, 2]) * (p[:, 0] + q[:, 0])).sum(),
+                   ((p[:, 0] - q[:, 0]) * (p[:, 1] + q[:, 1])).sum()])
+    return float(nn @ normal) >= 0
+
+
+def add_stepped_facade(xy, end, body_roof, body, thickness, step):
+    """Assemble a crow-stepped gable roof over footprint ``xy``.
+
+    ``body``: main body ring from :func:`_clip_strip` (inner edge first),
+    ``body_roof``: its gable roof (scaled, vertical face on edge 0). Returns a
+    roof dict over ``xy`` (boundary walked by the solid builder) or None.
+    """
+    n = len(xy)
+    nb = len(body)
+    bv = body_roof["vertices"]
+    bfaces = body_roof["faces"]
+    a, b = xy[end], xy[(end + 1) % n]
+    L = float(np.hypot(*(b - a)))
+    t = (b - a) / L
+    nrm = np.array([-t[1], t[0]])
+    qa, qb = body[0], body[1]
+    # the profile of the main roof on the inner plane: vertical face of edge 0
+    prof = None
+    for f in bfaces:
+        if 0 in f and 1 in f:
+            if np.all(np.abs((bv[f, :2] - qa) @ nrm) < 1e-6):
+                prof = f
+                break
+    if prof is None:
+        return None
+    top_pts = [k for k in prof if k not in (0, 1)]
+    if not top_pts:
+        return None
+    up = np.array([(bv[k, :2] - a) @ t for k in top_pts])
+    zp = np.array([bv[k, 2] for k in top_pts])
+    o = np.argsort(up)
+    top_pts = [top_pts[i] for i in o]
+    up, zp = up[o], zp[o]
+    ua, ub = float((qa - a) @ t), float((qb - a) @ t)
+    pu = np.concatenate([[ua], up, [ub]])
+    pz = np.concatenate([[0.0], zp, [0.0]])
+    H = float(pz.max())
+    if H <= 1e-3:
+        return None
+    s = float(step)
+    m = min(0.1, s / 4.0)
+    nsteps = int(math.ceil((H + m) / s))
+    iapex = int(np.argmax(pz))
+
+    def left(zl):
+        return float(np.interp(zl, pz[:iapex + 1], pu[:iapex + 1]))
+
+    def right(zl):
+        return float(np.interp(zl, pz[iapex:][::-1], pu[iapex:][::-1]))
+
+    uL = [left(k * s - m) for k in range(1, nsteps)]
+    uR = [right(k * s - m) for k in range(1, nsteps)]
+    lo, hi = max(0.0, ua), min(L, ub)
+    seq = [lo] + uL + uR[::-1] + [hi]
+    if any(q - p < 0.02 for p, q in zip(seq[:-1], seq[1:])):
+        return None
+    zs = [k * s for k in range(1, nsteps + 1)]
+
+    # vertex table: footprint (n, z=0) first, then the body roof, then the slab
+    verts = [np.concatenate([xy, np.zeros((n, 1))], axis=1)]
+    off_body = n
+    verts.append(bv)
+    extra = []
+
+    def add(p2, zz):
+        extra.append((p2[0], p2[1], zz))
+        return off_body + len(bv) + len(extra) - 1
+
+    def F(u):
+        return a + t * u
+
+    def Bk(u):
+        return a + t * u + nrm * thickness
+
+    # map body base vertices: body[0]=qa, body[1]=qb, body[k>=2] = xy[(end+2+k-2)%n]
+    body_to_fp = {k: (end + 2 + k - 2) % n for k in range(2, nb)}
+
+    def bidx(k):
+        if k in body_to_fp:
+            return body_to_fp[k]
+        return off_body + k
+
+    ia, ib = end, (end + 1) % n
+    i_qa0, i_qb0 = off_body + 0, off_body + 1          # qa, qb at eaves (body vertices)
+    # outline of the stepped profile, left to right: (u, z) corners at front/back
+    corners = [(seq[0], 0.0), (seq[0], zs[0])]
+    for k in range(1, nsteps):
+        corners.append((uL[k - 1], zs[k - 1]))
+        corners.append((uL[k - 1], zs[k]))
+    for k in range(nsteps - 1, 0, -1):
+        corners.append((uR[k - 1], zs[k]))
+        corners.append((uR[k - 1], zs[k - 1]))
+    corners.append((seq[-1], zs[0]))
+    corners.append((seq[-1], 0.0))
+    # front facade points (on edge `end`): first and last at z=0 are a and b
+    front = []
+    for i, (uu, zz) in enumerate(corners):
+        if i == 0:
+            front.append(ia)
+        elif i == len(corners) - 1:
+            front.append(ib)
+        elif i == 1:
+            front.append(add(a, zz))
+        elif i == len(corners) - 2:
+            front.append(add(b, zz))
+        else:
+            front.append(add(F(uu), zz))
+    back = []
+    for i, (uu, zz) in enumerate(corners):
+        if i == 0:
+            back.append(i_qa0)
+        elif i == len(corners) - 1:
+            back.append(i_qb0)
+        elif i == 1:
+            back.append(add(qa, zz))
+        elif i == len(corners) - 2:
+            back.append(add(qb, zz))
+        else:
+            back.append(add(Bk(uu), zz))
+    allv = np.concatenate(verts + [np.array(extra, dtype=float).reshape(-1, 3)], axis=0)
+    faces = []
+    out = np.array([t[1], -t[0], 0.0])                 # outward normal of edge `end`
+
+    def oriented(ring, normal):
+        pts = allv[ring]
+        return ring if _orient(pts, normal) else ring[::-1]
+
+    # front facade above the eaves (ring includes a, b at z = 0)
+    faces.append(oriented(front[::-1], out))
+    # back face: stepped outline then the roof profile back from qb to qa
+    profile = [bidx(k) for k in top_pts]
+    faces.append(oriented(back[::-1] + profile, -out))
+    # side faces of the slab above the eaves (on the adjacent footprint edges)
+    faces.append(oriented([ia, front[1], back[1], i_qa0], _side_normal(xy, end, -1)))
+    faces.append(oriented([ib, i_qb0, back[-2], front[-2]], _side_normal(xy, end, +1)))
+    # treads and risers: [front i, front i+1, back i+1, back i] is outward by
+    # construction (u grows along the outline: treads face up, risers face
+    # away from the ridge)
+    for i in range(1, len(corners) - 2):
+        faces.append([front[i], front[i + 1], back[i + 1], back[i]])
+    # main body roof faces except its vertical face on the inner edge
+    for f in bfaces:
+        if f is prof:
+            continue
+        faces.append([bidx(k) for k in f])
+    return {"vertices": allv, "faces": faces, "boundary": False,
+            "zmax": float(allv[:, 2].max())}
+
+
+def _side_normal(xy, end, side):
+    n = len(xy)
+    e = (end - 1) % n if side < 0 else (end + 1) % n
+    d = xy[(e + 1) % n] - xy[e]
+    return np.array([d[1], -d[0], 0.0])
+
+
+# ---------------------------------------------------------------------------
+# All roofs of a set of footprints
+# ---------------------------------------------------------------------------
+
+def street_end(xy, street=None):
+    """The street end of a footprint: ``street`` when given, else the shortest edge."""
+    if street is not None and 0 <= int(street) < len(xy):
+        return int(street)
+    return int(np.argmin(edge_lengths(xy)))
+
+
+def _batch_envelope(jobs):
+    """Run :func:`envelope_roofs` on jobs ``(key, xy, slopes, top)`` grouped by
+    vertex count; returns {key: roof}."""
+    groups = {}
+    for key, xy, slopes, top in jobs:
+        groups.setdefault((len(xy), top is not None), []).append((key, xy, slopes, top))
+    out = {}
+    for (n, has_top), items in groups.items():
+        xy = np.stack([it[1] for it in items])
+        slopes = np.stack([it[2] for it in items])
+        top = np.array([it[3] for it in items], dtype=float) if has_top else None
+        for it, roof in zip(items, envelope_roofs(xy, slopes, top)):
+            out[it[0]] = roof
+    return out
+
+
+def make_roofs(footprints, roof_types, attic, uniforms, street=None, pitch_min=60.0,
+               inset=(1.0, 2.0), step=(0.4, 0.7), thickness=0.5):
+    """Roofs of footprints (local coordinates, counter-clockwise rings).
+
+    ``roof_types``: a type per footprint; ``attic``: roof heights above the
+    eaves; ``uniforms``: (B, 3) uniform numbers in [0, 1) per footprint (hip
+    end pitch, mansard inset, crow-step height), so that the result does not
+    depend on the order of work; ``street``: optional street edge index per
+    footprint. Returns a list of roof dicts, None where the type could not be
+    built (the caller falls back to a simpler type), and the type each roof
+    really got (a stepped gable on a concave or triangular footprint is a
+    gable).
+    """
+    B = len(footprints)
+    roofs = [None] * B
+    kinds = list(roof_types)
+    uniforms = np.asarray(uniforms, dtype=float).reshape(B, 3)
+    env_jobs, cgal_jobs, stepped = [], [], {}
+    for i, (xy, kind) in enumerate(zip(footprints, roof_types)):
+        h = float(attic[i])
+        n = len(xy)
+        if kind == "flat" or h <= 1e-3:
+            roofs[i] = flat_roof(xy)
+            continue
+        end = street_end(xy, None if street is None else street[i])
+        convex = is_convex(xy)
+        if kind == "mansard":
+            lo, hi = inset
+            cap = 0.45 * float(edge_lengths(xy).min())
+            ins = max(min(lo + (hi - lo) * uniforms[i, 1], cap), 1e-3)
+            if convex:
+                env_jobs.append((i, xy, np.full(n, h / ins), h))
+            else:
+                cgal_jobs.append((i, xy, np.full(n, math.degrees(math.atan2(h, ins))), h))
+            continue
+        if kind == "stepped" and convex and n >= 4:
+            res = _clip_strip(xy, end, thickness)
+            if res is not None:
+                body = res[0]
+                slopes = np.ones(len(body))
+                slopes[0] = np.inf
+                opp = opposite_edge(body, 0)
+                if opp is not None:
+                    slopes[opp] = np.inf
+                s_lo, s_hi = step
+                stepped[i] = (end, body, s_lo + (s_hi - s_lo) * uniforms[i, 2])
+                env_jobs.append((("body", i), body, slopes, None))
+                continue
+            kind = "gable"
+        elif kind == "stepped":
+            kind = "gable"
+        kinds[i] = kind
+        if convex:
+            slopes = np.ones(n)
+            if kind == "hip" and n == 4:
+                base = float(edge_lengths(xy)[end])
+                p_long = math.degrees(math.atan2(h, base / 2.0))
+                low = min(max(pitch_min, p_long), 89.0)
+                p_end = low + (89.0 - low) * uniforms[i, 0]
+                ratio = math.tan(math.radians(p_end)) / math.tan(math.radians(p_long))
+                slopes[end] = ratio
+                opp = opposite_edge(xy, end)
+                if opp is not None:
+                    slopes[opp] = ratio
+            elif kind == "gable":
+                slopes[end] = np.inf
+                opp = opposite_edge(xy, end)
+                if opp is not None:
+                    slopes[opp] = np.inf
+            env_jobs.append((i, xy, slopes, None))
+        else:
+            pitch = np.full(n, 45.0)
+            if kind == "gable":
+                ends = end_edges(xy) or [end]
+                pitch[ends] = 90.0
+            cgal_jobs.append((i, xy, pitch, None))
+    env = _batch_envelope(env_jobs)
+    for key, roof in env.items():
+        if isinstance(key, tuple):
+            continue
+        if roof["faces"] is None:
+            continue
+        kind = kinds[key]
+        roofs[key] = roof if kind == "mansard" else scale_roof(roof, float(attic[key]))
+    for i, (end, body, s) in stepped.items():
+        body_roof = scale_roof(env.get(("body", i)), float(attic[i]))
+        if body_roof is not None:
+            try:
+                roofs[i] = add_stepped_facade(footprints[i], end, body_roof, body, thickness, s)
+            except (ValueError, IndexError, ZeroDivisionError):
+                roofs[i] = None
+    if cgal_jobs:
+        res = cgal_roofs([j[1] for j in cgal_jobs], [j[2] for j in cgal_jobs],
+                         [j[3] for j in cgal_jobs])
+        for (i, _, _, top), roof in zip(cgal_jobs, res):
+            roofs[i] = roof if top is not None else scale_roof(roof, float(attic[i]))
+    return roofs, kinds

@@ -1,0 +1,439 @@
+"""LoD2 solids: footprint + heights + roof -> one closed, valid shell.
+
+A solid is one closed 2-manifold shell: vertices (absolute coordinates,
+rounded to the millimetre grid CityJSON stores) and faces, rings of vertex
+indices oriented outwards. Many solids travel together as a
+:class:`SolidSet` of flat numpy arrays, so that rounding, de-duplication,
+validation and semantic classification run in bulk.
+
+The validator (:func:`validate`) checks what val3dity checks for a Solid,
+on the millimetre geometry that is written: rings of at least three distinct
+vertices, no duplicate consecutive vertices, no self-intersecting or
+degenerate (zero-area) ring, faces planar within 1 mm, every edge used
+exactly twice in opposite directions (closed, 2-manifold along edges,
+consistently oriented), one connected shell, positive volume (outward
+orientation). :func:`build_solids` never returns an invalid solid: a roof
+that fails falls back to a simpler type (stepped -> gable -> mansard ->
+flat), and a footprint whose flat prism still fails is dropped and counted.
+"""
+
+import itertools
+import math
+
+import numpy as np
+
+from . import roofs as _roofs
+
+GROUND, WALL, ROOF = 0, 1, 2
+SEMANTIC_NAMES = ("GroundSurface", "WallSurface", "RoofSurface")
+#: Fallback chain when a roof type fails validation.
+FALLBACK = {"stepped": "gable", "gable": "mansard", "hip": "mansard", "mansard": "flat",
+            "flat": None}
+PLANARITY_TOL = 0.001
+SEMANTIC_ANGLE = 5.0
+
+
+# ---------------------------------------------------------------------------
+# Footprints
+# ---------------------------------------------------------------------------
+
+def clean_ring(coords, tol=0.001):
+    """A footprint ring ready for extrusion, or ``(None, reason)``.
+
+    ``coords``: (n, 2) exterior ring (closed or not). Rounds to the
+    millimetre, removes duplicate and collinear vertices (closer than ``tol``
+    to the line of their neighbours), orients counter-clockwise.
+    Returns ``(xy, None)``.
+    """
+    xy = np.round(np.asarray(coords, dtype=float)[:, :2] * 1000.0) / 1000.0
+    if len(xy) > 1 and np.all(xy[0] == xy[-1]):
+        xy = xy[:-1]
+    for _ in range(len(xy)):
+        if len(xy) < 3:
+            return None, "fewer than 3 distinct vertices"
+        keep = np.any(xy != np.roll(xy, -1, axis=0), axis=1)
+        xy = xy[keep]
+        if len(xy) < 3:
+            return None, "fewer than 3 distinct vertices"
+        prev = np.roll(xy, 1, axis=0)
+        nxt = np.roll(xy, -1, axis=0)
+        d = nxt - prev
+        ln = np.hypot(d[:, 0], d[:, 1])
+        cross = (xy[:, 0] - prev[:, 0]) * d[:, 1] - (xy[:, 1] - prev[:, 1]) * d[:, 0]
+        dist = np.abs(cross) / np.maximum(ln, 1e-12)
+        # a vertex on the line of its neighbours, or a spike (neighbours coincide)
+        bad = (dist < tol) | (ln < tol)
+        if not bad.any():
+            break
+        # remove one vertex at a time (the most collinear), then re-check
+        xy = np.delete(xy, int(np.argmin(np.where(bad, dist, np.inf))), axis=0)
+    if len(xy) < 3:
+        return None, "fewer than 3 distinct vertices"
+    area2 = float(np.sum(xy[:, 0] * np.roll(xy[:, 1], -1) - np.roll(xy[:, 0], -1) * xy[:, 1]))
+    if abs(area2) < 1e-6:
+        return None, "zero area"
+    if area2 < 0:
+        xy = xy[::-1].copy()
+    return xy, None
+
+
+def ring_is_simple(xy):
+    """True when a ring (n, 2) does not self-intersect."""
+    import shapely
+
+    return bool(shapely.is_simple(shapely.linearrings(np.vstack([xy, xy[:1]]))))
+
+
+# ---------------------------------------------------------------------------
+# Assembly
+# ---------------------------------------------------------------------------
+
+def assemble(xy, roof, ground, eaves):
+    """One shell from a footprint (local coordinates), a roof and heights.
+
+    Returns ``(vertices, faces)`` with vertices (V, 3) in local x, y and
+    absolute z, faces as lists of indices, or None when the roof's boundary
+    does not follow the footprint.
+    """
+    n = len(xy)
+    rv = roof["vertices"]
+    verts = np.empty((n + len(rv), 3))
+    verts[:n, :2] = xy
+    verts[:n, 2] = ground
+    verts[n:, :2] = rv[:, :2]
+    verts[n:, 2] = rv[:, 2] + ground + eaves
+    verts[n:2 * n, :2] = xy          # exact footprint under the eaves
+    faces = [list(range(n - 1, -1, -1))]
+    if roof["boundary"]:
+        faces.extend([i, (i + 1) % n, n + (i + 1) % n, n + i] for i in range(n))
+    else:
+        nxt = {}
+        directed = set()
+        for f in roof["faces"]:
+            for a, b in zip(f, f[1:] + f[:1]):
+                directed.add((a, b))
+        for a, b in directed:
+            if (b, a) not in directed and abs(rv[a, 2]) < 1e-9 and abs(rv[b, 2]) < 1e-9:
+                if a in nxt:
+                    return None
+                nxt[a] = b
+        for i in range(n):
+            chain = [i]
+            target = (i + 1) % n
+            while chain[-1] != target:
+                k = nxt.get(chain[-1])
+                if k is None or len(chain) > len(rv):
+                    return None
+                chain.append(k)
+            faces.append([i, target] + [n + k for k in reversed(chain)])
+    faces.extend([n + k for k in f] for f in roof["faces"])
+    return verts, faces
+
+
+# ---------------------------------------------------------------------------
+# Many solids as flat arrays
+# ---------------------------------------------------------------------------
+
+class SolidSet:
+    """Solids on the millimetre grid as flat arrays.
+
+    - ``vertices``: (N, 3) int64, absolute coordinates in millimetres; each
+      solid's vertices are distinct and all used;
+    - ``rings``: (K,) vertex indices of all rings, one after the other;
+    - ``face_start``: (F + 1,) offsets of the rings in ``rings``;
+    - ``solid_start``: (S + 1,) offsets of each solid's faces;
+    - ``bad``: (S,) reason why a solid could not even be stored (or None).
+    """
+
+    def __init__(self, vertices, rings, face_start, solid_start, bad=None):
+        self.vertices = vertices
+        self.rings = rings
+        self.face_start = face_start
+        self.solid_start = solid_start
+        S = len(solid_start) - 1
+        self.bad = bad if bad is not None else [None] * S
+
+    def __len__(self):
+        return len(self.solid_start) - 1
+
+    @property
+    def face_solid(self):
+        return np.repeat(np.arange(len(self)), np.diff(self.solid_start))
+
+    @property
+    def entry_face(self):
+        return np.repeat(np.arange(len(self.face_start) - 1), np.diff(self.face_start))
+
+    def solid(self, s):
+        """Vertices (float metres) and faces (lists, local indices) of solid ``s``."""
+        f0, f1 = self.solid_start[s], self.solid_start[s + 1]
+        idx = self.rings[self.face_start[f0]:self.face_start[f1]]
+        if len(idx) == 0:
+            return np.zeros((0, 3)), []
+        used, inv = np.unique(idx, return_inverse=True)
+        faces, pos = [], 0
+        for f in range(f0, f1):
+            k = self.face_start[f + 1] - self.face_start[f]
+            faces.append(inv[pos:pos + k].tolist())
+            pos += k
+        return self.vertices[used] / 1000.0, faces
+
+
+def to_solidset(shells, origins):
+    """Round shells to the millimetre grid and store them as a :class:`SolidSet`.
+
+    ``shells``: list of ``(vertices, faces)`` (local x, y; None for a missing
+    shell), ``origins``: (S, 2) offsets added to x, y. Removes duplicate
+    vertices and duplicate consecutive ring vertices; rings left with fewer
+    than three vertices are dropped and the solid marked bad.
+    """
+    S = len(shells)
+    bad = [None] * S
+    vparts, ring_parts, sizes, nfaces = [], [], [], []
+    voff = 0
+    for s, shell in enumerate(shells):
+        if shell is None:
+            bad[s] = "roof boundary does not follow the footprint"
+            nfaces.append(0)
+            continue
+        v, faces = shell
+        w = v.copy()
+        w[:, :2] += origins[s]
+        vparts.append(w)
+        ring_parts.append(np.fromiter(itertools.chain.from_iterable(faces), dtype=np.int64) + voff)
+        sizes.extend(len(f) for f in faces)
+        nfaces.append(len(faces))
+        voff += len(v)
+    if vparts:
+        allv = np.rint(np.concatenate(vparts) * 1000.0).astype(np.int64)
+        rings = np.concatenate(ring_parts)
+    else:
+        allv = np.zeros((0, 3), dtype=np.int64)
+        rings = np.zeros(0, dtype=np.int64)
+    sizes = np.asarray(sizes, dtype=np.int64)
+    nfaces = np.asarray(nfaces, dtype=np.int64)
+    face_solid = np.repeat(np.arange(S), nfaces)
+    entry_face = np.repeat(np.arange(len(sizes)), sizes)
+    entry_solid = face_solid[entry_face]
+    # distinct vertices per solid, only those used
+    keys = np.column_stack([entry_solid, allv[rings]])
+    uniq, inv = np.unique(keys, axis=0, return_inverse=True)
+    inv = inv.reshape(-1)
+    vertices = np.ascontiguousarray(uniq[:, 1:])
+    # duplicate consecutive vertices
+    face_start = np.concatenate([[0], np.cumsum(sizes)])
+    nxt = np.arange(len(inv)) + 1
+    ends = face_start[1:] - 1
+    nxt[ends] = face_start[:-1]
+    keep = inv != inv[nxt] if len(inv) else np.zeros(0, dtype=bool)
+    inv = inv[keep]
+    sizes = np.bincount(entry_face[keep], minlength=len(sizes))
+    small = sizes < 3
+    if small.any():
+        for s in np.unique(face_solid[small]):
+            bad[s] = "degenerate ring (fewer than 3 distinct vertices)"
+        drop_entries = small[entry_face[keep]]
+        inv = inv[~drop_entries]
+        sizes_kept = sizes[~small]
+        face_solid = face_solid[~small]
+    else:
+        sizes_kept = sizes
+    face_start = np.concatenate([[0], np.cumsum(sizes_kept)]).astype(np.int64)
+    solid_start = np.concatenate([[0], np.cumsum(np.bincount(face_solid, minlength=S))]).astype(np.int64)
+    return SolidSet(vertices, inv.astype(np.int64), face_start, solid_start, bad)
+
+
+def _face_geometry(ss):
+    """Per ring entry coordinates (m, relative to the solid's first vertex),
+    next-entry index, per face Newell normal, centroid and size."""
+    face_start = ss.face_start
+    F = len(face_start) - 1
+    sizes = np.diff(face_start)
+    entry_face = np.repeat(np.arange(F), sizes)
+    face_solid = ss.face_solid
+    # reference point per solid: its first ring vertex
+    ref_idx = np.zeros(len(ss), dtype=np.int64)
+    has = np.diff(ss.solid_start) > 0
+    ref_idx[has] = ss.rings[face_start[ss.solid_start[:-1][has]]]
+    ref = ss.vertices[ref_idx]
+    p = (ss.vertices[ss.rings] - ref[face_solid[entry_face]]) / 1000.0
+    nxt = np.arange(len(ss.rings)) + 1
+    if F:
+        nxt[face_start[1:] - 1] = face_start[:-1]
+    q = p[nxt]
+    cr = np.column_stack([(p[:, 1] - q[:, 1]) * (p[:, 2] + q[:, 2]),
+                          (p[:, 2] - q[:, 2]) * (p[:, 0] + q[:, 0]),
+                          (p[:, 0] - q[:, 0]) * (p[:, 1] + q[:, 1])])
+    if F:
+        normal = np.add.reduceat(cr, face_start[:-1], axis=0)
+        centroid = np.add.reduceat(p, face_start[:-1], axis=0) / sizes[:, None]
+    else:
+        normal = np.zeros((0, 3))
+        centroid = np.zeros((0, 3))
+    return p, nxt, entry_face, normal, centroid, sizes
+
+
+def semantics(ss):
+    """Semantic surface per face (GROUND, WALL, ROOF) from its normal:
+    ground when pointing down within 5 degrees, wall when horizontal within
+    5 degrees, roof otherwise."""
+    _, _, _, normal, _, _ = _face_geometry(ss)
+    ln = np.linalg.norm(normal, axis=1)
+    nz = normal[:, 2] / np.maximum(ln, 1e-300)
+    out = np.full(len(nz), ROOF, dtype=np.int8)
+    out[np.abs(nz) < math.sin(math.radians(SEMANTIC_ANGLE))] = WALL
+    out[nz < -math.cos(math.radians(SEMANTIC_ANGLE))] = GROUND
+    return out
+
+
+def validate(ss, tol=PLANARITY_TOL):
+    """Check every solid; returns a list with None (valid) or the reason."""
+    import shapely
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    S = len(ss)
+    reasons = list(ss.bad)
+
+    def flag(solids, reason):
+        for s in np.unique(solids):
+            if reasons[s] is None:
+                reasons[s] = reason
+
+    F = len(ss.face_start) - 1
+    nf = np.diff(ss.solid_start)
+    flag(np.nonzero(nf < 4)[0], "fewer than 4 faces")
+    if F == 0:
+        return reasons
+    p, nxt, entry_face, normal, centroid, sizes = _face_geometry(ss)
+    face_solid = ss.face_solid
+    area2 = np.linalg.norm(normal, axis=1)
+    # degenerate rings: zero area
+    degenerate = area2 < 2e-7
+    flag(face_solid[degenerate], "degenerate ring (zero area)")
+    unit = normal / np.maximum(area2, 1e-300)[:, None]
+    # planarity: distance of each vertex to the least-squares plane (as val3dity)
+    rel = p - centroid[entry_face]
+    cov = np.add.reduceat(rel[:, :, None] * rel[:, None, :], ss.face_start[:-1], axis=0)
+    _, vecs = np.linalg.eigh(cov)
+    fit = vecs[:, :, 0]
+    dist = np.abs(np.einsum("ij,ij->i", rel, fit[entry_face]))
+    maxdist = np.maximum.reduceat(dist, ss.face_start[:-1])
+    flag(face_solid[(maxdist > tol) & ~degenerate], "non-planar face (> 1 mm)")
+    # self-intersection of rings with 4 or more vertices, projected on their plane
+    big = np.nonzero((sizes >= 4) & ~degenerate)[0]
+    if len(big):
+        axis = np.argmax(np.abs(unit[big]), axis=1)
+        sel = np.isin(entry_face, big)
+        ef = entry_face[sel]
+        pos = np.searchsorted(big, ef)
+        drop = axis[pos]
+        pts = p[sel]
+        keep_cols = np.array([[1, 2], [0, 2], [0, 1]])[drop]
+        xy2 = np.take_along_axis(pts, keep_cols, axis=1)
+        # close each ring
+        starts = np.searchsorted(ef, big)
+        closed = np.insert(xy2, np.r_[starts[1:], len(xy2)], xy2[starts], axis=0)
+        ids = np.insert(pos, np.r_[starts[1:], len(xy2)], np.arange(len(big)))
+        rings = shapely.linearrings(closed, indices=ids)
+        simple = shapely.is_simple(rings)
+        flag(face_solid[big[~simple]], "self-intersecting ring")
+    # edges: each directed edge once, and its reverse once
+    a = ss.rings
+    b = ss.rings[nxt]
+    N = max(len(ss.vertices), 1)
+    key = a * N + b
+    rkey = b * N + a
+    uk, cnt = np.unique(key, return_counts=True)
+    dup = np.isin(key, uk[cnt > 1])
+    flag(face_solid[entry_face[dup]], "edge used twice in the same direction (orientation or non-manifold)")
+    pos = np.searchsorted(uk, rkey)
+    pos = np.minimum(pos, len(uk) - 1)
+    found = uk[pos] == rkey
+    flag(face_solid[entry_face[~found]], "edge used only once (shell not closed)")
+    # one connected shell
+    order = np.argsort(key)
+    if found.any():
+        mate = np.empty(len(key), dtype=np.int64)
+        mate_pos = order[np.searchsorted(key[order], rkey[found])]
+        fa = entry_face[found]
+        fb = entry_face[mate_pos]
+        g = coo_matrix((np.ones(len(fa)), (fa, fb)), shape=(F, F))
+        _, labels = connected_components(g, directed=False)
+        lo = np.minimum.reduceat(labels, ss.solid_start[:-1][nf > 0])
+        hi = np.maximum.reduceat(labels, ss.solid_start[:-1][nf > 0])
+        flag(np.nonzero(nf > 0)[0][lo != hi], "more than one shell")
+        del mate
+    # volume (divergence theorem) must be positive: outward orientation
+    vol = np.einsum("ij,ij->i", normal, centroid) / 6.0
+    svol = np.zeros(S)
+    np.add.at(svol, face_solid, vol)
+    flag(np.nonzero(svol <= 1e-9)[0], "zero or negative volume (faces oriented inwards)")
+    return reasons
+
+
+def volumes(ss):
+    """Volume (m3) of every solid."""
+    _, _, _, normal, centroid, _ = _face_geometry(ss)
+    vol = np.einsum("ij,ij->i", normal, centroid) / 6.0
+    out = np.zeros(len(ss))
+    np.add.at(out, ss.face_solid, vol)
+    return out
+
+
+# ---------------------------------------------------------------------------
+# Buildings in bulk, with fallback
+# ---------------------------------------------------------------------------
+
+def build_solids(footprints, ground, eaves, attic, roof_types, uniforms, street=None,
+                 pitch_min=60.0, inset=(1.0, 2.0), step=(0.4, 0.7), thickness=0.5):
+    """Valid LoD2 solids of many buildings.
+
+    ``footprints``: list of cleaned counter-clockwise rings (n, 2) in
+    absolute coordinates (see :func:`clean_ring`); ``ground``, ``eaves``,
+    ``attic``: heights per footprint; ``roof_types``: requested types;
+    ``uniforms``: (B, 3) uniform numbers per footprint (see
+    :func:`reconstruction.roofs.make_roofs`).
+
+    Returns ``(solidset, kept, types, log)``: the valid solids of the
+    footprints ``kept`` (indices into the input), the roof type each one got
+    after any fallback, and a log of ``(footprint index, roof type, reason)``
+    for every roof that failed and fell back.
+    """
+    B = len(footprints)
+    origins = np.array([xy[0] for xy in footprints], dtype=float).reshape(B, 2)
+    local = [xy - o for xy, o in zip(footprints, origins)]
+    types = np.array(roof_types, dtype=object).copy()
+    uniforms = np.asarray(uniforms, dtype=float).reshape(B, 3)
+    shells = [None] * B
+    todo = np.arange(B)
+    done = np.zeros(B, dtype=bool)
+    log = []
+    while len(todo):
+        rf, kinds = _roofs.make_roofs([local[i] for i in todo], types[todo], np.asarray(attic)[todo],
+                               uniforms[todo], None if street is None else [street[i] for i in todo],
+                               pitch_min=pitch_min, inset=inset, step=step, thickness=thickness)
+        types[todo] = kinds
+        cand = []
+        for i, roof in zip(todo, rf):
+            shell = None
+            if roof is not None and roof["faces"]:
+                shell = assemble(local[i], roof, float(ground[i]), float(eaves[i]))
+            cand.append(shell)
+        ss = to_solidset(cand, origins[todo])
+        reasons = validate(ss)
+        retry = []
+        for k, i in enumerate(todo):
+            if reasons[k] is None:
+                shells[i] = cand[k]
+                done[i] = True
+            else:
+                log.append((int(i), types[i], reasons[k]))
+                nxt_type = FALLBACK.get(types[i])
+                if nxt_type is not None:
+                    types[i] = nxt_type
+                    retry.append(i)
+        todo = np.array(retry, dtype=int)
+    kept = np.nonzero(done)[0]
+    final = to_solidset([shells[i] for i in kept], origins[kept])
+    return final, kept, types[kept], log
