@@ -97,3 +97,32 @@ def mapset(grass_session):
     gs.run_command("g.mapset", mapset="PERMANENT", quiet=True)
     shutil.rmtree(os.path.join(grass_session["dbase"], grass_session["location"], name),
                   ignore_errors=True)
+
+
+@pytest.fixture(scope="session")
+def synthetic(grass_session):
+    """The default synthetic historical map (seed 1, 600 x 600 px at 1 m) in PERMANENT.
+
+    Written once per test session. Returns a namespace with the full names
+    ``red``, ``green``, ``blue`` (``map.red@PERMANENT`` ...), ``training``,
+    ``gt_points``, ``plots``, ``region`` (g.region keywords) and ``smap``, the
+    :class:`synthetic_map.SyntheticMap` itself (arrays, plots, points). The map's
+    region is also saved as the location's default region, so every fresh
+    mapset (fixture ``mapset``) starts on it.
+    """
+    import types
+
+    import grass.script as gs
+
+    from synthetic_map import generate, write_to_grass
+
+    current = gs.gisenv()["MAPSET"]
+    if current != "PERMANENT":
+        gs.run_command("g.mapset", mapset="PERMANENT", quiet=True)
+    smap = generate(seed=1, size=600)
+    names = write_to_grass(smap, "map")
+    gs.run_command("g.region", flags="s", quiet=True, **smap.region())
+    if current != "PERMANENT":
+        gs.run_command("g.mapset", mapset=current, quiet=True)
+    full = {key: name + "@PERMANENT" for key, name in names.items()}
+    return types.SimpleNamespace(smap=smap, region=smap.region(), **full)

@@ -261,6 +261,17 @@ def write_features(name, geometries, columns=None, snap=-1, feature_type=None,
     return name
 
 
+def write_points(name, xy, columns=None, cats=None, title=None):
+    """Write an (n, 2) array of coordinates as a new vector map of points.
+
+    ``columns`` and ``cats`` as in :func:`write_features`.
+    """
+    from shapely.geometry import Point
+
+    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+    return write_features(name, [Point(x, y) for x, y in xy], columns, cats=cats, title=title)
+
+
 def _sql_type(values):
     kinds = {type(_json_value(v)) for v in values if _json_value(v) is not None}
     if kinds and kinds <= {int, bool}:

@@ -1,0 +1,816 @@
+#!/usr/bin/env python3
+"""A synthetic, seeded colour city map: the project's embedded historical map.
+
+No real scanned map may be committed, so histo makes its own. The map looks
+and behaves like a 19th-20th century colour city map (the Delft 1961 map of
+the thesis is the model): blocks of pale pink building plots with a thin
+darker outline, of several shapes (single buildings, rows, two rows back to
+back, courtyard blocks with a hole, concave L and U blocks, a few rotated
+blocks and some cut slanted by the canal), separated by pale streets; a blue
+canal crossing the map; green parks and gardens; black street names along
+the streets and black numbered square symbols printed over plots and
+streets; and the defects of a scan: mixed pixels on every edge, colour
+noise, bleaching (a smooth brightness and yellowing gradient) and one colour
+plane misregistered by one pixel (false colour fringes).
+
+Beside the picture it gives what a test needs: the true class of every
+pixel, the true building plots as polygons, one ground-truth point inside
+each plot and a few training points per class, as the thesis's Delft data.
+
+Two parts:
+
+- :func:`generate` is pure (numpy, scipy, shapely; no GRASS) and returns a
+  :class:`SyntheticMap`; the same seed gives identical arrays and vectors.
+- :func:`write_to_grass` writes it into the current GRASS mapset (region,
+  ``<prefix>.red/.green/.blue`` rasters, ``<prefix>_training``,
+  ``<prefix>_gt_points`` and ``<prefix>_plots`` vectors). From the command line,
+  inside a GRASS session::
+
+      python3 testsuite/synthetic_map.py --seed 1 --size 600 --prefix map
+
+Coordinates are EPSG:28992 (RD New) metres, north up: pixel (row 0, col 0)
+is the north-west corner, at (origin_x, origin_y + size * res).
+"""
+
+import argparse
+import math
+import os
+import struct
+import sys
+import zlib
+from dataclasses import dataclass, field
+
+import numpy as np
+import shapely
+from scipy import ndimage
+from shapely import affinity
+from shapely.geometry import LineString, Point, Polygon, box
+from shapely.ops import unary_union
+
+CLASSES = {1: "building", 2: "text", 3: "water", 4: "street", 5: "vegetation", 6: "symbol"}
+BUILDING, TEXT, WATER, STREET, VEGETATION, SYMBOL = 1, 2, 3, 4, 5, 6
+PLOT_KINDS = ("single", "row", "double_row", "courtyard", "L", "U")
+
+# Drawing layers (finer than classes: what colour a sub-pixel gets).
+_PAPER, _FILL, _OUTLINE, _WATER, _BANK, _GREEN, _TREE, _INK, _SYMBOL_INK, _SYMBOL_PAPER = range(10)
+_LAYER_CLASS = np.array([STREET, BUILDING, BUILDING, WATER, WATER, VEGETATION, VEGETATION,
+                         TEXT, SYMBOL, SYMBOL], dtype=np.int32)
+_LAYER_COLOUR = np.array([
+    (238, 231, 212),  # paper: streets, yards
+    (236, 183, 166),  # plot fill, pale salmon pink
+    (176, 100, 92),   # plot outline
+    (150, 188, 214),  # water
+    (92, 130, 176),   # canal bank line
+    (182, 207, 150),  # parks, gardens
+    (120, 160, 104),  # trees
+    (30, 27, 30),     # text ink
+    (24, 24, 28),     # symbol ink
+    (236, 230, 214),  # numbers inside symbols
+], dtype=np.float64)
+
+_SUB = 3          # sub-pixels per pixel side (anti-aliasing)
+_MISREGISTERED_BAND = 0  # red
+_MISREGISTRATION = (0, 1)  # rows, cols: one pixel to the east
+
+STREET_NAMES = (
+    "OUDE DELFT", "KOORNMARKT", "VOLDERSGRACHT", "WIJNHAVEN", "TURFMARKT", "BREESTRAAT",
+    "NIEUWSTRAAT", "BEESTENMARKT", "KAPELSTEEG", "HIPPOLYTUSBUURT", "VLAMINGSTRAAT",
+    "PAPENSTRAAT", "OOSTSINGEL", "GASTHUISLAAN", "BINNENWATERSLOOT", "LANGE GEER",
+    "BRABANTSE TURFMARKT", "PEPERSTRAAT", "HAVERSTRAAT", "MOLENSTRAAT", "ZUIDWAL",
+    "NOORDEINDE", "PHOENIXSTRAAT", "HOOGSTRAAT", "VESTSTRAAT", "KERKSTRAAT",
+)
+CANAL_NAMES = ("NIEUWE DELFT", "BUITENWATERSLOOT", "RIJN SCHIE KANAAL", "OOSTERGRACHT")
+BUILDING_NAMES = ("KERK", "SCHOOL", "WAAG", "HOFJE", "STADHUIS", "GASTHUIS", "MUSEUM")
+
+# A small stroke font on a 4 x 6 grid (y up): polylines per glyph.
+_O = [(1, 0), (0, 1), (0, 5), (1, 6), (3, 6), (4, 5), (4, 1), (3, 0), (1, 0)]
+_P = [(0, 0), (0, 6), (3, 6), (4, 5), (4, 4), (3, 3), (0, 3)]
+GLYPHS = {
+    "A": [[(0, 0), (0, 4), (2, 6), (4, 4), (4, 0)], [(0, 3), (4, 3)]],
+    "B": [[(0, 0), (0, 6), (3, 6), (4, 5), (4, 4), (3, 3), (0, 3)],
+          [(3, 3), (4, 2), (4, 1), (3, 0), (0, 0)]],
+    "C": [[(4, 5), (3, 6), (1, 6), (0, 5), (0, 1), (1, 0), (3, 0), (4, 1)]],
+    "D": [[(0, 0), (0, 6), (2, 6), (4, 4), (4, 2), (2, 0), (0, 0)]],
+    "E": [[(4, 6), (0, 6), (0, 0), (4, 0)], [(0, 3), (3, 3)]],
+    "F": [[(4, 6), (0, 6), (0, 0)], [(0, 3), (3, 3)]],
+    "G": [[(4, 5), (3, 6), (1, 6), (0, 5), (0, 1), (1, 0), (3, 0), (4, 1), (4, 3), (2, 3)]],
+    "H": [[(0, 0), (0, 6)], [(4, 0), (4, 6)], [(0, 3), (4, 3)]],
+    "I": [[(1, 6), (3, 6)], [(2, 6), (2, 0)], [(1, 0), (3, 0)]],
+    "J": [[(4, 6), (4, 1), (3, 0), (1, 0), (0, 1)]],
+    "K": [[(0, 0), (0, 6)], [(4, 6), (0, 2)], [(1, 3), (4, 0)]],
+    "L": [[(0, 6), (0, 0), (4, 0)]],
+    "M": [[(0, 0), (0, 6), (2, 3), (4, 6), (4, 0)]],
+    "N": [[(0, 0), (0, 6), (4, 0), (4, 6)]],
+    "O": [_O],
+    "P": [_P],
+    "Q": [_O, [(2, 2), (4, 0)]],
+    "R": [_P, [(2, 3), (4, 0)]],
+    "S": [[(4, 5), (3, 6), (1, 6), (0, 5), (0, 4), (1, 3), (3, 3), (4, 2), (4, 1), (3, 0),
+           (1, 0), (0, 1)]],
+    "T": [[(0, 6), (4, 6)], [(2, 6), (2, 0)]],
+    "U": [[(0, 6), (0, 1), (1, 0), (3, 0), (4, 1), (4, 6)]],
+    "V": [[(0, 6), (2, 0), (4, 6)]],
+    "W": [[(0, 6), (1, 0), (2, 3), (3, 0), (4, 6)]],
+    "X": [[(0, 0), (4, 6)], [(0, 6), (4, 0)]],
+    "Y": [[(0, 6), (2, 3), (4, 6)], [(2, 3), (2, 0)]],
+    "Z": [[(0, 6), (4, 6), (0, 0), (4, 0)]],
+    "0": [_O],
+    "1": [[(1, 5), (2, 6), (2, 0)], [(1, 0), (3, 0)]],
+    "2": [[(0, 5), (1, 6), (3, 6), (4, 5), (4, 4), (0, 0), (4, 0)]],
+    "3": [[(0, 5), (1, 6), (3, 6), (4, 5), (4, 4), (3, 3), (4, 2), (4, 1), (3, 0), (1, 0),
+           (0, 1)], [(1, 3), (3, 3)]],
+    "4": [[(3, 0), (3, 6), (0, 2), (4, 2)]],
+    "5": [[(4, 6), (0, 6), (0, 3), (3, 3), (4, 2), (4, 1), (3, 0), (1, 0), (0, 1)]],
+    "6": [[(4, 5), (3, 6), (1, 6), (0, 5), (0, 1), (1, 0), (3, 0), (4, 1), (4, 2), (3, 3),
+           (0, 3)]],
+    "7": [[(0, 6), (4, 6), (1, 0)]],
+    "8": [[(1, 3), (0, 4), (0, 5), (1, 6), (3, 6), (4, 5), (4, 4), (3, 3), (1, 3), (0, 2),
+           (0, 1), (1, 0), (3, 0), (4, 1), (4, 2), (3, 3)]],
+    "9": [[(0, 1), (1, 0), (3, 0), (4, 1), (4, 5), (3, 6), (1, 6), (0, 5), (0, 4), (1, 3),
+           (4, 3)]],
+}
+_ADVANCE = 5.6  # glyph advance in font units (glyphs are 4 wide, 6 high)
+
+
+@dataclass
+class SyntheticMap:
+    """A generated map: picture, truth, plots, points and its region.
+
+    Arrays are north-up (row 0 is the northern edge); vectors are in map
+    coordinates (EPSG:28992 metres).
+    """
+
+    seed: int
+    rgb: np.ndarray          # uint8 (rows, cols, 3)
+    truth: np.ndarray        # int32 (rows, cols): underlying class (no text, no symbols)
+    drawn: np.ndarray        # int32 (rows, cols): visible class (text and symbols on top)
+    plots: list              # shapely Polygons of the true building plots
+    plot_kinds: list         # kind of each plot, one of PLOT_KINDS
+    training: dict           # {"xy": (n, 2) float, "label": (n,) int, "class": [str]}
+    gt_points: np.ndarray    # (n_plots, 2) float: one point inside each plot, same order
+    north: float
+    south: float
+    east: float
+    west: float
+    res: float
+    classes: dict = field(default_factory=lambda: dict(CLASSES))
+    misregistration: dict = field(default_factory=dict)  # {"band": "red", "shift": (rows, cols)}
+    ink_cover: np.ndarray = None  # float (rows, cols): share of black ink in each pixel
+
+    @property
+    def shape(self):
+        return self.truth.shape
+
+    def region(self):
+        """Keyword arguments of g.region for this map."""
+        return {"n": self.north, "s": self.south, "e": self.east, "w": self.west,
+                "res": self.res}
+
+    def to_pixel(self, xy):
+        """Rows and columns of the pixels holding map coordinates ``xy`` ((n, 2))."""
+        xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+        cols = np.floor((xy[:, 0] - self.west) / self.res).astype(int)
+        rows = np.floor((self.north - xy[:, 1]) / self.res).astype(int)
+        return rows, cols
+
+    def class_share(self, label, visible=True):
+        """Share of the map's pixels of one class (visible or underlying)."""
+        return float(np.mean((self.drawn if visible else self.truth) == label))
+
+
+# ---------------------------------------------------------------------------
+# Layout: streets, canal, blocks and plots (local metres, origin south-west)
+# ---------------------------------------------------------------------------
+
+def _cuts(rng, extent):
+    """Block intervals [(a, b), ...] along one axis, separated by streets 8-20 m wide."""
+    intervals = []
+    pos = rng.uniform(5, 12)
+    while True:
+        width = rng.uniform(55, 100)
+        if pos + width > extent - 5:
+            width = extent - 5 - pos
+            if width >= 30:
+                intervals.append((pos, pos + width))
+            break
+        intervals.append((pos, pos + width))
+        pos += width + rng.uniform(8, 17)
+    return intervals
+
+
+def _rect(x0, y0, x1, y1):
+    return box(min(x0, x1), min(y0, y1), max(x0, x1), max(y0, y1))
+
+
+def _block_content(rng, kind, x0, y0, x1, y1):
+    """Plots and gardens of one block [x0, x1] x [y0, y1] in local metres.
+
+    Returns (plots as [(polygon, kind)], gardens as [polygon]).
+    """
+    w, h = x1 - x0, y1 - y0
+    horizontal = w >= h  # rows run along the long side
+    plots, gardens = [], []
+    depth = rng.uniform(15, 25)
+    if kind == "single":
+        # two to four detached houses in the corners of a garden block
+        corners = [(x0, y0, 1, 1), (x1, y0, -1, 1), (x0, y1, 1, -1), (x1, y1, -1, -1)]
+        n_houses = rng.integers(1, 4) if min(w, h) >= 50 else 1
+        chosen = rng.permutation(4)[:n_houses]
+        if rng.random() < 0.8:
+            gardens.append(_rect(x0, y0, x1, y1).buffer(-2.0, join_style="mitre"))
+        for i in sorted(chosen):
+            cx, cy, sx, sy = corners[i]
+            # at most half the block less 10 m: houses stay 8 m apart
+            bw = rng.uniform(9, max(10, min(22, w / 2 - 10)))
+            bh = rng.uniform(9, max(10, min(22, h / 2 - 10)))
+            ox, oy = rng.uniform(2, 6), rng.uniform(2, 6)
+            plots.append((_rect(cx + sx * ox, cy + sy * oy, cx + sx * (ox + bw),
+                                cy + sy * (oy + bh)), "single"))
+    elif kind == "row":
+        # one row along each long side, gardens or a yard between
+        if horizontal:
+            plots.append((_rect(x0, y0, x1, y0 + depth), "row"))
+            if h - 2 * depth >= 12:
+                d2 = rng.uniform(11, min(16, h - depth - 10))
+                plots.append((_rect(x0, y1 - d2, x1, y1), "row"))
+                inner = _rect(x0 + 2, y0 + depth + 3, x1 - 2, y1 - d2 - 3)
+            else:
+                inner = _rect(x0 + 2, y0 + depth + 3, x1 - 2, y1 - 2)
+        else:
+            plots.append((_rect(x0, y0, x0 + depth, y1), "row"))
+            if w - 2 * depth >= 12:
+                d2 = rng.uniform(11, min(16, w - depth - 10))
+                plots.append((_rect(x1 - d2, y0, x1, y1), "row"))
+                inner = _rect(x0 + depth + 3, y0 + 2, x1 - d2 - 3, y1 - 2)
+            else:
+                inner = _rect(x0 + depth + 3, y0 + 2, x1 - 2, y1 - 2)
+        if rng.random() < 0.6 and inner.area > 50:
+            gardens.append(inner)
+    elif kind == "double_row":
+        # two rows back to back: one deep plot in the middle of the block
+        d = rng.uniform(30, 50)
+        if horizontal:
+            d = min(d, h - 6)
+            c = (y0 + y1) / 2 + rng.uniform(-1, 1) * max(0.0, (h - d) / 2 - 3)
+            plots.append((_rect(x0, c - d / 2, x1, c + d / 2), "double_row"))
+            for a, b in ((y0 + 2, c - d / 2 - 3), (c + d / 2 + 3, y1 - 2)):
+                if b - a > 6:
+                    gardens.append(_rect(x0 + 2, a, x1 - 2, b))
+        else:
+            d = min(d, w - 6)
+            c = (x0 + x1) / 2 + rng.uniform(-1, 1) * max(0.0, (w - d) / 2 - 3)
+            plots.append((_rect(c - d / 2, y0, c + d / 2, y1), "double_row"))
+            for a, b in ((x0 + 2, c - d / 2 - 3), (c + d / 2 + 3, x1 - 2)):
+                if b - a > 6:
+                    gardens.append(_rect(a, y0 + 2, b, y1 - 2))
+    elif kind == "courtyard":
+        d = min(depth, w / 2 - 6, h / 2 - 6)
+        hole = _rect(x0 + d, y0 + d, x1 - d, y1 - d)
+        plots.append((Polygon(_rect(x0, y0, x1, y1).exterior.coords,
+                              [hole.exterior.coords]), "courtyard"))
+        if rng.random() < 0.6:
+            gardens.append(hole.buffer(-3.0, join_style="mitre"))
+    elif kind in ("L", "U"):
+        outer = _rect(x0, y0, x1, y1)
+        d1 = min(depth, w / 2 - 6)
+        d2 = min(rng.uniform(11, 16), h / 2 - 6)
+        if kind == "L":
+            # keep two adjacent sides of the block
+            sx, sy = rng.choice([-1, 1]), rng.choice([-1, 1])
+            cut = _rect(x0 + d1 if sx > 0 else x0, y0 + d2 if sy > 0 else y0,
+                        x1 if sx > 0 else x1 - d1, y1 if sy > 0 else y1 - d2)
+        else:
+            # keep three sides: open towards one side of the block
+            side = rng.integers(4)
+            cut = [_rect(x0 + d1, y0 + d2, x1 - d1, y1),
+                   _rect(x0 + d1, y0, x1 - d1, y1 - d2),
+                   _rect(x0 + d1, y0 + d2, x1, y1 - d2),
+                   _rect(x0, y0 + d2, x1 - d1, y1 - d2)][side]
+        plots.append((outer.difference(cut), kind))
+        if rng.random() < 0.6:
+            garden = cut.buffer(-3.0, join_style="mitre")
+            if not garden.is_empty:
+                gardens.append(garden)
+    elif kind == "park":
+        gardens.append(_rect(x0, y0, x1, y1))
+    return plots, gardens
+
+
+def _layout(rng, extent):
+    """Streets, canal, blocks, plots, gardens and label anchors in local metres."""
+    cols = _cuts(rng, extent)
+    rows = _cuts(rng, extent)
+    # the canal: a band crossing the map from west to east with a slight slant
+    angle = math.radians(rng.uniform(6, 16) * rng.choice([-1, 1]))
+    y_mid = rng.uniform(0.35, 0.65) * extent
+    canal_line = LineString([(-50, y_mid - math.tan(angle) * (extent / 2 + 50)),
+                             (extent + 50, y_mid + math.tan(angle) * (extent / 2 + 50))])
+    canal_width = rng.uniform(18, 26)
+    canal = canal_line.buffer(canal_width / 2, cap_style="flat")
+    quays = canal_line.buffer(canal_width / 2 + rng.uniform(6, 9), cap_style="flat")
+
+    cells = [(c, r) for r in rows for c in cols]
+    order = rng.permutation(len(cells))
+    required = ["courtyard", "courtyard", "L", "U", "U", "L", "double_row", "row",
+                "single", "park"]
+    weights = {"courtyard": 3, "L": 2, "U": 2, "double_row": 3, "row": 3, "single": 1}
+    kinds_pool = list(weights)
+    probs = np.array([weights[k] for k in kinds_pool], dtype=float)
+    probs /= probs.sum()
+    rotated = set()
+    plots, gardens, street_anchors = [], [], []
+    n_assigned = 0
+    n_rotated = 0
+    for idx in order:
+        (x0, x1), (y0, y1) = cells[idx]
+        block = _rect(x0, y0, x1, y1)
+        crosses = block.intersects(quays)
+        if crosses:
+            kind = rng.choice(["row", "double_row", "single", "row"])
+        elif n_assigned < len(required):
+            kind = required[n_assigned]
+            n_assigned += 1
+        else:
+            kind = str(rng.choice(kinds_pool, p=probs))
+        kind = str(kind)
+        if kind in ("courtyard", "L", "U", "double_row") and min(x1 - x0, y1 - y0) < 40:
+            kind = "row"
+        content, green = _block_content(rng, kind, x0, y0, x1, y1)
+        angle_deg = 0.0
+        if not crosses and kind != "park" and n_rotated < 3 and rng.random() < 0.35:
+            # a rotated block, scaled to stay inside its street grid cell
+            angle_deg = rng.uniform(10, 30) * rng.choice([-1, 1])
+            a = math.radians(abs(angle_deg))
+            w, h = x1 - x0, y1 - y0
+            scale = min(w / (w * math.cos(a) + h * math.sin(a)),
+                        h / (w * math.sin(a) + h * math.cos(a))) * 0.97
+            centre = ((x0 + x1) / 2, (y0 + y1) / 2)
+
+            def turn(g):
+                g = affinity.rotate(g, angle_deg, origin=centre)
+                return affinity.scale(g, scale, scale, origin=centre)
+
+            content = [(turn(p), k) for p, k in content]
+            green = [turn(g) for g in green]
+            rotated.add(idx)
+            n_rotated += 1
+        for poly, k in content:
+            if crosses:
+                poly = poly.difference(quays)
+            for piece in getattr(poly, "geoms", [poly]):
+                if piece.geom_type == "Polygon" and piece.area >= 90:
+                    piece = shapely.set_precision(piece, 0.01)
+                    plots.append((piece, k, angle_deg))
+        for g in green:
+            g = g.difference(quays) if crosses else g
+            if not g.is_empty:
+                gardens.append(g)
+    # street anchors for labels: horizontal streets between block rows, vertical
+    # streets between block columns
+    for (a0, a1), (b0, b1) in zip(rows[:-1], rows[1:]):
+        street_anchors.append(("h", (a1 + b0) / 2, b0 - a1))
+    for (a0, a1), (b0, b1) in zip(cols[:-1], cols[1:]):
+        street_anchors.append(("v", (a1 + b0) / 2, b0 - a1))
+    return {
+        "plots": plots, "gardens": gardens, "canal": canal, "quays": quays,
+        "canal_line": canal_line, "canal_angle": math.degrees(angle),
+        "street_anchors": street_anchors, "cols": cols, "rows": rows,
+    }
+
+
+# ---------------------------------------------------------------------------
+# Text and symbols
+# ---------------------------------------------------------------------------
+
+def _text_geometry(text, height, centre, angle_deg, stroke):
+    """Outline of a text label (stroke font) centred on ``centre``, rotated."""
+    scale = height / 6.0
+    lines = []
+    for i, char in enumerate(text):
+        for polyline in GLYPHS.get(char, []):
+            lines.append(LineString([(x + i * _ADVANCE, y) for x, y in polyline]))
+    if not lines:
+        return None
+    geom = unary_union([ln.buffer(stroke / 2 / scale, cap_style="round", quad_segs=3)
+                        for ln in lines])
+    width = (len(text) - 1) * _ADVANCE + 4
+    geom = affinity.translate(geom, -width / 2, -3)
+    geom = affinity.scale(geom, scale, scale, origin=(0, 0))
+    geom = affinity.rotate(geom, angle_deg, origin=(0, 0))
+    return affinity.translate(geom, centre[0], centre[1])
+
+
+def text_length(text, height):
+    """Length in metres of a label of ``text`` with letters ``height`` high."""
+    return ((len(text) - 1) * _ADVANCE + 4) * height / 6.0
+
+
+def _label_box(text, centre, angle, height):
+    """The rectangle a label covers."""
+    length = text_length(text, height)
+    rect = box(-length / 2, -height / 2, length / 2, height / 2)
+    return affinity.translate(affinity.rotate(rect, angle, origin=(0, 0)), *centre)
+
+
+def _labels(rng, layout, extent):
+    """Street names, canal names and building names: [(text, centre, angle, height)].
+
+    Labels never overlap each other nor leave the map; street names stay off
+    the canal.
+    """
+    labels, taken = [], []
+    inside = box(4, 4, extent - 4, extent - 4)
+
+    def place(text, centre, angle, height, avoid=None):
+        footprint = _label_box(text, centre, angle, height)
+        if not inside.contains(footprint) or any(footprint.intersects(t) for t in taken):
+            return False
+        if avoid is not None and footprint.intersects(avoid):
+            return False
+        labels.append((text, centre, angle, height))
+        taken.append(footprint.buffer(5))
+        return True
+
+    # along the canal, first
+    line = layout["canal_line"]
+    name = str(rng.choice(CANAL_NAMES))
+    height = rng.uniform(7.5, 9.0)
+    for _ in range(20):
+        x = rng.uniform(0.2, 0.8) * extent
+        p = line.interpolate(line.project(Point(x, line.interpolate(0.5, normalized=True).y)))
+        if place(name, (p.x, p.y), layout["canal_angle"], height):
+            break
+    # street names, along the streets between the blocks
+    names = list(rng.permutation(STREET_NAMES))
+    anchors = list(layout["street_anchors"])
+    for i in rng.permutation(len(anchors)):
+        direction, pos, width = anchors[i]
+        if not names:
+            break
+        name = str(names.pop())
+        height = float(np.clip(width * rng.uniform(0.55, 0.8), 6.0, 9.0))
+        length = text_length(name, height)
+        if length > extent - 60:
+            continue
+        for _ in range(12):
+            along = rng.uniform(10 + length / 2, extent - 10 - length / 2)
+            centre, angle = ((along, pos), 0.0) if direction == "h" else ((pos, along), 90.0)
+            if place(name, centre, angle, height, avoid=layout["quays"]):
+                break
+    # names of a few buildings, written on their plots
+    plots = layout["plots"]
+    big = [i for i, (poly, kind, ang) in enumerate(plots) if poly.area > 900]
+    for i in rng.permutation(big)[: 4]:
+        poly, kind, ang = plots[i]
+        name = str(rng.choice(BUILDING_NAMES))
+        p = poly.representative_point()
+        place(name, (p.x, p.y), ang, rng.uniform(6.0, 7.5))
+    return labels
+
+
+def _symbols(rng, layout, extent, labels_geom):
+    """Numbered square symbols: [(square polygon, number glyphs geometry)]."""
+    plots = [p for p, _, _ in layout["plots"]]
+    plots_union = unary_union(plots)
+    green = unary_union(layout["gardens"]) if layout["gardens"] else Polygon()
+    symbols = []
+    wanted = {"plot": int(rng.integers(5, 9)), "street": int(rng.integers(4, 7))}
+    tries = 0
+    taken = [labels_geom.buffer(3)] if labels_geom is not None else []
+    while (wanted["plot"] or wanted["street"]) and tries < 2000:
+        tries += 1
+        side = rng.uniform(8, 12)
+        x, y = rng.uniform(20, extent - 20, size=2)
+        square = box(x - side / 2, y - side / 2, x + side / 2, y + side / 2)
+        where = "plot" if plots_union.contains(square.centroid) else "street"
+        if where == "street" and (square.intersects(layout["canal"]) or square.intersects(green)
+                                  or not square.intersects(plots_union.buffer(12))):
+            continue
+        if where == "plot" and not plots_union.buffer(-2).contains(square.centroid):
+            continue
+        if not wanted[where] or any(square.intersects(t) for t in taken):
+            continue
+        number = str(int(rng.integers(1, 100)))
+        digits = _text_geometry(number, side * 0.55, (x, y), 0.0, 0.9)
+        symbols.append((square, digits, where))
+        taken.append(square.buffer(6))
+        wanted[where] -= 1
+    return symbols
+
+
+# ---------------------------------------------------------------------------
+# Rendering
+# ---------------------------------------------------------------------------
+
+class _Canvas:
+    """Sub-pixel layer raster: polygons are burnt in by their sub-pixel centres."""
+
+    def __init__(self, size, res, sub=_SUB):
+        self.n = size * sub
+        self.step = res / sub
+        self.extent = size * res
+        self.layer = np.full((self.n, self.n), _PAPER, dtype=np.int8)
+
+    def burn(self, geom, value, mask=None):
+        if geom is None or geom.is_empty:
+            return
+        minx, miny, maxx, maxy = geom.bounds
+        c0 = max(int(math.floor(minx / self.step)), 0)
+        c1 = min(int(math.ceil(maxx / self.step)) + 1, self.n)
+        r0 = max(int(math.floor((self.extent - maxy) / self.step)), 0)
+        r1 = min(int(math.ceil((self.extent - miny) / self.step)) + 1, self.n)
+        if c0 >= c1 or r0 >= r1:
+            return
+        xs = (np.arange(c0, c1) + 0.5) * self.step
+        ys = self.extent - (np.arange(r0, r1) + 0.5) * self.step
+        gx, gy = np.meshgrid(xs, ys)
+        shapely.prepare(geom)
+        inside = shapely.contains_xy(geom, gx, gy)
+        if mask is not None:
+            inside &= mask[r0:r1, c0:c1]
+        self.layer[r0:r1, c0:c1][inside] = value
+
+
+def _smooth_field(rng, shape, sigma):
+    field_ = ndimage.gaussian_filter(rng.standard_normal(shape), sigma, mode="reflect")
+    field_ -= field_.min()
+    peak = field_.max()
+    return field_ / peak if peak > 0 else field_
+
+
+def _render(rng, layer, plot_ids, n_plots, size):
+    """Colours of the sub-pixel layers, averaged to pixels, with scan defects."""
+    sub = _SUB
+    colours = _LAYER_COLOUR[layer]                        # (n, n, 3)
+    # printing: each plot's pink varies a little
+    tint = rng.normal(0, 5, size=(n_plots + 1, 3))
+    tint[0] = 0
+    on_plot = (layer == _FILL)
+    colours[on_plot] += tint[plot_ids[on_plot]]
+    rgb = colours.reshape(size, sub, size, sub, 3).mean(axis=(1, 3))  # mixed edge pixels
+    # bleaching: smooth brightening and yellowing, strongest towards one corner
+    yy, xx = np.mgrid[0:size, 0:size] / float(size)
+    gx, gy = rng.uniform(-1, 1, size=2)
+    ramp = gx * xx + gy * yy
+    ramp = (ramp - ramp.min()) / max(ramp.max() - ramp.min(), 1e-9)
+    bleach = 0.6 * ramp + 0.4 * _smooth_field(rng, (size, size), size / 8.0)
+    rgb += (255.0 - rgb) * (0.28 * bleach)[..., None]
+    rgb[..., 2] -= 26.0 * bleach
+    rgb[..., 1] -= 6.0 * bleach
+    # paper grain, print and scan noise: per pixel, per channel
+    rgb += rng.normal(0, 3.5, size=(size, size, 1))
+    rgb += rng.normal(0, 4.5, size=(size, size, 3))
+    rgb = np.clip(np.rint(rgb), 0, 255).astype(np.uint8)
+    # one plane misregistered by one pixel (false colour on every edge)
+    band = rgb[..., _MISREGISTERED_BAND]
+    dr, dc = _MISREGISTRATION
+    shifted = np.roll(band, (dr, dc), axis=(0, 1))
+    if dc > 0:
+        shifted[:, :dc] = band[:, :dc]
+    if dr > 0:
+        shifted[:dr, :] = band[:dr, :]
+    rgb[..., _MISREGISTERED_BAND] = shifted
+    return rgb
+
+
+def _pick_training(rng, drawn, cover, xy_of):
+    """3-8 training points per class on clean pixels of that class, spread out."""
+    points, labels = [], []
+    for label in sorted(CLASSES):
+        if label in (TEXT, SYMBOL):
+            mask = (drawn == label) & (cover[label] >= 7.0 / 9.0)
+            min_dist = 15.0
+        else:
+            mask = ndimage.binary_erosion(drawn == label, iterations=2) & (cover[label] >= 1.0)
+            min_dist = 40.0
+        rows, cols = np.nonzero(mask)
+        if len(rows) == 0:
+            continue
+        want = int(rng.integers(3, 9))
+        chosen = []
+        for i in rng.permutation(len(rows)):
+            p = np.array([rows[i], cols[i]], dtype=float)
+            if all(np.hypot(*(p - q)) >= min_dist for q in chosen):
+                chosen.append(p)
+                if len(chosen) == want:
+                    break
+        for r, c in chosen:
+            points.append(xy_of(int(r), int(c)))
+            labels.append(label)
+    return np.array(points, dtype=float).reshape(-1, 2), np.array(labels, dtype=np.int32)
+
+
+def generate(seed=1, size=600, res=1.0, origin=(84000.0, 446000.0)):
+    """Generate the synthetic historical map.
+
+    ``size`` pixels square at ``res`` metres; ``origin`` is the south-west
+    corner in EPSG:28992. Lengths (streets, plots, letters) are in metres, so
+    they are drawn at about 1 pixel per metre with the default ``res``.
+    """
+    if size < 120:
+        raise ValueError("size must be at least 120 pixels")
+    rng = np.random.default_rng(seed)
+    extent = size * res
+    layout = _layout(rng, extent)
+    canvas = _Canvas(size, res)
+    sub_ids = np.zeros((canvas.n, canvas.n), dtype=np.int32)
+
+    # ground: gardens and parks, with trees
+    for g in layout["gardens"]:
+        canvas.burn(g, _GREEN)
+        minx, miny, maxx, maxy = g.bounds
+        n_trees = int(g.area / 180)
+        for _ in range(n_trees):
+            p = Point(rng.uniform(minx, maxx), rng.uniform(miny, maxy))
+            if g.buffer(-2.5).contains(p):
+                canvas.burn(p.buffer(rng.uniform(1.2, 2.2), quad_segs=4), _TREE)
+    # canal: water and its darker bank lines
+    canvas.burn(layout["canal"], _WATER)
+    canvas.burn(layout["canal"].difference(layout["canal"].buffer(-1.0)), _BANK)
+    # building plots: fill, then a thin darker outline inside
+    plots = [p for p, _, _ in layout["plots"]]
+    kinds = [k for _, k, _ in layout["plots"]]
+    for i, poly in enumerate(plots):
+        canvas.burn(poly, _FILL)
+        minx, miny, maxx, maxy = poly.bounds
+        # remember which plot each sub-pixel belongs to (for the print tint)
+        before = canvas.layer == _FILL
+        sub_ids[before & (sub_ids == 0)] = i + 1
+        canvas.burn(poly.difference(poly.buffer(-0.9, join_style="mitre")), _OUTLINE)
+    base = canvas.layer.copy()
+
+    # text and symbols printed on top
+    labels = _labels(rng, layout, extent)
+    text_geoms = [_text_geometry(t, h, c, a, rng.uniform(1.0, 1.25)) for t, c, a, h in labels]
+    text_geoms = [g for g in text_geoms if g is not None]
+    for g in text_geoms:
+        canvas.burn(g, _INK)
+    symbols = _symbols(rng, layout, extent, unary_union(text_geoms) if text_geoms else None)
+    for square, digits, _ in symbols:
+        canvas.burn(square, _SYMBOL_INK)
+        canvas.burn(digits, _SYMBOL_PAPER, mask=canvas.layer == _SYMBOL_INK)
+
+    rgb = _render(rng, canvas.layer.astype(np.intp), sub_ids, len(plots), size)
+
+    centre = _SUB // 2
+    truth = _LAYER_CLASS[base[centre::_SUB, centre::_SUB]]
+    drawn = _LAYER_CLASS[canvas.layer[centre::_SUB, centre::_SUB]]
+    sub_class = _LAYER_CLASS[canvas.layer]
+    cover = {label: (sub_class == label).reshape(size, _SUB, size, _SUB).mean(axis=(1, 3))
+             for label in CLASSES}
+    ink = np.isin(canvas.layer, (_INK, _SYMBOL_INK)).reshape(size, _SUB, size, _SUB)
+    ink_cover = ink.mean(axis=(1, 3))
+    # text and symbol training points go on black pixels only
+    cover[TEXT] = np.minimum(cover[TEXT], ink_cover)
+    cover[SYMBOL] = np.minimum(cover[SYMBOL], ink_cover)
+
+    x0, y0 = origin
+    north = y0 + extent
+
+    def xy_of(r, c):
+        return (x0 + (c + 0.5) * res, north - (r + 0.5) * res)
+
+    train_xy, train_label = _pick_training(rng, drawn, cover, xy_of)
+    world = [affinity.translate(p, x0, y0) for p in plots]
+    gt = np.array([[q.x, q.y] for q in (p.representative_point() for p in world)],
+                  dtype=float).reshape(-1, 2)
+    return SyntheticMap(
+        seed=seed, rgb=rgb, truth=truth.astype(np.int32), drawn=drawn.astype(np.int32),
+        plots=world, plot_kinds=kinds,
+        training={"xy": train_xy, "label": train_label,
+                  "class": [CLASSES[int(v)] for v in train_label]},
+        gt_points=gt, north=north, south=y0, east=x0 + extent, west=x0, res=res,
+        misregistration={"band": ("red", "green", "blue")[_MISREGISTERED_BAND],
+                         "shift": _MISREGISTRATION},
+        ink_cover=ink_cover,
+    )
+
+
+# ---------------------------------------------------------------------------
+# Pictures without GRASS
+# ---------------------------------------------------------------------------
+
+def outline_plots(smap, rgb=None, colour=(200, 20, 20)):
+    """A copy of the picture with the true plots' boundaries drawn in ``colour``."""
+    rgb = (smap.rgb if rgb is None else rgb).copy()
+    size = rgb.shape[0]
+    canvas = _Canvas(size, smap.res, sub=1)
+    for poly in smap.plots:
+        local = affinity.translate(poly, -smap.west, -smap.south)
+        canvas.burn(local.difference(local.buffer(-1.0, join_style="mitre")), 1)
+    rgb[canvas.layer == 1] = colour
+    return rgb
+
+
+def write_png(path, rgb, colours=None):
+    """Write an RGB uint8 image as PNG; ``colours`` (<= 256) makes a palette image."""
+    rgb = np.ascontiguousarray(rgb, dtype=np.uint8)
+    h, w = rgb.shape[:2]
+    if colours:
+        from scipy.cluster.vq import kmeans2
+
+        flat = rgb.reshape(-1, 3).astype(float)
+        sample = flat[np.random.default_rng(0).choice(len(flat), min(len(flat), 20000),
+                                                      replace=False)]
+        centres, _ = kmeans2(sample, colours, seed=1, minit="++")
+        centres = np.clip(np.rint(centres), 0, 255)
+        d = ((flat[:, None, :] - centres[None, :, :]) ** 2).sum(axis=2)
+        index = d.argmin(axis=1).astype(np.uint8).reshape(h, w)
+        raw = b"".join(b"\x00" + index[r].tobytes() for r in range(h))
+        header = struct.pack(">IIBBBBB", w, h, 8, 3, 0, 0, 0)
+        chunks = [(b"IHDR", header), (b"PLTE", centres.astype(np.uint8).tobytes())]
+    else:
+        raw = b"".join(b"\x00" + rgb[r].tobytes() for r in range(h))
+        chunks = [(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))]
+    chunks.append((b"IDAT", zlib.compress(raw, 9)))
+    chunks.append((b"IEND", b""))
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n")
+        for tag, data in chunks:
+            f.write(struct.pack(">I", len(data)) + tag + data)
+            f.write(struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF))
+
+
+# ---------------------------------------------------------------------------
+# GRASS
+# ---------------------------------------------------------------------------
+
+def map_names(prefix="map"):
+    """Names of the maps :func:`write_to_grass` writes with ``prefix``."""
+    return {
+        "red": prefix + ".red", "green": prefix + ".green", "blue": prefix + ".blue",
+        "training": prefix + "_training", "gt_points": prefix + "_gt_points",
+        "plots": prefix + "_plots",
+    }
+
+
+def _find_repo_library():
+    here = os.path.dirname(os.path.abspath(__file__))
+    root = os.path.dirname(here)
+    if root not in sys.path:
+        sys.path.insert(0, root)
+
+
+def write_to_grass(smap, prefix="map"):
+    """Write the map into the current mapset; returns the names written.
+
+    Sets the region to the map, writes ``<prefix>.red``, ``.green``, ``.blue``
+    (CELL 0-255 with grey colour tables) and the vectors ``<prefix>_training``
+    (points: ``label``, ``class``), ``<prefix>_gt_points`` (points: ``plot``,
+    the category of the plot they lie in) and ``<prefix>_plots`` (areas:
+    ``kind``). Respects GRASS_OVERWRITE / --overwrite like any module.
+    """
+    _find_repo_library()
+    import grass.script as gs
+
+    from reconstruction import grassio
+
+    names = map_names(prefix)
+    gs.run_command("g.region", quiet=True, **smap.region())
+    for i, band in enumerate(("red", "green", "blue")):
+        grassio.write_raster(names[band], smap.rgb[..., i].astype(np.int32),
+                             title="Synthetic historical map (seed {}), {}".format(smap.seed, band))
+        gs.run_command("r.colors", map=names[band], color="grey255", quiet=True)
+    grassio.write_points(names["training"], smap.training["xy"],
+                         {"label": [int(v) for v in smap.training["label"]],
+                          "class": list(smap.training["class"])})
+    cats = list(range(1, len(smap.plots) + 1))
+    grassio.write_points(names["gt_points"], smap.gt_points, {"plot": cats})
+    grassio.write_features(names["plots"], smap.plots, {"kind": list(smap.plot_kinds)},
+                           cats=cats)
+    return names
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(
+        description="Write the synthetic historical map into the current GRASS mapset "
+                    "(run inside a GRASS session), or as a PNG picture.")
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--size", type=int, default=600, help="pixels per side")
+    parser.add_argument("--res", type=float, default=1.0, help="metres per pixel")
+    parser.add_argument("--prefix", default="map", help="prefix of the map names")
+    parser.add_argument("--png", help="write only a PNG picture (plots outlined) to this path")
+    parser.add_argument("--overwrite", action="store_true", help="replace existing maps")
+    args = parser.parse_args(argv)
+    smap = generate(seed=args.seed, size=args.size, res=args.res)
+    if args.png:
+        write_png(args.png, outline_plots(smap), colours=64)
+        print("picture written to '{}'".format(args.png))
+        return 0
+    if not os.environ.get("GISRC"):
+        parser.error("not inside a GRASS session: run it with grass <mapset> --exec")
+    if args.overwrite:
+        os.environ["GRASS_OVERWRITE"] = "1"
+    os.environ.setdefault("GRASS_VERBOSE", "1")  # no progress bars from the raster import
+    names = write_to_grass(smap, args.prefix)
+    counts = {label: int(np.sum(smap.training["label"] == label)) for label in CLASSES}
+    print("synthetic map (seed {}, {} x {} px at {} m) written: rasters {}, {}, {}; "
+          "vectors {} ({} training points), {} ({} points), {} ({} plots)".format(
+              args.seed, args.size, args.size, args.res, names["red"], names["green"],
+              names["blue"], names["training"], sum(counts.values()), names["gt_points"],
+              len(smap.gt_points), names["plots"], len(smap.plots)))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
