@@ -6,6 +6,7 @@ model, stored as integers with a millimetre ``transform``. Built from the
 flat arrays of a :class:`reconstruction.solids.SolidSet` in bulk.
 """
 
+import itertools
 import json
 import math
 
@@ -113,13 +114,14 @@ def write(path, model):
 def consistency_errors(model):
     """cjio-style consistency checks of a CityJSON document.
 
-    Vertex indices in range, no orphan and no duplicate vertices, rings
-    without duplicate consecutive vertices, semantic values matching the
-    boundaries. Returns a list of error strings (empty when consistent).
+    Vertex indices in range, no orphan and no duplicate vertices, rings of at
+    least 3 vertices without duplicate consecutive ones, semantic values
+    matching the boundaries. Returns a list of error strings (empty when
+    consistent).
     """
     errors = []
     nv = len(model.get("vertices", []))
-    used = np.zeros(nv, dtype=bool)
+    flat, sizes, owners = [], [], []
     for oid, obj in model.get("CityObjects", {}).items():
         for g in obj.get("geometry", []):
             if g.get("type") != "Solid":
@@ -129,15 +131,9 @@ def consistency_errors(model):
             for shell in shells:
                 for surface in shell:
                     for ring in surface:
-                        r = np.asarray(ring)
-                        if len(r) < 3:
-                            errors.append("{}: ring with fewer than 3 vertices".format(oid))
-                        if len(r) and (r.min() < 0 or r.max() >= nv):
-                            errors.append("{}: vertex index out of range".format(oid))
-                            continue
-                        if len(r) and np.any(r == np.roll(r, -1)):
-                            errors.append("{}: duplicate consecutive vertices".format(oid))
-                        used[r] = True
+                        flat.extend(ring)
+                        sizes.append(len(ring))
+                        owners.append(oid)
             sem = g.get("semantics")
             if sem is not None:
                 values = sem["values"]
@@ -148,10 +144,78 @@ def consistency_errors(model):
                     ns = len(sem["surfaces"])
                     if any(x is not None and not 0 <= x < ns for v in values for x in v):
                         errors.append("{}: semantic value out of range".format(oid))
+    flat = np.asarray(flat, dtype=np.int64)
+    sizes = np.asarray(sizes, dtype=np.int64)
+    for k in np.nonzero(sizes < 3)[0][:10]:
+        errors.append("{}: ring with fewer than 3 vertices".format(owners[k]))
+    if len(flat):
+        out = (flat < 0) | (flat >= nv)
+        if out.any():
+            errors.append("{} vertex indices out of range".format(int(out.sum())))
+            flat = np.clip(flat, 0, max(nv - 1, 0))
+        start = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+        nxt = np.arange(len(flat)) + 1
+        nxt[start + sizes - 1] = start
+        dup = np.nonzero(flat == flat[nxt])[0]
+        if len(dup):
+            ring_of = np.searchsorted(start, dup, side="right") - 1
+            for k in np.unique(ring_of)[:10]:
+                errors.append("{}: duplicate consecutive vertices".format(owners[k]))
+    used = np.zeros(nv, dtype=bool)
+    used[flat] = True
     if nv and not used.all():
         errors.append("{} orphan vertices".format(int((~used).sum())))
     if nv:
         v = np.asarray(model["vertices"])
         if len(np.unique(v, axis=0)) != len(v):
             errors.append("duplicate vertices")
+    return errors
+
+
+def schema_validator(schema_dir, definition="cityjson.schema.json"):
+    """A jsonschema validator of the official CityJSON schemas in ``schema_dir``
+    (e.g. ``../shared/schemas/cityjson-2.0.2``), with every ``$ref`` resolved
+    locally through a ``referencing`` registry. ``definition`` may point
+    inside a file, e.g. ``cityobjects.schema.json#/Building``."""
+    import os
+
+    from jsonschema import Draft7Validator
+    from referencing import Registry, Resource
+    from referencing.jsonschema import DRAFT7
+
+    resources = []
+    base = None
+    for name in sorted(os.listdir(schema_dir)):
+        if not name.endswith(".json"):
+            continue
+        with open(os.path.join(schema_dir, name)) as f:
+            contents = json.load(f)
+        resource = Resource.from_contents(contents, default_specification=DRAFT7)
+        uri = contents.get("$id", name)
+        resources.append((uri, resource))
+        if name == "cityjson.schema.json":
+            base = uri.rsplit("/", 1)[0] + "/"
+    registry = Registry().with_resources(resources)
+    return Draft7Validator({"$ref": (base or "") + definition}, registry=registry)
+
+
+def schema_errors(model, schema_dir, max_objects=None):
+    """Schema errors of a CityJSON document (list of messages, empty if valid).
+
+    The document without its city objects (plus the first 10) is checked
+    against ``cityjson.schema.json``, then every city object (or the first
+    ``max_objects``) against its own definition: the same checks as the whole
+    file at once, much faster than the schema's ``oneOf`` over all types.
+    """
+    errors = []
+    objects = model.get("CityObjects", {})
+    head = dict(model)
+    head["CityObjects"] = dict(itertools.islice(objects.items(), 10))
+    errors.extend(e.message for e in schema_validator(schema_dir).iter_errors(head))
+    validators = {}
+    for oid, obj in itertools.islice(objects.items(), max_objects):
+        kind = obj.get("type", "")
+        if kind not in validators:
+            validators[kind] = schema_validator(schema_dir, "cityobjects.schema.json#/" + kind)
+        errors.extend("{}: {}".format(oid, e.message) for e in validators[kind].iter_errors(obj))
     return errors

@@ -179,7 +179,7 @@ class SolidSet:
         return self.vertices[used] / 1000.0, faces
 
 
-def to_solidset(shells, origins):
+def to_solidset(shells, origins, why=None):
     """Round shells to the millimetre grid and store them as a :class:`SolidSet`.
 
     ``shells``: list of ``(vertices, faces)`` (local x, y; None for a missing
@@ -193,7 +193,7 @@ def to_solidset(shells, origins):
     voff = 0
     for s, shell in enumerate(shells):
         if shell is None:
-            bad[s] = "roof boundary does not follow the footprint"
+            bad[s] = (why[s] if why is not None and why[s] else "no shell")
             nfaces.append(0)
             continue
         v, faces = shell
@@ -287,7 +287,8 @@ def semantics(ss):
 
 
 def validate(ss, tol=PLANARITY_TOL):
-    """Check every solid; returns a list with None (valid) or the reason."""
+    """Check every solid; returns a list with None (valid) or the reasons
+    (joined by "; ")."""
     import shapely
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
@@ -299,6 +300,8 @@ def validate(ss, tol=PLANARITY_TOL):
         for s in np.unique(solids):
             if reasons[s] is None:
                 reasons[s] = reason
+            elif reason not in reasons[s]:
+                reasons[s] += "; " + reason
 
     F = len(ss.face_start) - 1
     nf = np.diff(ss.solid_start)
@@ -414,13 +417,17 @@ def build_solids(footprints, ground, eaves, attic, roof_types, uniforms, street=
                                uniforms[todo], None if street is None else [street[i] for i in todo],
                                pitch_min=pitch_min, inset=inset, step=step, thickness=thickness)
         types[todo] = kinds
-        cand = []
+        cand, why = [], []
         for i, roof in zip(todo, rf):
             shell = None
             if roof is not None and roof["faces"]:
                 shell = assemble(local[i], roof, float(ground[i]), float(eaves[i]))
+                why.append(None if shell is not None else
+                           "roof boundary does not follow the footprint")
+            else:
+                why.append("roof cannot be built on this footprint")
             cand.append(shell)
-        ss = to_solidset(cand, origins[todo])
+        ss = to_solidset(cand, origins[todo], why)
         reasons = validate(ss)
         retry = []
         for k, i in enumerate(todo):

@@ -1,0 +1,112 @@
+"""CityJSON 2.0 output: schema-valid, consistent, millimetre transform, attributes."""
+
+import json
+import os
+
+import numpy as np
+import pytest
+
+from reconstruction import cityjson, roofs, solids
+
+ORIGIN = np.array([85000.1234, 446000.5678])
+
+
+def model_of(kinds, crs=28992):
+    fps, n = [], len(kinds)
+    for i in range(n):
+        xy = np.array([[0, 0], [12, 0], [12, 6], [0, 6]], dtype=float) + [i * 12.0, 0]
+        fps.append(solids.clean_ring(xy + ORIGIN)[0])
+    ss, kept, got, log = solids.build_solids(fps, np.full(n, 1.5), np.full(n, 9.0),
+                                             np.full(n, 3.0), kinds, np.full((n, 3), 0.3))
+    attrs = {"roof_type": list(got), "eaves_height": np.full(n, 9.0),
+             "roof_height": np.full(n, 3.0), "ground_height": np.full(n, 1.5),
+             "map_year": [1924] * n, "plot": [7] * n, "source": ["2pm"] * n,
+             "nothing": [np.nan] * n}
+    return ss, cityjson.citymodel(ss, solids.semantics(ss), ["b{}".format(i) for i in kept],
+                                  attrs, crs)
+
+
+@pytest.fixture(scope="module")
+def schema_dir(schemas):
+    return os.path.join(schemas, "cityjson-2.0.2")
+
+
+def test_schema_valid_and_consistent(schema_dir, tmp_path):
+    ss, model = model_of(list(roofs.ROOF_TYPES) * 2)
+    path = tmp_path / "m.city.json"
+    cityjson.write(str(path), model)
+    with open(path) as f:
+        back = json.load(f)
+    assert cityjson.schema_errors(back, schema_dir) == []
+    assert cityjson.consistency_errors(back) == []
+    assert len(back["CityObjects"]) == 10
+
+
+def test_whole_file_against_the_schema(schema_dir):
+    _, model = model_of(["hip", "stepped"])
+    validator = cityjson.schema_validator(schema_dir)
+    assert list(validator.iter_errors(model)) == []
+
+
+def test_schema_catches_a_broken_file(schema_dir):
+    _, model = model_of(["hip"])
+    obj = next(iter(model["CityObjects"].values()))
+    obj["geometry"][0]["lod"] = 2
+    model["version"] = "1.0"
+    errors = cityjson.schema_errors(model, schema_dir)
+    assert len(errors) >= 2
+
+
+def test_transform_metadata_and_vertices():
+    ss, model = model_of(["gable", "flat"])
+    assert model["type"] == "CityJSON" and model["version"] == "2.0"
+    assert model["transform"]["scale"] == [0.001, 0.001, 0.001]
+    assert model["metadata"]["referenceSystem"] == "https://www.opengis.net/def/crs/EPSG/0/28992"
+    t = np.array(model["transform"]["translate"])
+    v = np.array(model["vertices"]) * 0.001 + t
+    assert v[:, 2].min() == pytest.approx(1.5)
+    assert v[:, 2].max() == pytest.approx(1.5 + 9 + 3)
+    assert v[:, 0].min() == pytest.approx(85000.123)
+    ext = model["metadata"]["geographicalExtent"]
+    assert ext[0] == pytest.approx(v[:, 0].min()) and ext[5] == pytest.approx(v[:, 2].max())
+    # the two buildings share the wall between them: shared vertices are stored once
+    assert len(model["vertices"]) < len(ss.vertices)
+    assert cityjson.consistency_errors(model) == []
+
+
+def test_building_geometry_semantics_and_attributes():
+    _, model = model_of(["hip"])
+    obj = model["CityObjects"]["b0"]
+    assert obj["type"] == "Building"
+    geom = obj["geometry"][0]
+    assert geom["type"] == "Solid" and geom["lod"] == "2.0"
+    shell = geom["boundaries"][0]
+    types = [geom["semantics"]["surfaces"][k]["type"] for k in geom["semantics"]["values"][0]]
+    assert len(types) == len(shell)
+    assert types.count("GroundSurface") == 1
+    assert types.count("WallSurface") == 4 and types.count("RoofSurface") == 4
+    a = obj["attributes"]
+    assert a["roof_type"] == "hip" and a["map_year"] == 1924 and a["source"] == "2pm"
+    assert a["eaves_height"] == 9.0 and a["plot"] == 7
+    assert "nothing" not in a
+
+
+def test_crs_url():
+    assert cityjson.crs_url(7415) == "https://www.opengis.net/def/crs/EPSG/0/7415"
+    assert cityjson.crs_url("EPSG:31370").endswith("/31370")
+    url = "https://www.opengis.net/def/crs/EPSG/0/28992"
+    assert cityjson.crs_url(url) == url
+    with pytest.raises(ValueError):
+        cityjson.crs_url("RD New")
+
+
+def test_consistency_checks_find_defects():
+    _, model = model_of(["flat"])
+    model["vertices"].append([0, 0, 0])
+    shell = model["CityObjects"]["b0"]["geometry"][0]["boundaries"][0]
+    shell[0][0] = [shell[0][0][0]] + shell[0][0]
+    model["CityObjects"]["b0"]["geometry"][0]["semantics"]["values"][0].pop()
+    errors = " | ".join(cityjson.consistency_errors(model))
+    assert "orphan" in errors
+    assert "duplicate consecutive" in errors
+    assert "semantic values do not match" in errors

@@ -1,0 +1,161 @@
+"""Roofs: types drawn with the thesis's probabilities, and the geometry of each roof."""
+
+import math
+
+import numpy as np
+import pytest
+from shapely.geometry import Point, Polygon
+
+from reconstruction import roofs
+
+RECT = np.array([[0.0, 0.0], [12.0, 0.0], [12.0, 6.0], [0.0, 6.0]])
+L_SHAPE = np.array([[0, 0], [10, 0], [10, 4], [4, 4], [4, 10], [0, 10]], dtype=float)
+
+
+def one(xy, kind, attic=3.0, u=0.5, **kw):
+    """One roof, with only the vertices its faces use (candidates are dropped)."""
+    r, kinds = roofs.make_roofs([xy], [kind], [attic], np.full((1, 3), u), **kw)
+    roof = r[0]
+    if roof is not None:
+        used = sorted({k for f in roof["faces"] for k in f})
+        remap = {k: i for i, k in enumerate(used)}
+        roof = dict(roof, vertices=roof["vertices"][used],
+                    faces=[[remap[k] for k in f] for f in roof["faces"]])
+    return roof, kinds[0]
+
+
+def face_points(roof, face):
+    return roof["vertices"][face]
+
+
+def test_draw_roof_types_follows_the_table():
+    rng = np.random.default_rng(3)
+    n = 40000
+    t = roofs.draw_roof_types(np.full(n, 4), np.full(n, 1900), np.full(n, 3.0), rng)
+    weights = roofs.ROOF_PROBABILITIES[("before", 4)]
+    for kind, w in weights.items():
+        assert abs(np.mean(t == kind) - w / 100.0) < 0.015
+    t = roofs.draw_roof_types(np.full(n, 6), np.full(n, 1961), np.full(n, 3.0), rng)
+    for kind, w in roofs.ROOF_PROBABILITIES[("after", "n")].items():
+        assert abs(np.mean(t == kind) - w / 100.0) < 0.015
+    assert not np.any(t == "stepped")
+
+
+def test_draw_roof_types_low_roofs_are_flat_and_seeded():
+    a = roofs.draw_roof_types([4, 4, 5, 4], [1900] * 4, [0.5, 3, 3, 3], np.random.default_rng(1))
+    b = roofs.draw_roof_types([4, 4, 5, 4], [1900] * 4, [0.5, 3, 3, 3], np.random.default_rng(1))
+    assert a[0] == "flat"
+    assert list(a) == list(b)
+
+
+def test_hip_roof_on_rectangle():
+    roof, kind = one(RECT, "hip", attic=3.0)
+    assert kind == "hip"
+    v = roof["vertices"]
+    assert v[:, 2].max() == pytest.approx(3.0)
+    # long faces at the pitch of Eq. 3.13 with the end as baseline: ridge at width/2
+    ridge = v[np.isclose(v[:, 2], 3.0)]
+    assert np.allclose(ridge[:, 1], 3.0)
+    # steeper hip ends (>= 60 degrees): ridge ends closer to the ends than 3 m
+    assert ridge[:, 0].min() < 3.0 and ridge[:, 0].max() > 9.0
+    assert len(roof["faces"]) == 4
+
+
+def test_gable_roof_has_vertical_ends():
+    roof, _ = one(RECT, "gable", attic=4.0)
+    v = roof["vertices"]
+    ridge = v[np.isclose(v[:, 2], 4.0)]
+    assert sorted(np.round(ridge[:, 0], 6)) == [0.0, 12.0]
+    assert np.allclose(ridge[:, 1], 3.0)
+
+
+def test_mansard_top_is_inset_and_flat():
+    roof, _ = one(RECT, "mansard", attic=2.5, u=0.0, inset=(1.5, 1.5))
+    v = roof["vertices"]
+    top = [f for f in roof["faces"] if np.allclose(v[f, 2], 2.5)]
+    assert len(top) == 1
+    poly = Polygon(v[top[0], :2])
+    assert poly.area == pytest.approx((12 - 3) * (6 - 3))
+
+
+def test_mansard_inset_below_half_the_shortest_edge():
+    thin = np.array([[0, 0], [10, 0], [10, 1.5], [0, 1.5]], dtype=float)
+    roof, _ = one(thin, "mansard", attic=2.0, inset=(2.0, 2.0))
+    v = roof["vertices"]
+    top = [f for f in roof["faces"] if np.allclose(v[f, 2], 2.0)]
+    assert len(top) == 1 and Polygon(v[top[0], :2]).area > 0
+
+
+def test_envelope_matches_cgal_on_convex_footprints():
+    if not roofs.cgal_available():
+        pytest.skip("pySVCGAL not installed")
+    quads = [RECT, np.array([[0, 0], [11, 1], [10, 7], [1, 6]], dtype=float),
+             np.array([[0, 0], [8, 0], [10, 5], [5, 9], [-1, 5]], dtype=float)]
+    for xy in quads:
+        env = roofs.envelope_roofs(xy[None], np.ones((1, len(xy))))[0]
+        cg = roofs.cgal_roofs([xy], [np.full(len(xy), 45.0)], [None])[0]
+        assert env["zmax"] == pytest.approx(cg["zmax"], abs=1e-4)
+
+
+def test_cgal_edge_angles_go_to_the_right_edges():
+    if not roofs.cgal_available():
+        pytest.skip("pySVCGAL not installed")
+    pitch = np.full(6, 45.0)
+    pitch[[1, 4]] = 90.0          # the ends of the two arms of the L
+    roof = roofs.cgal_roofs([L_SHAPE], [pitch], [None])[0]
+    v = roof["vertices"]
+    top = v[v[:, 2] > 1e-6]
+    # ridge ends on the gable edges x = 10 (edge 1) and y = 10 (edge 4)
+    assert np.any(np.isclose(top[:, 0], 10.0) & np.isclose(top[:, 1], 2.0))
+    assert np.any(np.isclose(top[:, 1], 10.0) & np.isclose(top[:, 0], 2.0))
+
+
+def test_concave_hip_and_gable_use_the_skeleton():
+    if not roofs.cgal_available():
+        pytest.skip("pySVCGAL not installed")
+    for kind in ("hip", "gable", "mansard"):
+        roof, got = one(L_SHAPE, kind, attic=3.0)
+        assert roof is not None and got == kind
+        assert roof["vertices"][:, 2].max() == pytest.approx(3.0, abs=1e-4)
+    roof, got = one(L_SHAPE, "stepped")
+    assert got == "gable"
+
+
+def test_stepped_facade_steps_above_the_roof_and_inside():
+    roof, kind = one(RECT, "stepped", attic=3.0, u=0.0, step=(0.5, 0.5), thickness=0.5)
+    assert kind == "stepped"
+    v = roof["vertices"]
+    fp = Polygon(RECT).buffer(1e-6)
+    assert all(fp.contains(Point(p)) for p in v[:, :2])
+    # steps: heights are multiples of the step height, top above the ridge
+    zs = np.unique(np.round(v[v[:, 2] > 0, 2], 6))
+    steps = zs[np.isclose(np.mod(zs + 1e-9, 0.5), 0, atol=1e-6)]
+    assert len(steps) >= 6
+    assert v[:, 2].max() > 3.0
+    assert v[:, 2].max() <= 3.0 + 0.5 + 1e-9
+    # the facade sits on the shortest edge (x = 0 or x = 12)
+    high = v[np.isclose(v[:, 2], v[:, 2].max())]
+    assert np.all((high[:, 0] < 0.5 + 1e-9) | (high[:, 0] > 11.5 - 1e-9))
+
+
+def test_stepped_on_street_edge():
+    roof, kind = one(RECT, "stepped", street=[0])
+    v = roof["vertices"]
+    high = v[np.isclose(v[:, 2], v[:, 2].max())]
+    assert np.all(high[:, 1] <= 0.5 + 1e-9)
+
+
+def test_flat_roof_is_the_footprint():
+    roof, _ = one(RECT, "flat")
+    assert roof["faces"] == [[0, 1, 2, 3]]
+    assert np.all(roof["vertices"][:, 2] == 0)
+
+
+def test_helpers():
+    assert roofs.is_convex(RECT)
+    assert not roofs.is_convex(L_SHAPE)
+    assert roofs.opposite_edge(RECT, 1) == 3
+    assert roofs.end_edges(L_SHAPE) == [1, 4]
+    assert roofs.street_end(RECT) in (1, 3)
+    assert roofs.street_end(RECT, 0) == 0
+    assert math.isclose(roofs.edge_lengths(RECT).sum(), 36.0)

@@ -1,0 +1,213 @@
+"""Solids: every building is one closed, valid shell; the validator finds each defect."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from shapely.geometry import Polygon
+
+from reconstruction import roofs, solids
+
+ORIGIN = np.array([85123.4567, 446789.0123])
+RECT = np.array([[0.0, 0.0], [12.0, 0.0], [12.0, 6.0], [0.0, 6.0]])
+
+
+def build(xy, kind, ground=1.0, eaves=8.0, attic=3.0, u=0.5, **kw):
+    xy, why = solids.clean_ring(np.asarray(xy, dtype=float) + ORIGIN)
+    assert why is None
+    return solids.build_solids([xy], [ground], [eaves], [attic], [kind], np.full((1, 3), u), **kw)
+
+
+def box_solidset():
+    v = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
+                  [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], dtype=float)
+    faces = [[3, 2, 1, 0], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
+    return v, faces
+
+
+def test_box_is_valid_with_semantics_and_volume():
+    v, faces = box_solidset()
+    ss = solids.to_solidset([(v, faces)], np.zeros((1, 2)))
+    assert solids.validate(ss) == [None]
+    assert list(solids.semantics(ss)) == [solids.GROUND, solids.ROOF] + [solids.WALL] * 4
+    assert solids.volumes(ss)[0] == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize("defect,reason", [
+    ("flip", "edge used twice in the same direction"),
+    ("missing", "edge used only once"),
+    ("inward", "zero or negative volume"),
+    ("nonplanar", "non-planar face"),
+    ("bowtie", "self-intersecting ring"),
+    ("two", "more than one shell"),
+])
+def test_validator_reports_each_defect(defect, reason):
+    v, faces = box_solidset()
+    if defect == "flip":
+        faces[1] = faces[1][::-1]
+    elif defect == "missing":
+        faces = faces[:-1]
+    elif defect == "inward":
+        faces = [f[::-1] for f in faces]
+    elif defect == "nonplanar":
+        v[6, 2] = 1.01
+    elif defect == "bowtie":
+        v[6] = [1.6, 1.6, 1.0]
+        faces[1] = [4, 5, 7, 6]
+    elif defect == "two":
+        v2 = np.vstack([v, v + [3, 0, 0]])
+        faces = faces + [[k + 8 for k in f] for f in faces]
+        v = v2
+    ss = solids.to_solidset([(v, faces)], np.zeros((1, 2)))
+    res = solids.validate(ss)
+    assert res[0] is not None and reason in res[0], res
+
+
+def test_duplicate_consecutive_vertices_are_removed_and_degenerate_rings_flagged():
+    v, faces = box_solidset()
+    faces[1] = [4, 4, 5, 6, 7]
+    ss = solids.to_solidset([(v, faces)], np.zeros((1, 2)))
+    assert solids.validate(ss) == [None]
+    assert np.diff(ss.face_start)[1] == 4
+    v2 = v.copy()
+    v2[5] = v2[4] + [0.0001, 0, 0]       # 0.1 mm apart: one vertex on the mm grid
+    ss = solids.to_solidset([(v2, faces)], np.zeros((1, 2)))
+    assert solids.validate(ss)[0] is not None
+
+
+def test_clean_ring_removes_duplicates_and_collinear_points_and_orients():
+    ring = [[0, 0], [0, 5], [0, 5.0001], [5, 5], [5, 2.5], [5, 0], [0, 0]]
+    xy, why = solids.clean_ring(ring)
+    assert why is None
+    assert len(xy) == 4
+    area2 = np.sum(xy[:, 0] * np.roll(xy[:, 1], -1) - np.roll(xy[:, 0], -1) * xy[:, 1])
+    assert area2 > 0
+    assert solids.clean_ring([[0, 0], [1, 0], [2, 0]])[0] is None
+
+
+@pytest.mark.parametrize("kind", roofs.ROOF_TYPES)
+def test_every_roof_type_on_a_rectangle(kind):
+    ss, kept, got, log = build(RECT, kind)
+    assert list(kept) == [0] and got[0] == kind and not log
+    assert solids.validate(ss) == [None]
+    sem = solids.semantics(ss)
+    assert (sem == solids.GROUND).sum() == 1
+    vol = solids.volumes(ss)[0]
+    prism = 12 * 6 * 8
+    if kind == "flat":
+        assert vol == pytest.approx(prism, rel=1e-6)
+    else:
+        assert prism < vol < prism + 12 * 6 * 3
+    v, faces = ss.solid(0)
+    assert v[:, 2].min() == pytest.approx(1.0)
+    top = 1.0 + 8.0 + (0.0 if kind == "flat" else 3.0)
+    if kind != "stepped":
+        assert v[:, 2].max() == pytest.approx(top, abs=1e-3)
+
+
+def test_gable_volume_is_exact():
+    ss, *_ = build(RECT, "gable", eaves=5.0, attic=3.0)
+    assert solids.volumes(ss)[0] == pytest.approx(12 * 6 * 5 + 0.5 * 6 * 3 * 12, rel=1e-6)
+
+
+def test_walls_and_ground_semantics_and_orientation():
+    ss, *_ = build(RECT, "hip")
+    v, faces = ss.solid(0)
+    sem = solids.semantics(ss)
+    assert list(sem).count(solids.WALL) == 4
+    assert list(sem).count(solids.ROOF) == 4
+
+
+# ---------------------------------------------------------------------------
+# Property tests: every solid is valid
+# ---------------------------------------------------------------------------
+
+def rotate(xy, angle):
+    c, s = math.cos(angle), math.sin(angle)
+    return xy @ np.array([[c, s], [-s, c]])
+
+
+angles = st.floats(0, 2 * math.pi)
+kinds = st.sampled_from(roofs.ROOF_TYPES)
+heights = st.tuples(st.floats(2.0, 40.0), st.floats(0.0, 25.0))
+
+
+def assert_all_valid(footprints, kind, eaves, attic, u=0.5):
+    fps = []
+    for xy in footprints:
+        c, why = solids.clean_ring(xy + ORIGIN)
+        if c is not None and solids.ring_is_simple(c) and Polygon(c).area > 0.01:
+            fps.append(c)
+    if not fps:
+        return
+    B = len(fps)
+    ss, kept, got, log = solids.build_solids(fps, np.zeros(B), np.full(B, eaves),
+                                             np.full(B, attic), [kind] * B, np.full((B, 3), u))
+    assert len(kept) == B, log
+    assert solids.validate(ss) == [None] * B
+    assert np.all(solids.volumes(ss) > 0)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(w=st.floats(0.3, 30), d=st.floats(0.3, 40), skew=st.floats(-0.45, 0.45),
+       taper=st.floats(-0.45, 0.45), a=angles, kind=kinds, h=heights, u=st.floats(0, 0.999))
+def test_quads_rectangles_trapezoids_slanted(w, d, skew, taper, a, kind, h, u):
+    xy = np.array([[0, 0], [d, skew * w], [d + taper * w, w + skew * w], [0, w]])
+    if not roofs.is_convex(solids.clean_ring(xy)[0] if solids.clean_ring(xy)[0] is not None else xy):
+        return
+    assert_all_valid([rotate(xy, a)], kind, h[0], h[1], u)
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(n=st.integers(3, 12), r=st.floats(1.0, 25), jitter=st.lists(st.floats(0.6, 1.0), min_size=12,
+       max_size=12), a=angles, kind=kinds, h=heights)
+def test_convex_ngons(n, r, jitter, a, kind, h):
+    t = np.linspace(0, 2 * math.pi, n, endpoint=False)
+    xy = np.column_stack([np.cos(t), np.sin(t)]) * r * np.array(jitter[:n])[:, None]
+    hull = np.asarray(Polygon(xy).convex_hull.exterior.coords)[:-1]
+    assert_all_valid([rotate(hull, a)], kind, h[0], h[1])
+
+
+def l_u_t(shape, a, b, c):
+    if shape == "L":
+        return np.array([[0, 0], [a, 0], [a, c], [c, c], [c, b], [0, b]])
+    if shape == "U":
+        return np.array([[0, 0], [a, 0], [a, b], [a - c, b], [a - c, c], [c, c], [c, b], [0, b]])
+    return np.array([[0, 0], [a, 0], [a, c], [(a + c) / 2, c], [(a + c) / 2, b],
+                     [(a - c) / 2, b], [(a - c) / 2, c], [0, c]])
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(shape=st.sampled_from("LUT"), a=st.floats(8, 40), b=st.floats(8, 40),
+       frac=st.floats(0.15, 0.4), ang=angles, kind=kinds, h=heights)
+def test_concave_l_u_t(shape, a, b, frac, ang, kind, h):
+    c = frac * min(a, b)
+    assert_all_valid([rotate(l_u_t(shape, a, b, c), ang)], kind, h[0], h[1])
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(w=st.floats(0.005, 0.3), d=st.floats(0.01, 50), a=angles, kind=kinds,
+       h=st.tuples(st.floats(0.5, 60.0), st.floats(0.0, 40.0)))
+def test_thin_tiny_and_extreme_heights(w, d, a, kind, h):
+    xy = np.array([[0, 0], [d, 0], [d, w], [0, w]])
+    assert_all_valid([rotate(xy, a)], kind, h[0], h[1])
+
+
+def test_many_roofs_in_bulk_keep_each_building():
+    rng = np.random.default_rng(5)
+    fps = []
+    for i in range(300):
+        w, d = rng.uniform(4, 10), rng.uniform(8, 20)
+        xy = np.array([[0, 0], [d, rng.uniform(-1, 1)], [d, w], [0, w]]) + [i * 25, 0]
+        fps.append(solids.clean_ring(xy + ORIGIN)[0])
+    kinds_ = rng.choice(roofs.ROOF_TYPES, 300)
+    ss, kept, got, log = solids.build_solids(fps, np.zeros(300), np.full(300, 9.0),
+                                             np.full(300, 3.5), kinds_, rng.random((300, 3)))
+    assert len(kept) == 300
+    assert solids.validate(ss) == [None] * 300
+    # each solid sits on its own footprint
+    for s in (0, 150, 299):
+        v, _ = ss.solid(s)
+        assert Polygon(fps[s]).buffer(0.002).contains(Polygon(v[v[:, 2] == 0][:, :2]).convex_hull)
