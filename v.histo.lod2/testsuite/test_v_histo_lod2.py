@@ -1,0 +1,269 @@
+"""v.histo.lod2 in a temporary GRASS location: options, bad inputs, acceptance on the thesis's footprints."""
+
+import json
+import math
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+from reconstruction import cityjson, roofs
+
+pytestmark = pytest.mark.grass
+
+MODULE = "v.histo.lod2"
+
+# columns of the thesis's footprint tables, renamed for GRASS (the `index` column
+# is an SQL keyword; names with - and . are not valid column names)
+DELFT_COLUMNS = ("cat,idx,feaid,bouwjaar,g00,g01,g02,g03,g04,g05,buffer_val,nr_ground,"
+                 "h_building,h_attic,roof_025,roof_099")
+BXL_COLUMNS = ("cat,idx,feaid,g00,g01,g02,g03,g04,g05,buffer_val,nr_ground,h_building,"
+               "h_attic,roof_025,roof_099,bouwjaar")
+
+
+def synthetic_footprints(n=24, seed=0):
+    """Rectangles, trapezoids, L shapes and pentagons in a row of plots (RD New)."""
+    rng = np.random.default_rng(seed)
+    feats = []
+    for i in range(n):
+        x0, y0 = 85000.0 + (i % 6) * 30.0, 446000.0 + (i // 6) * 30.0
+        w, d = rng.uniform(5, 9), rng.uniform(10, 18)
+        kind = i % 4
+        if kind == 0:
+            xy = [[0, 0], [w, 0], [w, d], [0, d]]
+        elif kind == 1:
+            xy = [[0, 0], [w, 0.8], [w - 0.5, d], [0.3, d - 0.4]]
+        elif kind == 2:
+            xy = [[0, 0], [d, 0], [d, w / 2], [w / 2, w / 2], [w / 2, d], [0, d]]
+        else:
+            xy = [[0, 0], [w, 0], [w + 2, d / 2], [w, d], [0, d]]
+        ring = [[x0 + x, y0 + y] for x, y in xy]
+        ring.append(ring[0])
+        props = {"h_building": round(float(rng.uniform(6.7, 17)), 2),
+                 "h_attic": round(float(rng.uniform(2.6, 6)), 2),
+                 "ground": round(float(rng.uniform(0, 3)), 2),
+                 "plot": 100 + i // 2, "source": "2pm" if i % 3 else "aligned",
+                 "roof": roofs.ROOF_TYPES[i % 5]}
+        feats.append({"type": "Feature", "properties": props,
+                      "geometry": {"type": "Polygon", "coordinates": [ring]}})
+    return feats
+
+
+def import_features(feats, name, tmp_path):
+    import grass.script as gs
+
+    path = str(tmp_path / (name + ".geojson"))
+    with open(path, "w") as f:
+        json.dump({"type": "FeatureCollection", "features": feats}, f)
+    gs.run_command("v.in.ogr", input=path, output=name, flags="o", quiet=True)
+    return name
+
+
+def run(**kwargs):
+    """Run the module; returns (returncode, stdout, stderr)."""
+    import grass.script as gs
+
+    flags = kwargs.pop("flags", "")
+    proc = gs.start_command(MODULE, flags=flags, stdout=gs.PIPE, stderr=gs.PIPE, **kwargs)
+    out, err = proc.communicate()
+    return proc.returncode, gs.decode(out), gs.decode(err)
+
+
+def report(stdout):
+    return dict(line.split("=", 1) for line in stdout.splitlines() if "=" in line)
+
+
+def load(path):
+    with open(path) as f:
+        return json.load(f)
+
+
+def vertices_of(model, obj):
+    t = np.array(model["transform"]["translate"])
+    v = np.array(model["vertices"])
+    idx = sorted({i for shell in obj["geometry"][0]["boundaries"] for s in shell for r in s
+                  for i in r})
+    return v[idx] * 0.001 + t
+
+
+@pytest.fixture
+def footprints(mapset, tmp_path):
+    return import_features(synthetic_footprints(), "fp", tmp_path)
+
+
+def test_auto_roofs_valid_files_with_attributes(footprints, tmp_path, schemas):
+    out = str(tmp_path / "model.city.json")
+    rc, stdout, err = run(flags="v", input=footprints, output=out, ground_column="ground",
+                          year=1900, seed=3)
+    assert rc == 0, err
+    rep = report(stdout)
+    assert rep["percent_valid"] == "100.00" and int(rep["solids"]) == 24
+    model = load(out)
+    assert cityjson.schema_errors(model, os.path.join(schemas, "cityjson-2.0.2")) == []
+    assert cityjson.consistency_errors(model) == []
+    assert model["metadata"]["referenceSystem"].endswith("/EPSG/0/28992")
+    feats = {i + 1: f["properties"] for i, f in enumerate(synthetic_footprints())}
+    assert len(model["CityObjects"]) == 24
+    kinds = set()
+    for oid, obj in model["CityObjects"].items():
+        a = obj["attributes"]
+        p = feats[a["footprint"]]
+        assert a["eaves_height"] == pytest.approx(p["h_building"])
+        assert a["ground_height"] == pytest.approx(p["ground"])
+        assert a["plot"] == p["plot"] and a["source"] == p["source"]
+        assert a["map_year"] == 1900
+        v = vertices_of(model, obj)
+        assert v[:, 2].min() == pytest.approx(p["ground"], abs=1e-3)
+        top = p["ground"] + p["h_building"] + (0 if a["roof_type"] == "flat" else p["h_attic"])
+        if a["roof_type"] != "stepped":
+            assert v[:, 2].max() == pytest.approx(top, abs=2e-3)
+        kinds.add(a["roof_type"])
+    assert len(kinds) >= 3
+
+
+def test_seed_makes_runs_identical(footprints, tmp_path):
+    paths = [str(tmp_path / "{}.json".format(k)) for k in "abc"]
+    for p, seed in zip(paths, (5, 5, 6)):
+        rc, _, err = run(input=footprints, output=p, seed=seed)
+        assert rc == 0, err
+    with open(paths[0]) as a, open(paths[1]) as b, open(paths[2]) as c:
+        ta, tb, tc = a.read(), b.read(), c.read()
+    assert ta == tb
+    assert ta != tc
+
+
+def test_ranges_take_precedence_over_columns(footprints, tmp_path):
+    out = str(tmp_path / "r.json")
+    rc, _, err = run(input=footprints, output=out, height="6.7,17", attic="2.6,6",
+                     eaves_column="nonexistent", roof="gable", crs="7415")
+    assert rc == 0, err
+    model = load(out)
+    assert model["metadata"]["referenceSystem"].endswith("/EPSG/0/7415")
+    eaves = [o["attributes"]["eaves_height"] for o in model["CityObjects"].values()]
+    attic = [o["attributes"]["roof_height"] for o in model["CityObjects"].values()]
+    assert min(eaves) >= 6.7 and max(eaves) <= 17 and np.std(eaves) > 0.5
+    assert min(attic) >= 2.6 and max(attic) <= 6
+    assert {o["attributes"]["roof_type"] for o in model["CityObjects"].values()} == {"gable"}
+
+
+def test_roof_column_and_every_type(footprints, tmp_path):
+    out = str(tmp_path / "c.json")
+    rc, stdout, err = run(flags="v", input=footprints, output=out, roof_column="roof")
+    assert rc == 0, err
+    model = load(out)
+    feats = {i + 1: f["properties"] for i, f in enumerate(synthetic_footprints())}
+    got = {o["attributes"]["footprint"]: o["attributes"]["roof_type"]
+           for o in model["CityObjects"].values()}
+    # the requested type, except a stepped gable on an L shape, which is a gable
+    for cat, kind in got.items():
+        want = feats[cat]["roof"]
+        assert kind == want or (want == "stepped" and kind == "gable"), (cat, want, kind)
+    assert set(got.values()) == set(roofs.ROOF_TYPES)
+
+
+@pytest.mark.parametrize("case", ["missing_column", "unknown_roof", "exists", "bad_range",
+                                  "no_map"])
+def test_bad_inputs_fail_cleanly(footprints, tmp_path, case):
+    out = str(tmp_path / "bad.json")
+    kwargs = {"input": footprints, "output": out}
+    if case == "missing_column":
+        kwargs["eaves_column"] = "height_that_is_not_there"
+    elif case == "unknown_roof":
+        feats = synthetic_footprints(4)
+        feats[1]["properties"]["roof"] = "onion_dome"
+        kwargs["input"] = import_features(feats, "fp_bad", tmp_path)
+        kwargs["roof_column"] = "roof"
+    elif case == "exists":
+        with open(out, "w") as f:
+            f.write("keep")
+    elif case == "bad_range":
+        kwargs["height"] = "17,6"
+    elif case == "no_map":
+        kwargs["input"] = "no_such_map"
+    rc, _, err = run(**kwargs)
+    assert rc != 0
+    assert "ERROR" in err
+    if case == "exists":
+        with open(out) as f:
+            assert f.read() == "keep"
+    else:
+        assert not os.path.exists(out)
+    assert not os.path.exists(out + ".part")
+    if case == "missing_column":
+        assert "height_that_is_not_there" in err
+    if case == "unknown_roof":
+        assert "onion_dome" in err
+
+
+def test_null_and_negative_heights_warn_with_counts(mapset, tmp_path):
+    feats = synthetic_footprints(8)
+    feats[0]["properties"]["h_building"] = None
+    feats[1]["properties"]["h_building"] = -3
+    feats[2]["properties"]["h_attic"] = None
+    feats[3]["properties"]["h_attic"] = -1
+    name = import_features(feats, "fp_null", tmp_path)
+    out = str(tmp_path / "n.json")
+    rc, stdout, err = run(flags="v", input=name, output=out)
+    assert rc == 0, err
+    assert "2 footprints with NULL, zero or negative eaves height" in err
+    assert "2 footprints with NULL or negative roof height" in err
+    model = load(out)
+    assert len(model["CityObjects"]) == 6
+    by_cat = {o["attributes"]["footprint"]: o["attributes"] for o in model["CityObjects"].values()}
+    assert by_cat[3]["roof_type"] == "flat" and by_cat[4]["roof_type"] == "flat"
+    assert report(stdout)["percent_valid"] == "100.00"
+
+
+def test_unprojected_location_is_refused(grass_session, tmp_path):
+    loc = os.path.join(grass_session["dbase"], "latlong_lod2")
+    if not os.path.isdir(loc):
+        subprocess.run(["grass", "-c", "EPSG:4326", loc, "-e"], check=True, capture_output=True)
+    out = str(tmp_path / "ll.json")
+    env = dict(os.environ)
+    env.pop("GISRC", None)
+    proc = subprocess.run(["grass", os.path.join(loc, "PERMANENT"), "--exec", MODULE,
+                           "input=anything", "output=" + out], capture_output=True, text=True,
+                          env=env)
+    assert proc.returncode != 0
+    assert "not projected" in proc.stderr
+    assert not os.path.exists(out)
+
+
+# ---------------------------------------------------------------------------
+# Acceptance: the thesis's own footprints with its inferred heights
+# ---------------------------------------------------------------------------
+
+@pytest.mark.acceptance
+@pytest.mark.parametrize("case,folder,columns,year,crs,count", [
+    ("delft", "delft_1961_subset", DELFT_COLUMNS, 1961, 7415, 895),
+    ("brussels", "bxls_1924", BXL_COLUMNS, 1924, 31370, 3706),
+])
+def test_acceptance_thesis_footprints(mapset, shared_data, schemas, tmp_path, case, folder,
+                                      columns, year, crs, count):
+    import grass.script as gs
+
+    shp = os.path.join(shared_data, folder, "thesis_output", "final_all_footprints.shp")
+    if not os.path.exists(shp):
+        pytest.skip("{} not found".format(shp))
+    gs.run_command("v.in.ogr", input=shp, output=case, columns=columns, flags="o", quiet=True)
+    out = str(tmp_path / (case + ".city.json"))
+    rc, stdout, err = run(flags="v", input=case, output=out, ground_column="g02", year=year,
+                          crs=crs, seed=1)
+    assert rc == 0, err
+    rep = report(stdout)
+    assert rep["percent_valid"] == "100.00"
+    assert int(rep["valid"]) == int(rep["solids"])
+    model = load(out)
+    # every footprint (category) is in the model; GRASS splits overlapping
+    # footprints into several areas, which become parts of one footprint
+    cats = {o["attributes"]["footprint"] for o in model["CityObjects"].values()}
+    assert len(cats) >= 0.99 * count
+    kinds = {o["attributes"]["roof_type"] for o in model["CityObjects"].values()}
+    assert kinds == set(roofs.ROOF_TYPES)
+    assert cityjson.consistency_errors(model) == []
+    assert cityjson.schema_errors(model, os.path.join(schemas, "cityjson-2.0.2")) == []
+    assert model["metadata"]["referenceSystem"].endswith("/{}".format(crs))
+    heights = np.array([o["attributes"]["eaves_height"] for o in model["CityObjects"].values()])
+    assert heights.min() >= 6.0 - 1e-9 and heights.max() <= 17.0 + 1e-9
+    assert not math.isnan(heights.mean())
