@@ -45,10 +45,12 @@ from shapely.geometry import LinearRing, Polygon
 # Tuning (checked on the thesis's Delft 1961 plots): a join moves a corner at
 # most SHIFT x distance; the alpha outline is simplified by ALPHA_TOL x the
 # boundary spacing; the interior is sampled every INNER x alpha (the boundary
-# every alpha / 4): denser inner points change nothing but the run time.
+# every alpha / 4): denser inner points change nothing but the run time;
+# vertices closer than CLEAN x distance to their neighbours' line are dropped.
 SHIFT = 3.0
 ALPHA_TOL = 0.1
 INNER = 0.5
+CLEAN = 0.05
 METHODS = ("alpha", "lines", "simplify", "douglas")
 SAMPLINGS = ("regular", "hexagonal", "stratified", "random")
 
@@ -430,7 +432,7 @@ def buffered_lines(polygons, distance=5.0, angle=180.0, orthogonal=False, shift=
         except (ValueError, shapely.errors.GEOSException):
             result.append(None)
             continue
-        result.append(_clean(polygon) if polygon.is_valid else None)
+        result.append(_clean(polygon, distance * CLEAN) if polygon.is_valid else None)
     return result
 
 

@@ -59,10 +59,10 @@ def plot_metrics(polygons):
     geoms = np.where(present, geoms, shapely.Polygon())
     area = shapely.area(geoms)
     perimeter = shapely.length(geoms)
-    rings = shapely.get_rings(geoms, return_index=True)
-    ring_points = shapely.get_num_coordinates(rings[0]) - 1
-    vertices = np.bincount(rings[1], weights=ring_points, minlength=len(geoms))
     parts, part_index = shapely.get_parts(geoms, return_index=True)
+    rings, ring_part = shapely.get_rings(parts, return_index=True)
+    vertices = np.bincount(part_index[ring_part], weights=shapely.get_num_coordinates(rings) - 1,
+                           minlength=len(geoms))
     holes = np.bincount(part_index, weights=shapely.get_num_interior_rings(parts),
                         minlength=len(geoms))
     hull = shapely.convex_hull(geoms)
