@@ -794,7 +794,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     smap = generate(seed=args.seed, size=args.size, res=args.res)
     if args.png:
-        write_png(args.png, outline_plots(smap), colours=64)
+        write_png(args.png, outline_plots(smap), colours=48)
         print("picture written to '{}'".format(args.png))
         return 0
     if not os.environ.get("GISRC"):

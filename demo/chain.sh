@@ -1,0 +1,105 @@
+#!/usr/bin/env bash
+# The histo chain: from a scanned colour city map to an LoD2 CityJSON model.
+#
+# Run it inside a GRASS session, in a mapset of a projected location in metres
+# (here EPSG:28992), e.g. as `make demo` does:
+#
+#   grass demo-output/grassdata/histo_demo/PERMANENT --exec bash demo/chain.sh demo-output
+#
+# It uses the project's synthetic historical map (testsuite/synthetic_map.py);
+# for a real map, import its red, green and blue bands and your training
+# points instead of step 1 and keep the rest. A stage whose module is not
+# implemented yet in this checkout is skipped with a message.
+
+set -e
+
+# ---------------------------------------------------------------------------
+# Parameters
+# ---------------------------------------------------------------------------
+OUT=${1:-demo-output}   # folder for the files: report, CityJSON, pictures
+SEED=1                  # one seed for everything: the same outputs run to run
+SIZE=600                # synthetic map: pixels per side (1 m each)
+MAP=map                 # prefix of the map: rasters map.red/.green/.blue, vectors map_*
+BUILDING=1              # label of the building class in the training points
+REMOVE=2,6              # classes printed over the map (text, symbols): filled from around
+HEIGHT=6.7,17           # eaves height range (m above ground), the thesis's values
+ATTIC=2.6,6             # roof height range above the eaves (m)
+
+HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+mkdir -p "$OUT"
+
+# Run a stage only when its module is installed and implemented.
+implemented() {
+    if ! command -v "$1" > /dev/null 2>&1; then
+        echo "--- skip $1: not installed"
+        return 1
+    fi
+    if "$1" --interface-description 2> /dev/null | grep -q "Placeholder"; then
+        echo "--- skip $1: not implemented yet"
+        return 1
+    fi
+    echo "--- $1 (at ${SECONDS} s)"
+}
+
+# The input of a stage must exist (an earlier stage may have been skipped).
+have() {  # have raster|vector NAME
+    if [ -n "$(g.list type="$1" pattern="$2")" ]; then return 0; fi
+    echo "--- skip the next stage: its input $1 map <$2> was not made"
+    return 1
+}
+
+# ---------------------------------------------------------------------------
+# 1. The map: RGB rasters, training points, ground-truth points and true plots
+# ---------------------------------------------------------------------------
+echo "--- synthetic historical map (seed $SEED, $SIZE x $SIZE m)"
+python3 "$HERE/../testsuite/synthetic_map.py" --seed $SEED --size $SIZE --prefix $MAP
+g.region raster=$MAP.red
+
+# ---------------------------------------------------------------------------
+# 2. Classify the map's pixels from the training points; text and symbols
+#    are removed (replaced by the class around them)
+# ---------------------------------------------------------------------------
+if implemented r.histo.classify; then
+    r.histo.classify input=$MAP.red,$MAP.green,$MAP.blue training=${MAP}_training \
+        output=${MAP}_classes remove=$REMOVE seed=$SEED
+fi
+
+# ---------------------------------------------------------------------------
+# 3. Generalised building plots from the building class, scored against the
+#    ground truth (report with precision, recall, F-score, shape metrics)
+# ---------------------------------------------------------------------------
+if have raster ${MAP}_classes && implemented v.histo.generalize; then
+    v.histo.generalize raster=${MAP}_classes class=$BUILDING output=plots \
+        gt_points=${MAP}_gt_points gt_polygons=${MAP}_plots report="$OUT/generalize.json"
+fi
+
+# ---------------------------------------------------------------------------
+# 4. Building footprints inside the plots (procedural subdivision)
+# ---------------------------------------------------------------------------
+if have vector plots && implemented v.histo.subdivide; then
+    v.histo.subdivide input=plots output=footprints seed=$SEED
+fi
+
+# ---------------------------------------------------------------------------
+# 5. LoD2 buildings with roofs, written as CityJSON
+# ---------------------------------------------------------------------------
+if have vector footprints && implemented v.histo.lod2; then
+    v.histo.lod2 input=footprints output="$OUT/model.city.json" height=$HEIGHT \
+        attic=$ATTIC seed=$SEED
+fi
+
+# ---------------------------------------------------------------------------
+# Pictures (cairo driver, no display needed)
+# ---------------------------------------------------------------------------
+export GRASS_RENDER_IMMEDIATE=cairo GRASS_RENDER_WIDTH=$SIZE GRASS_RENDER_HEIGHT=$SIZE
+export GRASS_RENDER_TRUECOLOR=TRUE GRASS_RENDER_FILE_READ=FALSE
+GRASS_RENDER_FILE="$OUT/map.png" d.rgb red=$MAP.red green=$MAP.green blue=$MAP.blue
+if [ -n "$(g.list type=raster pattern=${MAP}_classes)" ]; then
+    GRASS_RENDER_FILE="$OUT/classes.png" d.rast map=${MAP}_classes
+fi
+if [ -n "$(g.list type=vector pattern=plots)" ]; then
+    GRASS_RENDER_FILE="$OUT/plots.png" d.rgb red=$MAP.red green=$MAP.green blue=$MAP.blue
+    GRASS_RENDER_FILE="$OUT/plots.png" GRASS_RENDER_FILE_READ=TRUE \
+        d.vect map=plots type=boundary color=red width=2
+fi
+echo "--- chain done in ${SECONDS} s"

@@ -1,0 +1,127 @@
+"""`make demo` end to end: bash demo/run_demo.sh DIR in a fresh directory.
+
+Runs the real demo (location, synthetic map, chain of the implemented
+modules, pictures) once, then checks what it left behind.
+"""
+
+import os
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+import synthetic_map as sm
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+DIST = os.environ.get("HISTO_DIST", os.path.join(ROOT, "dist"))
+
+pytestmark = pytest.mark.grass
+
+
+def _clean_env():
+    """The caller's environment without any GRASS session of the test process."""
+    env = {k: v for k, v in os.environ.items()
+           if not (k.startswith("GRASS_") or k in ("GISRC", "GISBASE", "GIS_LOCK"))}
+    env["HISTO_DIST"] = DIST
+    return env
+
+
+def _png_size(path):
+    data = open(path, "rb").read(24)
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", path
+    return int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")
+
+
+def _implemented(module):
+    script = os.path.join(DIST, "scripts", module)
+    return os.path.exists(script) and "Placeholder" not in open(script).read()
+
+
+@pytest.fixture(scope="module")
+def demo(tmp_path_factory):
+    if not shutil.which("grass"):
+        pytest.skip("GRASS GIS is not installed (run the tests through `make test`)")
+    if not os.path.isdir(os.path.join(DIST, "scripts")):
+        pytest.skip("the suite is not built in dist/ (run the tests through `make test`)")
+    out = tmp_path_factory.mktemp("demo")
+    location = out / "grassdata" / "histo_demo"
+    # a stale location from an earlier run must be replaced
+    (location / "PERMANENT").mkdir(parents=True)
+    (location / "PERMANENT" / "stale").write_text("old")
+    run = subprocess.run(["bash", os.path.join(ROOT, "demo", "run_demo.sh"), str(out)],
+                         cwd=ROOT, env=_clean_env(), capture_output=True, text=True,
+                         timeout=600)
+    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
+    return {"out": out, "location": location, "stdout": run.stdout, "env": _clean_env()}
+
+
+def _grass(demo, command):
+    run = subprocess.run(["grass", str(demo["location"] / "PERMANENT"), "--exec"] + command,
+                         env=demo["env"], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    return run.stdout
+
+
+def test_demo_location_is_new_and_holds_the_map(demo):
+    assert not (demo["location"] / "PERMANENT" / "stale").exists()
+    proj = _grass(demo, ["g.proj", "-g"])
+    assert "epsg=28992" in proj.replace(" ", "").lower() or "Amersfoort" in proj
+    smap = sm.generate(seed=1, size=600)
+    for i, band in enumerate(("red", "green", "blue")):
+        info = dict(line.split("=", 1) for line in
+                    _grass(demo, ["r.info", "-g", "map." + band]).split())
+        assert (int(info["rows"]), int(info["cols"])) == (600, 600)
+        assert float(info["north"]) == smap.north and float(info["west"]) == smap.west
+        univar = dict(line.split("=", 1) for line in
+                      _grass(demo, ["r.univar", "-g", "map." + band]).split())
+        assert float(univar["mean"]) == pytest.approx(smap.rgb[..., i].mean(), abs=1e-6)
+    topo = dict(line.split("=", 1) for line in
+                _grass(demo, ["v.info", "-t", "map_plots"]).split())
+    assert int(topo["centroids"]) == len(smap.plots)
+    topo = dict(line.split("=", 1) for line in
+                _grass(demo, ["v.info", "-t", "map_training"]).split())
+    assert int(topo["points"]) == len(smap.training["label"])
+
+
+def test_demo_pictures_and_report_of_outputs(demo):
+    out = demo["out"]
+    assert _png_size(out / "map.png") == (600, 600)
+    assert (out / "map.png").stat().st_size > 10000  # a picture, not an empty canvas
+    assert str(demo["location"]) in demo["stdout"]
+    assert str(out / "map.png") in demo["stdout"]
+    rasters = _grass(demo, ["g.list", "type=raster"]).split()
+    if _implemented("r.histo.classify"):
+        assert "map_classes" in rasters
+        assert _png_size(out / "classes.png") == (600, 600)
+        stats = _grass(demo, ["r.stats", "-n", "map_classes"]).split()
+        assert {1, 4} <= {int(v) for v in stats}
+    else:
+        assert "skip r.histo.classify" in demo["stdout"]
+    if _implemented("v.histo.generalize") and "map_classes" in rasters:
+        assert "plots" in _grass(demo, ["g.list", "type=vector"]).split()
+        assert (out / "generalize.json").is_file()
+    if _implemented("v.histo.lod2") and (out / "model.city.json").exists():
+        import json
+
+        model = json.loads((out / "model.city.json").read_text())
+        assert model["type"] == "CityJSON" and len(model["CityObjects"]) > 0
+
+
+def test_demo_picture_shows_the_map(demo):
+    """map.png is the map itself: its mean colour is the map's (up to rendering)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkIOImage import vtkPNGReader
+
+    reader = vtkPNGReader()
+    reader.SetFileName(str(demo["out"] / "map.png"))
+    reader.Update()
+    image = reader.GetOutput()
+    assert image.GetDimensions()[:2] == (600, 600)
+    pixels = vtk_to_numpy(image.GetPointData().GetScalars())[:, :3].astype(float)
+    smap = sm.generate(seed=1, size=600)
+    assert np.abs(pixels.mean(axis=0) - smap.rgb.reshape(-1, 3).mean(axis=0)).max() < 3.0
+    # north up, pixel for pixel: mean green of every row and column (vtk rows start south)
+    green = pixels.reshape(600, 600, 3)[::-1, :, 1]
+    assert np.abs(green.mean(axis=1) - smap.rgb[..., 1].mean(axis=1)).max() < 1.0
+    assert np.abs(green.mean(axis=0) - smap.rgb[..., 1].mean(axis=0)).max() < 1.0
