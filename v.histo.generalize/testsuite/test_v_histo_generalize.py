@@ -1,0 +1,341 @@
+"""v.histo.generalize in a temporary GRASS location: synthetic plots, raster input,
+methods, bad inputs, and acceptance on the thesis's Delft 1961 plots."""
+
+import csv
+import json
+import os
+import subprocess
+
+import numpy as np
+import pytest
+import shapely
+from shapely.geometry import box
+
+from reconstruction import assessment, generalization, shape_metrics
+
+pytestmark = pytest.mark.grass
+
+MODULE = "v.histo.generalize"
+
+
+def run(flags="", **kwargs):
+    import grass.script as gs
+
+    proc = gs.start_command(MODULE, flags=flags, stdout=gs.PIPE, stderr=gs.PIPE, **kwargs)
+    out, err = proc.communicate()
+    return proc.returncode, gs.decode(out), gs.decode(err)
+
+
+def parse(stdout):
+    return dict(line.split("=", 1) for line in stdout.splitlines() if "=" in line)
+
+
+def read_plots(name):
+    """Areas of a map (one geometry per category) and the attribute columns.
+
+    v.out.ogr writes every area as a MultiPolygon: one-part ones are unwrapped,
+    so a category with several areas stays a MultiPolygon (and fails checks).
+    """
+    from reconstruction import grassio
+
+    geoms, columns = grassio.read_features(name, "area")
+    geoms = [g.geoms[0] if g is not None and g.geom_type == "MultiPolygon" and len(g.geoms) == 1
+             else g for g in geoms]
+    return geoms, columns
+
+
+def temp_maps():
+    import grass.script as gs
+
+    names = gs.read_command("g.list", type="raster,vector", pattern="tmp_histo_*",
+                            mapset=".").split()
+    return names
+
+
+def read_csv(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def assert_valid_coverage(geoms):
+    for geom in geoms:
+        assert geom is not None and geom.geom_type == "Polygon" and geom.is_valid, geom
+    assert generalization.overlapping_pairs(geoms, min_area=0.01) == []
+
+
+# ---------------------------------------------------------------------------
+# Synthetic data
+# ---------------------------------------------------------------------------
+
+def test_synthetic_plots_one_per_plot_with_metrics_and_scores(synthetic, mapset, tmp_path):
+    metrics = str(tmp_path / "m.csv")
+    report = str(tmp_path / "r.json")
+    rc, out, err = run(flags="g", input=synthetic.plots, output="plots", metrics=metrics,
+                       report=report, gt_points=synthetic.gt_points,
+                       gt_polygons=synthetic.plots)
+    assert rc == 0, err
+    raw, raw_cols = read_plots(synthetic.plots)
+    geoms, cols = read_plots("plots")
+    assert len(geoms) == len(raw) == len(synthetic.smap.plots)
+    assert_valid_coverage(geoms)
+    by_cat = dict(zip(raw_cols["cat"], raw))
+    for geom, source in zip(geoms, cols["source"]):
+        ref = by_cat[source]
+        assert shapely.intersection(geom, ref).area / shapely.union(geom, ref).area > 0.75
+    assert set(m.split("+")[-1] for m in cols["method"]) <= {"lines", "lines/2.5", "lines/1.25",
+                                                             "douglas", "simplify", "none"}
+    assert cols["vertices"] == pytest.approx(shape_metrics.plot_metrics(geoms)["vertices"].tolist())
+    # the report agrees with the definitions, computed here from the maps
+    figures = parse(out)
+    with open(report) as f:
+        rep = json.load(f)
+    xy = synthetic.smap.gt_points
+    p, r, fscore = assessment.point_detection_scores(geoms, xy)
+    assert float(figures["precision"]) == pytest.approx(p)
+    assert float(figures["recall"]) == pytest.approx(r)
+    assert rep["f_score"] == pytest.approx(fscore)
+    assert p == 1.0 and r == 1.0
+    assert rep["matched"] == len(raw)
+    assert rep["buffer_similarity"] > 95
+    rows = read_csv(metrics)
+    assert [row["step"] for row in rows] == ["raw", "alpha", "lines"]
+    assert all(int(row["plots"]) == len(raw) for row in rows)
+    # the plots are clean polygons already: the chain keeps them simple
+    assert float(rows[-1]["vertices_median"]) <= float(rows[0]["vertices_median"]) + 1
+
+
+def truth_raster(synthetic):
+    """The synthetic map's true classes as a CELL raster (a perfect classification)."""
+    import grass.script as gs
+
+    from reconstruction import grassio
+
+    gs.run_command("g.region", quiet=True, **synthetic.region)
+    grassio.write_raster("truth", synthetic.smap.truth)
+    return "truth"
+
+
+def test_synthetic_truth_raster_gives_the_true_plots(synthetic, mapset, tmp_path):
+    metrics = str(tmp_path / "m.csv")
+    rc, out, err = run(flags="g", raster=truth_raster(synthetic), **{"class": 1}, output="plots",
+                       metrics=metrics)
+    assert rc == 0, err
+    geoms, cols = read_plots("plots")
+    assert_valid_coverage(geoms)
+    true_plots = synthetic.smap.plots
+    assert len(geoms) == len(true_plots)
+    matches = shape_metrics.match_plots(geoms, true_plots)
+    assert sorted(matches) == list(range(len(geoms)))
+    ious = [shapely.intersection(geoms[j], t).area / shapely.union(geoms[j], t).area
+            for j, t in zip(matches, true_plots)]
+    assert min(ious) > 0.7 and np.median(ious) > 0.9
+    scores = shape_metrics.shape_scores(geoms, true_plots, buffer=2)
+    assert scores["buffer_similarity"] > 95
+    rows = read_csv(metrics)
+    vertices = [float(row["vertices_mean"]) for row in rows]
+    assert vertices[0] > vertices[1] > vertices[2]
+    assert float(rows[2]["vertices_median"]) <= 6
+    assert temp_maps() == []
+
+
+def test_raster_class_input(mapset):
+    import grass.script as gs
+
+    from reconstruction import grassio
+
+    gs.run_command("g.region", n=1000, s=900, e=1200, w=1000, res=1, quiet=True)
+    cells = np.full((100, 200), 2, dtype=np.int32)
+    truths = [box(1010, 910, 1060, 940), box(1100, 950, 1180, 990), box(1020, 960, 1045, 995)]
+    for rect in truths:
+        minx, miny, maxx, maxy = (int(v) for v in rect.bounds)
+        cells[1000 - maxy:1000 - miny, minx - 1000:maxx - 1000] = 1
+    cells[50, 90] = 1              # one stray building pixel: below min_area
+    cells[5:8, 5:8] = 3
+    grassio.write_raster("classes", cells)
+    rc, out, err = run(flags="g", raster="classes", **{"class": 1}, output="plots", min_area=20)
+    assert rc == 0, err
+    geoms, cols = read_plots("plots")
+    assert len(geoms) == 3
+    assert_valid_coverage(geoms)
+    for truth in truths:
+        best = max(shapely.intersection(g, truth).area / shapely.union(g, truth).area for g in geoms)
+        assert best > 0.9
+    assert max(cols["vertices"]) <= 6
+    assert parse(out)["dropped_small"] == "1"
+    assert temp_maps() == []
+
+
+@pytest.mark.parametrize("methods,steps", [
+    ("simplify", ["raw", "simplify"]),
+    ("douglas", ["raw", "douglas"]),
+    ("alpha,lines,douglas", ["raw", "alpha", "lines", "douglas"]),
+    ("lines,lines", ["raw", "lines", "lines_2"]),
+])
+def test_methods_and_their_metric_rows(synthetic, mapset, tmp_path, methods, steps):
+    metrics = str(tmp_path / "m.csv")
+    rc, out, err = run(flags="r" if "lines" in methods else "", raster=truth_raster(synthetic),
+                       **{"class": 1}, output="plots", method=methods, metrics=metrics,
+                       tolerance=1.5)
+    assert rc == 0, err
+    geoms, cols = read_plots("plots")
+    assert_valid_coverage(geoms)
+    assert len(geoms) == len(synthetic.smap.plots)
+    rows = read_csv(metrics)
+    assert [row["step"] for row in rows] == steps
+    assert float(rows[-1]["vertices_mean"]) < float(rows[0]["vertices_mean"])
+
+
+def test_seed_and_overwrite(synthetic, mapset):
+    import grass.script as gs
+
+    assert run(input=synthetic.plots, output="one", seed=3)[0] == 0
+    rc, _, err = run(input=synthetic.plots, output="one", seed=3)
+    assert rc != 0 and "one" in err
+    assert run(input=synthetic.plots, output="two", seed=3)[0] == 0
+    a, _ = read_plots("one")
+    b, _ = read_plots("two")
+    assert [g.wkb for g in a] == [g.wkb for g in b]
+    gs.run_command("g.copy", vector="one,keep", quiet=True)
+    rc, _, err = run(input=synthetic.plots, output="one", method="douglas", overwrite=True)
+    assert rc == 0, err
+    c, _ = read_plots("one")
+    assert [g.wkb for g in c] != [g.wkb for g in a]
+
+
+@pytest.mark.parametrize("case", ["no_areas", "points", "empty_class", "both_inputs",
+                                  "points_as_gt_polygons", "bad_angle", "file_exists",
+                                  "all_small"])
+def test_bad_inputs_fail_cleanly(synthetic, mapset, tmp_path, case):
+    import grass.script as gs
+
+    from reconstruction import grassio
+
+    metrics = str(tmp_path / "m.csv")
+    kwargs = {"input": synthetic.plots, "output": "plots", "metrics": metrics}
+    expect = ""
+    if case == "no_areas":
+        gs.run_command("v.edit", tool="create", map="empty", quiet=True)
+        kwargs["input"] = "empty"
+        expect = "has no areas"
+    elif case == "points":
+        kwargs["input"] = synthetic.gt_points
+        expect = "has no areas"
+    elif case == "empty_class":
+        gs.run_command("g.region", n=100, s=0, e=100, w=0, res=1, quiet=True)
+        grassio.write_raster("classes", np.full((100, 100), 2, dtype=np.int32))
+        kwargs = {"raster": "classes", "class": 1, "output": "plots", "metrics": metrics}
+        expect = "no cell of class 1"
+    elif case == "both_inputs":
+        kwargs["raster"] = synthetic.red
+        kwargs["class"] = 1
+    elif case == "points_as_gt_polygons":
+        kwargs["gt_polygons"] = synthetic.gt_points
+        expect = "gt_polygons"
+    elif case == "bad_angle":
+        kwargs["angle"] = 200
+        expect = "angle"
+    elif case == "file_exists":
+        with open(metrics, "w") as f:
+            f.write("keep")
+        expect = "exists"
+    elif case == "all_small":
+        kwargs["min_area"] = 1e9
+        expect = "smaller than min_area"
+    before = set(gs.read_command("g.list", type="raster,vector", mapset=".").split())
+    rc, _, err = run(**kwargs)
+    assert rc != 0
+    assert "ERROR" in err and expect in err, err
+    after = set(gs.read_command("g.list", type="raster,vector", mapset=".").split())
+    assert after == before
+    assert not gs.find_file("plots", element="vector", mapset=".")["name"]
+    if case == "file_exists":
+        with open(metrics) as f:
+            assert f.read() == "keep"
+    else:
+        assert not os.path.exists(metrics)
+
+
+def test_unprojected_location_is_refused(grass_session, tmp_path):
+    loc = os.path.join(grass_session["dbase"], "latlong_generalize")
+    if not os.path.isdir(loc):
+        subprocess.run(["grass", "-c", "EPSG:4326", loc, "-e"], check=True, capture_output=True)
+    env = dict(os.environ)
+    env.pop("GISRC", None)
+    script = ("echo '1|1' | v.in.ascii input=- output=pts --q && "
+              "{} input=pts output=plots metrics={}".format(MODULE, tmp_path / "ll.csv"))
+    proc = subprocess.run(["grass", os.path.join(loc, "PERMANENT"), "--exec", "bash", "-c", script],
+                          capture_output=True, text=True, env=env)
+    assert proc.returncode != 0
+    assert "not projected" in proc.stderr
+    assert not os.path.exists(tmp_path / "ll.csv")
+    assert not os.path.isdir(os.path.join(loc, "PERMANENT", "vector", "plots"))
+
+
+# ---------------------------------------------------------------------------
+# Acceptance: the thesis's raw plots of Delft 1961
+# ---------------------------------------------------------------------------
+
+@pytest.mark.acceptance
+def test_acceptance_delft_1961(mapset, shared_data, tmp_path):
+    import grass.script as gs
+
+    from reconstruction import grassio
+
+    folder = os.path.join(shared_data, "delft_1961_subset")
+    shapes = {"raw": "thesis_output/raw_building_plots_delft_1961.shp",
+              "final": "thesis_output/final_plots_delft_1961.shp",
+              "gt": "input/ground_truth_generalized_delft_1961.shp",
+              "points": "input/ground_truth_delft_1961.shp"}
+    for name, rel in shapes.items():
+        path = os.path.join(folder, rel)
+        if not os.path.exists(path):
+            pytest.skip("{} not found".format(path))
+        gs.run_command("v.in.ogr", input=path, output=name, flags="o", quiet=True)
+    metrics = str(tmp_path / "metrics.csv")
+    report = str(tmp_path / "report.json")
+    rc, out, err = run(flags="g", input="raw", output="plots", alpha=12, distance=5, angle=180,
+                       min_area=20, metrics=metrics, report=report, gt_polygons="gt",
+                       gt_points="points")
+    assert rc == 0, err
+    raw_geoms, _ = grassio.read_features("raw", "area")
+    raw, _ = generalization.explode_plots(raw_geoms)
+    big = [p for p in raw if p.area >= 20]
+    geoms, cols = read_plots("plots")
+    # every raw area >= min_area gives exactly one valid plot; no overlaps
+    assert len(geoms) == len(big) == len(set(cols["cat"]))
+    assert_valid_coverage(geoms)
+    for plot in big:
+        hits = [g for g in geoms if shapely.intersection(g, plot).area > 0.5 * plot.area]
+        assert len(hits) == 1
+    # simple plots: the thesis counts the closing vertex (median 5 = 4 corners)
+    assert np.median(cols["vertices"]) + 1 <= 6
+    # shape agreement with the hand-digitised plots, both sides measured here
+    with open(report) as f:
+        rep = json.load(f)
+    gt_geoms, _ = grassio.read_features("gt", "area")
+    gt, _ = generalization.explode_plots(gt_geoms)
+    final_geoms, _ = grassio.read_features("final", "area")
+    final, _ = generalization.explode_plots(final_geoms)
+    ours = shape_metrics.shape_scores(geoms, gt, buffer=2)
+    thesis = shape_metrics.shape_scores(final, gt, buffer=2)
+    assert ours["matched"] == thesis["matched"] == len(gt) == 10
+    assert rep["turning_distance"] == pytest.approx(ours["turning_distance"])
+    assert ours["turning_distance"] < thesis["turning_distance"]
+    assert rep["buffer_similarity"] >= 95
+    print("turning distance: ours {:.4f}, thesis {:.4f}; buffer similarity {:.2f} %".format(
+        ours["turning_distance"], thesis["turning_distance"], rep["buffer_similarity"]))
+    # precision / recall / F as defined, from the maps
+    xy, _ = grassio.read_points("points")
+    scores = assessment.point_detection_scores(geoms, xy)
+    assert rep["precision"] == pytest.approx(scores.precision)
+    assert rep["recall"] == pytest.approx(scores.recall)
+    # metrics per step: the thesis's trends
+    rows = read_csv(metrics)
+    assert [row["step"] for row in rows] == ["raw", "alpha", "lines"]
+    assert all(int(row["plots"]) == len(big) for row in rows)
+    vertices = [float(row["vertices_mean"]) for row in rows]
+    assert vertices[0] > vertices[1] > vertices[2]
+    for key in ("convexity_mean", "rectangularity_mean"):
+        assert float(rows[-1][key]) > float(rows[0][key])
+    assert float(rows[1]["convexity_mean"]) > float(rows[0]["convexity_mean"])
+    assert temp_maps() == []
