@@ -321,3 +321,80 @@ def column_names(name, layer=1):
         return list(gs.vector_columns(name, layer=layer).keys())
     except Exception:
         return []
+
+
+def read_areas(name, layer=1):
+    """Read the areas of a vector map fast, with their attribute columns.
+
+    Same result as ``read_features(name, "area", layer)`` (one shapely
+    geometry per category, areas of one category merged; a dict column ->
+    list of values with ``cat``), but without the per-feature cost of OGR:
+    the areas come as WKT from v.out.ascii, each one gets the categories of
+    its centroid, and the table comes in one query. Areas shared by several
+    categories (overlapping input polygons) belong to each of them.
+    """
+    import shapely
+
+    text = gs.read_command("v.out.ascii", input=name, layer=layer, type="area",
+                           format="wkt", quiet=True)
+    lines = [ln for ln in text.splitlines() if ln.strip()]
+    polys = shapely.from_wkt(np.array(lines, dtype=object)) if lines else np.array([])
+    text = gs.read_command("v.out.ascii", input=name, layer=layer, type="centroid",
+                           format="point", separator="|", quiet=True)
+    xy = [ln.split("|")[:2] for ln in text.splitlines() if ln.strip()]
+    cats_text = gs.read_command("v.category", input=name, layer=layer, type="centroid",
+                                option="print", quiet=True)
+    cats = [[int(c) for c in ln.split("/") if c.strip()] for ln in cats_text.splitlines()]
+    if len(cats) != len(xy):
+        gs.fatal(_("Cannot match the centroids and categories of vector map <{}>").format(name))
+    by_cat = {}
+    if len(polys) and xy:
+        points = shapely.points(np.array(xy, dtype=float))
+        pt, poly = shapely.STRtree(polys).query(points, predicate="within")
+        for p, a in zip(pt.tolist(), poly.tolist()):
+            for c in cats[p]:
+                by_cat.setdefault(c, []).append(polys[a])
+    order = sorted(by_cat)
+    geoms = []
+    for c in order:
+        parts = by_cat[c]
+        geoms.append(parts[0] if len(parts) == 1 else shapely.union_all(parts))
+    columns = {"cat": list(order)}
+    info = gs.vector_db(name).get(int(layer))
+    if info:
+        key = info["key"]
+        types = {k: v["type"].upper() for k, v in gs.vector_columns(name, layer=layer).items()}
+        names = list(types)
+        sql = "SELECT {} FROM {}".format(", ".join('"{}"'.format(n) for n in names), info["table"])
+        out = gs.read_command("db.select", sql=sql, database=info["database"],
+                              driver=info["driver"], separator="\x1f", flags="c",
+                              null_value="\x1e", quiet=True)
+        rows = {}
+        kpos = names.index(key)
+        for ln in out.split("\n"):      # not splitlines(): it splits at \x1e
+            vals = ln.rstrip("\r").split("\x1f")
+            if len(vals) != len(names):
+                continue
+            rows[int(vals[kpos])] = vals
+
+        def convert(value, sql_type):
+            if value == "\x1e":
+                return None
+            if sql_type in ("INTEGER", "INT", "SMALLINT", "BIGINT"):
+                try:
+                    return int(value)
+                except ValueError:
+                    return None
+            if sql_type in ("DOUBLE PRECISION", "REAL", "FLOAT", "DOUBLE", "NUMERIC"):
+                try:
+                    return float(value)
+                except ValueError:
+                    return None
+            return value
+
+        for j, n in enumerate(names):
+            if n == key:
+                continue
+            t = types[n]
+            columns[n] = [convert(rows[c][j], t) if c in rows else None for c in order]
+    return geoms, columns
