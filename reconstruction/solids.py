@@ -185,7 +185,8 @@ def to_solidset(shells, origins, why=None):
     ``shells``: list of ``(vertices, faces)`` (local x, y; None for a missing
     shell), ``origins``: (S, 2) offsets added to x, y. Removes duplicate
     vertices and duplicate consecutive ring vertices; rings left with fewer
-    than three vertices are dropped and the solid marked bad.
+    than three vertices are dropped (the validator then checks that the shell
+    is still closed).
     """
     S = len(shells)
     bad = [None] * S
@@ -228,10 +229,11 @@ def to_solidset(shells, origins, why=None):
     keep = inv != inv[nxt] if len(inv) else np.zeros(0, dtype=bool)
     inv = inv[keep]
     sizes = np.bincount(entry_face[keep], minlength=len(sizes))
+    # rings that collapse on the grid (fewer than 3 distinct vertices) are
+    # dropped: the shell stays closed only if their neighbours meet, which
+    # the validator checks
     small = sizes < 3
     if small.any():
-        for s in np.unique(face_solid[small]):
-            bad[s] = "degenerate ring (fewer than 3 distinct vertices)"
         drop_entries = small[entry_face[keep]]
         inv = inv[~drop_entries]
         sizes_kept = sizes[~small]

@@ -283,7 +283,7 @@ def main():
             gs.fatal(_("Option crs= must be an EPSG code (e.g. 7415, EPSG:7415) or an OGC URL, "
                        "not <{}>").format(options["crs"]))
 
-    geoms, columns = grassio.read_features(options["input"], "area", layer=options["layer"])
+    geoms, columns = grassio.read_areas(options["input"], layer=options["layer"])
     if not geoms:
         gs.fatal(_("Vector map <{}> has no areas").format(options["input"]))
     n_feat = len(geoms)

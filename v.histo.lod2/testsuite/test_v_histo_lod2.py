@@ -122,6 +122,25 @@ def test_auto_roofs_valid_files_with_attributes(footprints, tmp_path, schemas):
     assert len(kinds) >= 3
 
 
+def test_fast_area_reader_matches_read_features(mapset, tmp_path):
+    from reconstruction import grassio
+
+    feats = synthetic_footprints(12)
+    # two overlapping footprints: the shared area belongs to both
+    ring = feats[0]["geometry"]["coordinates"][0]
+    feats[1]["geometry"]["coordinates"][0] = [[x + 2.0, y + 2.0] for x, y in ring]
+    feats[2]["properties"]["h_attic"] = None
+    name = import_features(feats, "fp_read", tmp_path)
+    g1, c1 = grassio.read_features(name, "area")
+    g2, c2 = grassio.read_areas(name)
+    assert c1["cat"] == c2["cat"]
+    for a, b in zip(g1, g2):
+        assert abs(a.area - b.area) < 1e-6 and a.symmetric_difference(b).area < 1e-6
+    for k in ("h_building", "h_attic", "plot", "source", "roof"):
+        assert c1[k] == c2[k], k
+    assert c2["h_attic"][2] is None
+
+
 def test_seed_makes_runs_identical(footprints, tmp_path):
     paths = [str(tmp_path / "{}.json".format(k)) for k in "abc"]
     for p, seed in zip(paths, (5, 5, 6)):
