@@ -587,13 +587,19 @@ def _pick_training(rng, drawn, cover, xy_of):
         if len(rows) == 0:
             continue
         want = int(rng.integers(3, 9))
-        chosen = []
-        for i in rng.permutation(len(rows)):
-            p = np.array([rows[i], cols[i]], dtype=float)
-            if all(np.hypot(*(p - q)) >= min_dist for q in chosen):
-                chosen.append(p)
-                if len(chosen) == want:
-                    break
+        order = rng.permutation(len(rows))
+        min_dist = min(min_dist, drawn.shape[0] / 10.0)
+        while True:  # spread out; closer together only where the class is scarce
+            chosen = []
+            for i in order:
+                p = np.array([rows[i], cols[i]], dtype=float)
+                if all(np.hypot(*(p - q)) >= min_dist for q in chosen):
+                    chosen.append(p)
+                    if len(chosen) == want:
+                        break
+            if len(chosen) >= 3 or min_dist < 1:
+                break
+            min_dist /= 2.0
         for r, c in chosen:
             points.append(xy_of(int(r), int(c)))
             labels.append(label)

@@ -8,6 +8,8 @@ import sys
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 import shapely
 from shapely.geometry import Point
 
@@ -348,3 +350,20 @@ def test_command_line_outside_grass_refuses(tmp_path):
                           "150", "--png", str(png)], env=env, capture_output=True, text=True)
     assert run.returncode == 0 and png.read_bytes()[:4] == b"\x89PNG"
     assert math.isclose(int.from_bytes(png.read_bytes()[16:20], "big"), 150)
+
+
+@settings(max_examples=6, deadline=None, derandomize=True)
+@given(seed=st.integers(0, 10**6), size=st.sampled_from([150, 220, 300]))
+def test_any_seed_and_size_keeps_the_invariants(seed, size):
+    m = sm.generate(seed=seed, size=size)
+    frame = shapely.box(m.west, m.south, m.east, m.north).buffer(-2)
+    assert m.plots and len(m.plots) == len(m.plot_kinds) == len(m.gt_points)
+    for poly, (x, y) in zip(m.plots, m.gt_points):
+        assert poly.geom_type == "Polygon" and poly.is_valid and frame.contains(poly)
+        assert poly.contains(Point(x, y))
+    for a, b in itertools.combinations(m.plots, 2):
+        assert a.distance(b) >= 6.0
+    rows, cols = m.to_pixel(m.training["xy"])
+    assert np.array_equal(m.drawn[rows, cols], m.training["label"])
+    counts = np.bincount(m.training["label"], minlength=7)[1:]
+    assert np.all((counts >= 3) & (counts <= 8)), counts
