@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from .solids import SEMANTIC_NAMES
+from .solids import SEMANTIC_NAMES, unique_rows
 
 CITYJSON_VERSION = "2.0"
 LOD = "2.0"
@@ -56,8 +56,7 @@ def citymodel(ss, semantics, ids, attributes=None, reference_system=None, title=
     attributes = attributes or {}
     S = len(ss)
     if len(ss.vertices):
-        uniq, inv = np.unique(ss.vertices, axis=0, return_inverse=True)
-        inv = inv.reshape(-1)
+        uniq, inv = unique_rows(ss.vertices)
         lo = uniq.min(axis=0)
         hi = uniq.max(axis=0)
         verts = (uniq - lo).tolist()

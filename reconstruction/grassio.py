@@ -339,8 +339,16 @@ def read_areas(name, layer=1):
                            format="wkt", quiet=True)
     lines = [ln for ln in text.splitlines() if ln.strip()]
     polys = shapely.from_wkt(np.array(lines, dtype=object)) if lines else np.array([])
-    text = gs.read_command("v.out.ascii", input=name, layer=layer, type="centroid",
-                           format="point", separator="|", quiet=True)
+    # (v.out.ascii warns about every centroid with several categories: those
+    # come from v.category below)
+    proc = gs.start_command("v.out.ascii", input=name, layer=layer, type="centroid",
+                            format="point", separator="|", quiet=True,
+                            stdout=gs.PIPE, stderr=gs.PIPE)
+    out, err = proc.communicate()
+    if proc.returncode != 0:
+        gs.fatal(_("Cannot read the centroids of vector map <{}>: {}").format(
+            name, gs.decode(err).strip()))
+    text = gs.decode(out)
     xy = [ln.split("|")[:2] for ln in text.splitlines() if ln.strip()]
     cats_text = gs.read_command("v.category", input=name, layer=layer, type="centroid",
                                 option="print", quiet=True)

@@ -94,15 +94,25 @@ def draw_roof_types(n_vertices, years, attic, rng, probabilities=None):
 # Footprint helpers
 # ---------------------------------------------------------------------------
 
+def _nxt(a):
+    """``a`` shifted by one (next element), cheaper than np.roll on small arrays."""
+    return np.concatenate((a[1:], a[:1]))
+
+
+def _prv(a):
+    """``a`` shifted back by one (previous element)."""
+    return np.concatenate((a[-1:], a[:-1]))
+
+
 def edge_lengths(xy):
     """Lengths of the edges ``xy[i] -> xy[i+1]`` of one ring (n, 2)."""
-    return np.hypot(*(np.roll(xy, -1, axis=0) - xy).T)
+    return np.hypot(*(_nxt(xy) - xy).T)
 
 
 def is_convex(xy, tol=1e-9):
     """True when a counter-clockwise ring has no reflex vertex."""
-    d1 = xy - np.roll(xy, 1, axis=0)
-    d2 = np.roll(xy, -1, axis=0) - xy
+    d1 = xy - _prv(xy)
+    d2 = _nxt(xy) - xy
     cross = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
     return bool(np.all(cross > -tol * np.hypot(*d1.T) * np.hypot(*d2.T)))
 
@@ -110,7 +120,7 @@ def is_convex(xy, tol=1e-9):
 def opposite_edge(xy, i):
     """The edge most anti-parallel to edge ``i`` and not adjacent to it, or None."""
     n = len(xy)
-    d = np.roll(xy, -1, axis=0) - xy
+    d = _nxt(xy) - xy
     d = d / np.maximum(np.hypot(*d.T), 1e-300)[:, None]
     best, best_cos = None, -math.cos(math.radians(45))
     for j in range(n):
@@ -126,8 +136,8 @@ def end_edges(xy):
     """Gable ends of a concave footprint: edges between two convex corners that
     are shorter than both neighbouring edges (the ends of the L/U/T arms)."""
     n = len(xy)
-    d1 = xy - np.roll(xy, 1, axis=0)
-    d2 = np.roll(xy, -1, axis=0) - xy
+    d1 = xy - _prv(xy)
+    d2 = _nxt(xy) - xy
     convex = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0] > 0
     length = edge_lengths(xy)
     ends = []
@@ -461,7 +471,7 @@ def _orient(ring_pts, normal):
     """Reverse a ring (list of 3D points' indices + coordinates) if its Newell
     normal points away from ``normal``."""
     p = ring_pts
-    q = np.roll(p, -1, axis=0)
+    q = _nxt(p)
     nn = np.array([((p[:, 1] - q[:, 1]) * (p[:, 2] + q[:, 2])).sum(),
                    ((p[:, 2] - q[:, 2]) * (p[:, 0] + q[:, 0])).sum(),
                    ((p[:, 0] - q[:, 0]) * (p[:, 1] + q[:, 1])).sum()])

@@ -23,6 +23,7 @@ import math
 import numpy as np
 
 from . import roofs as _roofs
+from .roofs import _nxt, _prv
 
 GROUND, WALL, ROOF = 0, 1, 2
 SEMANTIC_NAMES = ("GroundSurface", "WallSurface", "RoofSurface")
@@ -51,12 +52,12 @@ def clean_ring(coords, tol=0.001):
     for _ in range(len(xy)):
         if len(xy) < 3:
             return None, "fewer than 3 distinct vertices"
-        keep = np.any(xy != np.roll(xy, -1, axis=0), axis=1)
+        keep = np.any(xy != _nxt(xy), axis=1)
         xy = xy[keep]
         if len(xy) < 3:
             return None, "fewer than 3 distinct vertices"
-        prev = np.roll(xy, 1, axis=0)
-        nxt = np.roll(xy, -1, axis=0)
+        prev = _prv(xy)
+        nxt = _nxt(xy)
         d = nxt - prev
         ln = np.hypot(d[:, 0], d[:, 1])
         cross = (xy[:, 0] - prev[:, 0]) * d[:, 1] - (xy[:, 1] - prev[:, 1]) * d[:, 0]
@@ -69,7 +70,7 @@ def clean_ring(coords, tol=0.001):
         xy = np.delete(xy, int(np.argmin(np.where(bad, dist, np.inf))), axis=0)
     if len(xy) < 3:
         return None, "fewer than 3 distinct vertices"
-    area2 = float(np.sum(xy[:, 0] * np.roll(xy[:, 1], -1) - np.roll(xy[:, 0], -1) * xy[:, 1]))
+    area2 = float(np.sum(xy[:, 0] * _nxt(xy[:, 1]) - _nxt(xy[:, 0]) * xy[:, 1]))
     if abs(area2) < 1e-6:
         return None, "zero area"
     if area2 < 0:
@@ -79,9 +80,18 @@ def clean_ring(coords, tol=0.001):
 
 def ring_is_simple(xy):
     """True when a ring (n, 2) does not self-intersect."""
+    return bool(rings_are_simple([xy])[0])
+
+
+def rings_are_simple(rings):
+    """For each ring (n, 2): True when it does not self-intersect (in bulk)."""
     import shapely
 
-    return bool(shapely.is_simple(shapely.linearrings(np.vstack([xy, xy[:1]]))))
+    if not rings:
+        return np.zeros(0, dtype=bool)
+    closed = np.concatenate([np.vstack([xy, xy[:1]]) for xy in rings])
+    ids = np.repeat(np.arange(len(rings)), [len(xy) + 1 for xy in rings])
+    return shapely.is_simple(shapely.linearrings(closed, indices=ids))
 
 
 # ---------------------------------------------------------------------------
@@ -179,6 +189,23 @@ class SolidSet:
         return self.vertices[used] / 1000.0, faces
 
 
+def unique_rows(rows):
+    """Distinct rows of an (n, k) integer array, sorted, and the inverse index
+    (what ``np.unique(rows, axis=0, return_inverse=True)`` gives, faster)."""
+    rows = np.asarray(rows)
+    if len(rows) == 0:
+        return rows.copy(), np.zeros(0, dtype=np.int64)
+    order = np.lexsort(rows.T[::-1])
+    srt = rows[order]
+    new = np.empty(len(rows), dtype=bool)
+    new[0] = True
+    new[1:] = np.any(srt[1:] != srt[:-1], axis=1)
+    group = np.cumsum(new) - 1
+    inv = np.empty(len(rows), dtype=np.int64)
+    inv[order] = group
+    return srt[new], inv
+
+
 def to_solidset(shells, origins, why=None):
     """Round shells to the millimetre grid and store them as a :class:`SolidSet`.
 
@@ -218,8 +245,7 @@ def to_solidset(shells, origins, why=None):
     entry_solid = face_solid[entry_face]
     # distinct vertices per solid, only those used
     keys = np.column_stack([entry_solid, allv[rings]])
-    uniq, inv = np.unique(keys, axis=0, return_inverse=True)
-    inv = inv.reshape(-1)
+    uniq, inv = unique_rows(keys)
     vertices = np.ascontiguousarray(uniq[:, 1:])
     # duplicate consecutive vertices
     face_start = np.concatenate([[0], np.cumsum(sizes)])
@@ -288,12 +314,24 @@ def semantics(ss):
     return out
 
 
+def _components(n, a, b):
+    """Connected component label (smallest member) of n nodes joined by edges a-b,
+    by min-label propagation (shells have a small diameter)."""
+    labels = np.arange(n)
+    while True:
+        new = labels.copy()
+        np.minimum.at(new, a, labels[b])
+        np.minimum.at(new, b, labels[a])
+        new = new[new]
+        if np.array_equal(new, labels):
+            return labels
+        labels = new
+
+
 def validate(ss, tol=PLANARITY_TOL):
     """Check every solid; returns a list with None (valid) or the reasons
     (joined by "; ")."""
     import shapely
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
 
     S = len(ss)
     reasons = list(ss.bad)
@@ -359,16 +397,13 @@ def validate(ss, tol=PLANARITY_TOL):
     # one connected shell
     order = np.argsort(key)
     if found.any():
-        mate = np.empty(len(key), dtype=np.int64)
         mate_pos = order[np.searchsorted(key[order], rkey[found])]
         fa = entry_face[found]
         fb = entry_face[mate_pos]
-        g = coo_matrix((np.ones(len(fa)), (fa, fb)), shape=(F, F))
-        _, labels = connected_components(g, directed=False)
+        labels = _components(F, fa, fb)
         lo = np.minimum.reduceat(labels, ss.solid_start[:-1][nf > 0])
         hi = np.maximum.reduceat(labels, ss.solid_start[:-1][nf > 0])
         flag(np.nonzero(nf > 0)[0][lo != hi], "more than one shell")
-        del mate
     # volume (divergence theorem) must be positive: outward orientation
     vol = np.einsum("ij,ij->i", normal, centroid) / 6.0
     svol = np.zeros(S)

@@ -358,18 +358,24 @@ def main():
                 continue
             n_holes += len(poly.interiors)
             xy, why = solids.clean_ring(np.asarray(poly.exterior.coords))
-            if xy is None or not solids.ring_is_simple(xy):
+            if xy is None:
                 n_bad += 1
-                why = why or "self-intersecting outline"
                 reasons[why] = reasons.get(why, 0) + 1
                 continue
             rings.append(xy)
             src.append(i)
             part.append(k if len(parts) > 1 else None)
+    simple = solids.rings_are_simple(rings)
+    if not simple.all():
+        n_bad += int((~simple).sum())
+        reasons["self-intersecting outline"] = int((~simple).sum())
+        rings = [r for r, ok in zip(rings, simple) if ok]
+        src = [i for i, ok in zip(src, simple) if ok]
+        part = [k for k, ok in zip(part, simple) if ok]
     if n_holes:
         gs.warning(_("{} holes (inner courtyards) in footprints are filled").format(n_holes))
     if n_bad:
-        gs.warning(_("{} footprints are left out (empty or degenerate: {})").format(
+        gs.warning(_("{} footprints or parts of footprints are left out (empty or degenerate: {})").format(
             n_bad, ", ".join("{} {}".format(v, k) for k, v in reasons.items()) or "no geometry"))
     if not rings:
         gs.fatal(_("No footprint left to build"))
