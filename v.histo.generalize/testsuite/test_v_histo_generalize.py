@@ -339,3 +339,42 @@ def test_acceptance_delft_1961(mapset, shared_data, tmp_path):
         assert float(rows[-1][key]) > float(rows[0][key])
     assert float(rows[1]["convexity_mean"]) > float(rows[0]["convexity_mean"])
     assert temp_maps() == []
+
+
+@pytest.mark.acceptance
+def test_acceptance_delft_1961_after_r_histo_classify(mapset, shared_data, tmp_path):
+    """The chain of the thesis on the real map: classify, then generalise (area threshold 150)."""
+    import shutil
+
+    import grass.script as gs
+
+    from reconstruction import grassio
+
+    if not shutil.which("r.histo.classify"):
+        pytest.skip("r.histo.classify is not staged")
+    folder = os.path.join(shared_data, "delft_1961_subset", "input")
+    tif = os.path.join(folder, "delft_1961.tif")
+    if not os.path.exists(tif):
+        pytest.skip("{} not found".format(tif))
+    gs.run_command("r.in.gdal", input=tif, output="delft", flags="o", quiet=True)
+    gs.run_command("v.in.ogr", input=os.path.join(folder, "training_points_delft_1961.shp"),
+                   output="training", flags="o", quiet=True)
+    gs.run_command("v.in.ogr", input=os.path.join(folder, "ground_truth_delft_1961.shp"),
+                   output="points", flags="o", quiet=True)
+    gs.run_command("g.region", raster="delft.red", quiet=True)
+    gs.run_command("r.histo.classify", input="delft.red,delft.green,delft.blue",
+                   training="training", output="classes", seed=1, quiet=True)
+    report = str(tmp_path / "report.json")
+    rc, out, err = run(flags="g", raster="classes", **{"class": 1}, output="plots", min_area=150,
+                       gt_points="points", report=report)
+    assert rc == 0, err
+    geoms, cols = read_plots("plots")
+    assert_valid_coverage(geoms)
+    xy, _ = grassio.read_points("points")
+    scores = assessment.point_detection_scores(geoms, xy)
+    figures = parse(out)
+    assert float(figures["precision"]) == pytest.approx(scores.precision)
+    assert float(figures["recall"]) == pytest.approx(scores.recall)
+    assert float(figures["f_score"]) == pytest.approx(scores.f_score)
+    print("after r.histo.classify: precision {:.3f}, recall {:.3f}, F {:.3f}".format(*scores))
+    assert scores.f_score >= 0.95
