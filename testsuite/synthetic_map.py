@@ -365,6 +365,11 @@ def _layout(rng, extent):
             g = g.difference(quays) if crosses else g
             if not g.is_empty:
                 gardens.append(g)
+    if not gardens:
+        # every map has some green: grass verges along the canal
+        verges = quays.difference(canal.buffer(1.5)).difference(
+            unary_union([p for p, _, _ in plots]).buffer(2.0))
+        gardens.append(verges.intersection(box(0, 0, extent, extent)))
     # street anchors for labels: horizontal streets between block rows, vertical
     # streets between block columns
     for (a0, a1), (b0, b1) in zip(rows[:-1], rows[1:]):
