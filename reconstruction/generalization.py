@@ -597,13 +597,14 @@ def generalize_plots(polygons, methods=("alpha", "lines"), alpha=12.0, distance=
                     new[i], labels[i] = out, "douglas"
         failed = [i for i in range(len(current)) if new[i] is None]
         for i in failed:
-            new[i], labels[i] = _fallback(method, i, current, steps, previous, alpha, distance,
-                                          angle, orthogonal, tolerance, rng, used)
+            new[i], labels[i], redone = _fallback(method, i, current, steps, previous, alpha,
+                                                  distance, angle, orthogonal, tolerance, rng, used)
+            if redone is not None:  # the previous step was redone with another sampling
+                steps[-1][1][i] = redone
+                used[i][-1], labels[i] = labels[i].split("+", 1)
         if failed:
             fallbacks[step_name] = len(failed)
         for i, label in enumerate(labels):
-            if "+" in label:  # the previous step was redone with another sampling
-                used[i][-1], label = label.split("+", 1)
             used[i].append(label)
         current = new
         steps.append((step_name, list(current)))
@@ -619,7 +620,11 @@ def generalize_plots(polygons, methods=("alpha", "lines"), alpha=12.0, distance=
 
 def _fallback(method, i, current, steps, previous, alpha, distance, angle, orthogonal,
               tolerance, rng, used):
-    """The next sensible method for plot ``i`` whose ``method`` step failed."""
+    """The next sensible method for plot ``i`` whose ``method`` step failed.
+
+    Returns ``(polygon, label, redone)``: ``redone`` is the new result of the
+    previous (alpha) step when it was redone with another sampling, else None.
+    """
     poly = current[i]
     if method == "lines":
         if previous == "alpha":
@@ -633,20 +638,15 @@ def _fallback(method, i, current, steps, previous, alpha, distance, angle, ortho
                 if acceptable(alt, source):
                     out = _lines_for(alt, distance, angle, orthogonal)
                     if acceptable(out, alt) and acceptable(out, source):
-                        return out, "alpha/{}+lines".format(sampling)
+                        return out, "alpha/{}+lines".format(sampling), alt
         for factor in (2.0, 4.0):
             out = _lines_for(poly, distance / factor, angle, orthogonal)
             if acceptable(out, poly):
-                return out, "lines/{:g}".format(distance / factor)
+                return out, "lines/{:g}".format(distance / factor), None
         out = douglas(poly, tolerance)
         if acceptable(out, poly):
-            return out, "douglas"
-    if method in ("alpha", "lines", "douglas"):
-        out = simplify_one(poly, tolerance)
-        if acceptable(out, poly):
-            return out, "simplify"
-    if method == "simplify":
-        out = simplify_one(poly, tolerance)
-        if acceptable(out, poly):
-            return out, "simplify"
-    return poly, "none"
+            return out, "douglas", None
+    out = simplify_one(poly, tolerance)
+    if acceptable(out, poly):
+        return out, "simplify", None
+    return poly, "none", None
