@@ -202,3 +202,29 @@ def test_property_one_valid_plot_per_input_and_no_overlaps(plots, methods, alpha
     for out in result.plots:
         assert out.geom_type == "Polygon" and out.is_valid and out.area > 0
     assert gz.overlapping_pairs(result.plots, min_area=1e-6) == []
+
+
+@st.composite
+def pixel_plots(draw):
+    """Raw plots as from a classified raster: 4-connected patches of 2 m cells."""
+    from scipy import ndimage
+
+    cells = np.array(draw(st.lists(st.lists(st.booleans(), min_size=14, max_size=14),
+                                   min_size=14, max_size=14)))
+    labels, n = ndimage.label(cells)
+    plots = []
+    for k in range(1, n + 1):
+        rows, cols = np.nonzero(labels == k)
+        patch = shapely.union_all([box(2 * c, -2 * r - 2, 2 * c + 2, -2 * r) for r, c in zip(rows, cols)])
+        plots.extend(gz.explode_plots([patch])[0])
+    return plots
+
+
+@settings(max_examples=20, deadline=None)
+@given(pixel_plots(), st.sampled_from([("alpha", "lines"), ("lines",), ("simplify",), ("douglas",)]))
+def test_property_pixel_patches(plots, methods):
+    result = gz.generalize_plots(plots, methods, alpha=6, distance=2, tolerance=1)
+    assert len(result.plots) == len(plots)
+    for out in result.plots:
+        assert out.geom_type == "Polygon" and out.is_valid and out.area > 0
+    assert gz.overlapping_pairs(result.plots, min_area=1e-6) == []
