@@ -618,8 +618,8 @@ def generate(seed=1, size=600, res=1.0, origin=(84000.0, 446000.0)):
     corner in EPSG:28992. Lengths (streets, plots, letters) are in metres, so
     they are drawn at about 1 pixel per metre with the default ``res``.
     """
-    if size < 120:
-        raise ValueError("size must be at least 120 pixels")
+    if size < 200:
+        raise ValueError("size must be at least 200 pixels (a few blocks, every class)")
     rng = np.random.default_rng(seed)
     extent = size * res
     layout = _layout(rng, extent)
