@@ -70,9 +70,11 @@ def citymodel(ss, semantics, ids, attributes=None, reference_system=None, title=
     attr_lists = {k: [_attr_value(v) for v in vals] for k, vals in attributes.items()}
     surfaces_all = [{"type": name} for name in SEMANTIC_NAMES]
     objects = {}
+    # every surface as [ring] once, then each shell is a slice of that list
+    surfaces_list = [[rings[a:b]] for a, b in zip(fs[:-1], fs[1:])]
     for s in range(S):
         f0, f1 = sstart[s], sstart[s + 1]
-        shell = [[rings[fs[f]:fs[f + 1]]] for f in range(f0, f1)]
+        shell = surfaces_list[f0:f1]
         values = sem[f0:f1]
         used = sorted(set(values))
         if used == [0, 1, 2]:

@@ -537,67 +537,50 @@ def add_stepped_facade(xy, end, body_roof, body, thickness, step):
     zs = [k * s for k in range(1, nsteps + 1)]
 
     # vertex table: footprint (n, z=0) first, then the body roof, then the slab
-    verts = [np.concatenate([xy, np.zeros((n, 1))], axis=1)]
     off_body = n
-    verts.append(bv)
-    extra = []
-
-    def add(p2, zz):
-        extra.append((p2[0], p2[1], zz))
-        return off_body + len(bv) + len(extra) - 1
-
-    def F(u):
-        return a + t * u
-
-    def Bk(u):
-        return a + t * u + nrm * thickness
-
     # map body base vertices: body[0]=qa, body[1]=qb, body[k>=2] = xy[(end+2+k-2)%n]
-    body_to_fp = {k: (end + 2 + k - 2) % n for k in range(2, nb)}
+    body_to_fp = {k: (end + k) % n for k in range(2, nb)}
 
     def bidx(k):
-        if k in body_to_fp:
-            return body_to_fp[k]
-        return off_body + k
+        return body_to_fp.get(k, off_body + k)
 
     ia, ib = end, (end + 1) % n
     i_qa0, i_qb0 = off_body + 0, off_body + 1          # qa, qb at eaves (body vertices)
-    # outline of the stepped profile, left to right: (u, z) corners at front/back
-    corners = [(seq[0], 0.0), (seq[0], zs[0])]
-    for k in range(1, nsteps):
-        corners.append((uL[k - 1], zs[k - 1]))
-        corners.append((uL[k - 1], zs[k]))
-    for k in range(nsteps - 1, 0, -1):
-        corners.append((uR[k - 1], zs[k]))
-        corners.append((uR[k - 1], zs[k - 1]))
-    corners.append((seq[-1], zs[0]))
-    corners.append((seq[-1], 0.0))
-    # front facade points (on edge `end`): first and last at z=0 are a and b
-    front = []
-    for i, (uu, zz) in enumerate(corners):
-        if i == 0:
-            front.append(ia)
-        elif i == len(corners) - 1:
-            front.append(ib)
-        elif i == 1:
-            front.append(add(a, zz))
-        elif i == len(corners) - 2:
-            front.append(add(b, zz))
-        else:
-            front.append(add(F(uu), zz))
-    back = []
-    for i, (uu, zz) in enumerate(corners):
-        if i == 0:
-            back.append(i_qa0)
-        elif i == len(corners) - 1:
-            back.append(i_qb0)
-        elif i == 1:
-            back.append(add(qa, zz))
-        elif i == len(corners) - 2:
-            back.append(add(qb, zz))
-        else:
-            back.append(add(Bk(uu), zz))
-    allv = np.concatenate(verts + [np.array(extra, dtype=float).reshape(-1, 3)], axis=0)
+    # outline of the stepped profile, left to right: (u, z) corners
+    nst = nsteps - 1
+    cu = np.empty(4 + 4 * nst)
+    cz = np.empty(4 + 4 * nst)
+    cu[0], cz[0], cu[1], cz[1] = seq[0], 0.0, seq[0], zs[0]
+    ul, ur = np.asarray(uL), np.asarray(uR)
+    zarr = np.asarray(zs)
+    cu[2:2 + 2 * nst:2] = ul
+    cu[3:3 + 2 * nst:2] = ul
+    cz[2:2 + 2 * nst:2] = zarr[:nst]
+    cz[3:3 + 2 * nst:2] = zarr[1:nst + 1]
+    k0 = 2 + 2 * nst
+    cu[k0:k0 + 2 * nst:2] = ur[::-1]
+    cu[k0 + 1:k0 + 2 * nst:2] = ur[::-1]
+    cz[k0:k0 + 2 * nst:2] = zarr[nst:0:-1]
+    cz[k0 + 1:k0 + 2 * nst:2] = zarr[nst - 1::-1] if nst else zarr[:0]
+    cu[-2], cz[-2], cu[-1], cz[-1] = seq[-1], zs[0], seq[-1], 0.0
+    nc = len(cu)
+    # inner corners (1 .. nc-2) on the front (edge `end`) and the back (inner edge)
+    inner_u = cu[1:-1]
+    fxy = a + np.outer(inner_u, t)
+    bxy = fxy + nrm * thickness
+    fxy[0], fxy[-1] = a, b
+    bxy[0], bxy[-1] = qa, qb
+    m = nc - 2
+    base = off_body + len(bv)
+    extra = np.empty((2 * m, 3))
+    extra[:m, :2] = fxy
+    extra[m:, :2] = bxy
+    extra[:m, 2] = cz[1:-1]
+    extra[m:, 2] = cz[1:-1]
+    front = [ia] + list(range(base, base + m)) + [ib]
+    back = [i_qa0] + list(range(base + m, base + 2 * m)) + [i_qb0]
+    allv = np.concatenate([np.concatenate([xy, np.zeros((n, 1))], axis=1), bv, extra], axis=0)
+    corners = range(nc)
     faces = []
     out = np.array([t[1], -t[0], 0.0])                 # outward normal of edge `end`
 
@@ -623,7 +606,11 @@ def add_stepped_facade(xy, end, body_roof, body, thickness, step):
         if f is prof:
             continue
         faces.append([bidx(k) for k in f])
-    return {"vertices": allv, "faces": faces, "boundary": False,
+    # the roof's boundary along each footprint edge (for the walls)
+    chains = [[k, (k + 1) % n] for k in range(n)]
+    chains[(end - 1) % n] = [(end - 1) % n, i_qa0, ia]
+    chains[(end + 1) % n] = [ib, i_qb0, (end + 2) % n]
+    return {"vertices": allv, "faces": faces, "boundary": False, "chains": chains,
             "zmax": float(allv[:, 2].max())}
 
 

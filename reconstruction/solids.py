@@ -116,6 +116,9 @@ def assemble(xy, roof, ground, eaves):
     faces = [list(range(n - 1, -1, -1))]
     if roof["boundary"]:
         faces.extend([i, (i + 1) % n, n + (i + 1) % n, n + i] for i in range(n))
+    elif roof.get("chains") is not None:
+        faces.extend([i, (i + 1) % n] + [n + k for k in reversed(chain)]
+                     for i, chain in enumerate(roof["chains"]))
     else:
         nxt = {}
         directed = set()
@@ -189,17 +192,34 @@ class SolidSet:
         return self.vertices[used] / 1000.0, faces
 
 
+_HASH = np.array([0x9E3779B97F4A7C15, 0xC2B2AE3D27D4EB4F, 0x165667B19E3779F9,
+                  0x27D4EB2F165667C5], dtype=np.uint64)
+
+
 def unique_rows(rows):
-    """Distinct rows of an (n, k) integer array, sorted, and the inverse index
-    (what ``np.unique(rows, axis=0, return_inverse=True)`` gives, faster)."""
+    """Distinct rows of an (n, k <= 4) integer array and the inverse index
+    (as ``np.unique(rows, axis=0, return_inverse=True)``, but sorted by a
+    hash of the rows, which is much faster; exact: hash collisions are
+    detected and then fall back to a lexicographic sort)."""
     rows = np.asarray(rows)
     if len(rows) == 0:
         return rows.copy(), np.zeros(0, dtype=np.int64)
-    order = np.lexsort(rows.T[::-1])
+    k = rows.shape[1]
+    with np.errstate(over="ignore"):
+        h = (rows.astype(np.uint64) * _HASH[:k]).sum(axis=1, dtype=np.uint64)
+        h ^= h >> np.uint64(29)
+    order = np.argsort(h)
+    hs = h[order]
     srt = rows[order]
+    same_hash = hs[1:] == hs[:-1]
+    same_row = np.all(srt[1:] == srt[:-1], axis=1)
+    if np.any(same_hash & ~same_row):
+        order = np.lexsort(rows.T[::-1])
+        srt = rows[order]
+        same_row = np.all(srt[1:] == srt[:-1], axis=1)
     new = np.empty(len(rows), dtype=bool)
     new[0] = True
-    new[1:] = np.any(srt[1:] != srt[:-1], axis=1)
+    new[1:] = ~same_row
     group = np.cumsum(new) - 1
     inv = np.empty(len(rows), dtype=np.int64)
     inv[order] = group
@@ -338,6 +358,8 @@ def validate(ss, tol=PLANARITY_TOL):
 
     def flag(solids, reason):
         for s in np.unique(solids):
+            if ss.bad[s] is not None:
+                continue
             if reasons[s] is None:
                 reasons[s] = reason
             elif reason not in reasons[s]:
@@ -363,8 +385,25 @@ def validate(ss, tol=PLANARITY_TOL):
     dist = np.abs(np.einsum("ij,ij->i", rel, fit[entry_face]))
     maxdist = np.maximum.reduceat(dist, ss.face_start[:-1])
     flag(face_solid[(maxdist > tol) & ~degenerate], "non-planar face (> 1 mm)")
-    # self-intersection of rings with 4 or more vertices, projected on their plane
-    big = np.nonzero((sizes >= 4) & ~degenerate)[0]
+    # self-intersection: quads by segment tests in numpy, larger rings with
+    # shapely, all projected on their plane
+    quads = np.nonzero((sizes == 4) & ~degenerate)[0]
+    if len(quads):
+        axis = np.argmax(np.abs(unit[quads]), axis=1)
+        cols = np.array([[1, 2], [0, 2], [0, 1]])[axis]
+        q = p[ss.face_start[quads][:, None] + np.arange(4)]          # (Q, 4, 3)
+        q2 = np.take_along_axis(q, np.repeat(cols[:, None, :], 4, axis=1), axis=2)
+
+        def crosses(a, b, c, d):
+            def orient(u, v, w):
+                return np.sign((v[:, 0] - u[:, 0]) * (w[:, 1] - u[:, 1])
+                               - (v[:, 1] - u[:, 1]) * (w[:, 0] - u[:, 0]))
+            return (orient(a, b, c) * orient(a, b, d) < 0) & (orient(c, d, a) * orient(c, d, b) < 0)
+
+        bow = crosses(q2[:, 0], q2[:, 1], q2[:, 2], q2[:, 3]) | \
+            crosses(q2[:, 1], q2[:, 2], q2[:, 3], q2[:, 0])
+        flag(face_solid[quads[bow]], "self-intersecting ring")
+    big = np.nonzero((sizes >= 5) & ~degenerate)[0]
     if len(big):
         axis = np.argmax(np.abs(unit[big]), axis=1)
         sel = np.isin(entry_face, big)

@@ -41,6 +41,7 @@ def test_box_is_valid_with_semantics_and_volume():
     ("inward", "zero or negative volume"),
     ("nonplanar", "non-planar face"),
     ("bowtie", "self-intersecting ring"),
+    ("bowtie5", "self-intersecting ring"),
     ("two", "more than one shell"),
 ])
 def test_validator_reports_each_defect(defect, reason):
@@ -56,6 +57,10 @@ def test_validator_reports_each_defect(defect, reason):
     elif defect == "bowtie":
         v[6] = [1.6, 1.6, 1.0]
         faces[1] = [4, 5, 7, 6]
+    elif defect == "bowtie5":
+        v = np.vstack([v, [[0.5, -0.2, 1.0]]])
+        faces[1] = [4, 8, 5, 7, 6]
+        faces[2] = [0, 1, 5, 8, 4]
     elif defect == "two":
         v2 = np.vstack([v, v + [3, 0, 0]])
         faces = faces + [[k + 8 for k in f] for f in faces]
