@@ -93,7 +93,7 @@ test: build
 	$(HISTO_PYTHON) -m pytest $(PYTEST_ARGS)
 
 demo: build
-	bash demo/run_demo.sh "$(DEMO_DIR)"
+	HISTO_DIST=$(DIST) bash demo/run_demo.sh "$(DEMO_DIR)"
 
 bench: build
 	bash testsuite/benchmarks/run_all.sh
