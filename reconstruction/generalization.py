@@ -230,59 +230,61 @@ def _ring_arrays(polygon):
 class _LineSet:
     """Lines made of merged segments (length-weighted axial direction and position)."""
 
-    def __init__(self, distance, angle):
+    def __init__(self, distance, angle, capacity):
         self.distance = distance
         self.angle = math.radians(min(angle, 90.0))  # axial directions differ by <= 90 deg
-        self.members = []      # per line: list of segment ids
-        self.dir2 = []         # per line: sum of length * (cos 2a, sin 2a)
-        self.centre = []       # per line: sum of length * midpoint
-        self.weight = []       # per line: total length
-        self.points = []       # per line: (k, 2) end points of members
+        self.n = 0
+        self.dir2 = np.zeros((capacity, 2))    # sum of length * (cos 2a, sin 2a)
+        self.centre = np.zeros((capacity, 2))  # sum of length * midpoint
+        self.weight = np.zeros(capacity)       # total length
+        self.origin = np.zeros((capacity, 2))  # weighted centre
+        self.unit = np.zeros((capacity, 2))    # unit direction
+        self.points = []                       # (k, 2) end points of the members
 
     def line(self, k):
-        d = self.dir2[k]
-        theta = math.atan2(d[1], d[0]) / 2
-        return self.centre[k] / self.weight[k], np.array([math.cos(theta), math.sin(theta)])
+        return self.origin[k], self.unit[k]
+
+    def update(self, k):
+        theta = math.atan2(self.dir2[k, 1], self.dir2[k, 0]) / 2
+        self.unit[k] = (math.cos(theta), math.sin(theta))
+        self.origin[k] = self.centre[k] / self.weight[k]
 
     def _fits(self, k, p, q, length, direction2):
         dir2 = self.dir2[k] + length * direction2
-        centre = self.centre[k] + length * (p + q) / 2
-        weight = self.weight[k] + length
+        centre = (self.centre[k] + length * (p + q) / 2) / (self.weight[k] + length)
         theta = math.atan2(dir2[1], dir2[0]) / 2
         normal = np.array([-math.sin(theta), math.cos(theta)])
         points = np.concatenate([self.points[k], [p, q]])
-        return np.abs((points - centre / weight) @ normal).max() <= self.distance
+        return np.abs((points - centre) @ normal).max() <= self.distance
 
-    def add(self, seg_id, p, q):
+    def add(self, p, q):
+        """Merge segment pq into the nearest line it fits, or start a line; its index."""
         v = q - p
         length = float(np.hypot(*v))
         a = math.atan2(v[1], v[0])
         direction2 = np.array([math.cos(2 * a), math.sin(2 * a)])
-        best, best_d = -1, math.inf
-        if self.members:
-            for k in range(len(self.members)):
-                origin, u = self.line(k)
-                normal = np.array([-u[1], u[0]])
-                d = max(abs((p - origin) @ normal), abs((q - origin) @ normal))
-                if d > self.distance or d >= best_d:
-                    continue
-                between = math.acos(min(1.0, abs(float(u @ v) / length)))
-                if between > self.angle + 1e-9:
-                    continue
+        best = -1
+        if self.n:
+            origin, unit = self.origin[:self.n], self.unit[:self.n]
+            normal = np.column_stack([-unit[:, 1], unit[:, 0]])
+            d = np.maximum(np.abs(((p - origin) * normal).sum(axis=1)),
+                           np.abs(((q - origin) * normal).sum(axis=1)))
+            cosine = np.abs(unit @ v) / length
+            ok = np.flatnonzero((d <= self.distance) & (cosine >= math.cos(self.angle + 1e-9)))
+            for k in ok[np.argsort(d[ok], kind="stable")]:
                 if self._fits(k, p, q, length, direction2):
-                    best, best_d = k, d
+                    best = int(k)
+                    break
         if best < 0:
-            self.members.append([seg_id])
-            self.dir2.append(length * direction2)
-            self.centre.append(length * (p + q) / 2)
-            self.weight.append(length)
+            best = self.n
+            self.n += 1
             self.points.append(np.array([p, q]))
-            return len(self.members) - 1
-        self.members[best].append(seg_id)
-        self.dir2[best] = self.dir2[best] + length * direction2
-        self.centre[best] = self.centre[best] + length * (p + q) / 2
+        else:
+            self.points[best] = np.concatenate([self.points[best], [p, q]])
+        self.dir2[best] += length * direction2
+        self.centre[best] += length * (p + q) / 2
         self.weight[best] += length
-        self.points[best] = np.concatenate([self.points[best], [p, q]])
+        self.update(best)
         return best
 
 
@@ -318,8 +320,8 @@ def _absorb_interruptions(lines, seg_line, ring_segments, seg_points):
 
 def _orthogonalize(lines, tolerance_deg=20.0):
     """Snap line directions to the dominant direction or its perpendicular."""
-    weights = np.array(lines.weight)
-    thetas = np.array([math.atan2(d[1], d[0]) / 2 for d in lines.dir2])
+    weights = lines.weight[:lines.n]
+    thetas = np.arctan2(lines.dir2[:lines.n, 1], lines.dir2[:lines.n, 0]) / 2
     dominant = math.atan2((weights * np.sin(4 * thetas)).sum(),
                           (weights * np.cos(4 * thetas)).sum()) / 4
     tol = math.radians(tolerance_deg)
@@ -328,6 +330,7 @@ def _orthogonalize(lines, tolerance_deg=20.0):
         if abs(off) <= tol:
             new = theta - off
             lines.dir2[k] = weights[k] * np.array([math.cos(2 * new), math.sin(2 * new)])
+            lines.update(k)
 
 
 def _join(la, lb, corner, min_angle, max_shift, offset):
@@ -385,11 +388,11 @@ def buffered_lines(polygons, distance=5.0, angle=180.0, orthogonal=False, shift=
         return [None] * len(polygons)
     lengths = np.array([np.hypot(*(q - p)) for p, q in seg_points])
     order = np.lexsort((np.arange(len(lengths)), -lengths))
-    lines = _LineSet(distance, angle)
+    lines = _LineSet(distance, angle, len(seg_points))
     seg_line = np.empty(len(seg_points), dtype=int)
     for s in order:
         p, q = seg_points[s]
-        seg_line[s] = lines.add(s, p, q)
+        seg_line[s] = lines.add(p, q)
     _absorb_interruptions(lines, seg_line, ring_segments, seg_points)
     if orthogonal:
         _orthogonalize(lines)

@@ -206,7 +206,8 @@ def _raster_plots(raster, category):
     return areas
 
 
-def _write_metrics_csv(path, steps):
+def _step_rows(steps):
+    """One row of summary statistics of the Table 3.1 metrics per step."""
     from reconstruction import shape_metrics
 
     rows = []
@@ -214,12 +215,15 @@ def _write_metrics_csv(path, steps):
         row = {"step": name}
         row.update(shape_metrics.summarise_metrics(shape_metrics.plot_metrics(polygons)))
         rows.append(row)
+    return rows
+
+
+def _write_metrics_csv(path, rows):
     with open(path, "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         writer.writeheader()
         for row in rows:
             writer.writerow({k: (round(v, 6) if isinstance(v, float) else v) for k, v in row.items()})
-    return rows
 
 
 def main():
@@ -287,8 +291,9 @@ def main():
     figures = {"plots": len(result.plots), "raw_areas": len(polygons) + dropped,
                "dropped_small": dropped, "methods": dict(Counter(result.methods)),
                "fallbacks": result.fallbacks}
+    figures["steps"] = _step_rows(result.steps)
     if options["metrics"]:
-        figures["steps"] = _write_metrics_csv(options["metrics"], result.steps)
+        _write_metrics_csv(options["metrics"], figures["steps"])
     if options["gt_points"]:
         xy, _cols = grassio.read_points(options["gt_points"])
         scores = assessment.point_detection_scores(result.plots, xy)

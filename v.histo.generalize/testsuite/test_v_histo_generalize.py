@@ -100,6 +100,8 @@ def test_synthetic_plots_one_per_plot_with_metrics_and_scores(synthetic, mapset,
     rows = read_csv(metrics)
     assert [row["step"] for row in rows] == ["raw", "alpha", "lines"]
     assert all(int(row["plots"]) == len(raw) for row in rows)
+    assert [step["step"] for step in rep["steps"]] == ["raw", "alpha", "lines"]
+    assert rep["steps"][2]["area_sum"] == pytest.approx(float(rows[2]["area_sum"]), rel=1e-6)
     # the plots are clean polygons already: the chain keeps them simple
     assert float(rows[-1]["vertices_median"]) <= float(rows[0]["vertices_median"]) + 1
 
