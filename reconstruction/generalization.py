@@ -458,9 +458,11 @@ def simplify_coverage(polygons, tolerance):
     """Topology-preserving simplification of all plots, shared edges kept shared."""
     arr = np.empty(len(polygons), dtype=object)
     arr[:] = list(polygons)
-    if len(arr) and shapely.coverage_is_valid(arr):
-        out = shapely.coverage_simplify(arr, tolerance)
-        return [_clean(g) for g in out]
+    try:
+        if len(arr) and shapely.coverage_is_valid(arr):
+            return [_clean(g) for g in shapely.coverage_simplify(arr, tolerance)]
+    except shapely.errors.GEOSException:
+        pass
     return [simplify_one(g, tolerance) for g in arr]
 
 
@@ -526,7 +528,14 @@ def remove_overlaps(polygons):
     involved = sorted({k for pair in pairs for k in pair})
     arr = np.empty(len(involved), dtype=object)
     arr[:] = [polygons[k] for k in involved]
-    cleaned = shapely.coverage_clean(arr, snapping_distance=0.0)
+    try:
+        cleaned = shapely.coverage_clean(arr, snapping_distance=0.0)
+    except shapely.errors.GEOSException:
+        # plain differences: each plot loses what overlaps the plots before it
+        cleaned = list(arr)
+        for a, b in pairs:
+            cleaned[involved.index(b)] = shapely.difference(cleaned[involved.index(b)],
+                                                            cleaned[involved.index(a)])
     for k, geom in zip(involved, cleaned):
         poly = _clean(largest_polygon(geom))
         if poly is None:

@@ -161,6 +161,17 @@ def test_overlaps_are_removed_keeping_one_polygon_each():
     assert out[2].equals(box(50, 50, 60, 60))
 
 
+def test_overlaps_removed_without_coverage_cleaning(monkeypatch):
+    def broken(*args, **kwargs):
+        raise shapely.errors.GEOSException("coverage cleaning failed")
+
+    monkeypatch.setattr(shapely, "coverage_clean", broken)
+    out = gz.remove_overlaps([box(0, 0, 10, 10), box(8, 0, 20, 10), box(5, 5, 9, 12)])
+    assert gz.overlapping_pairs(out) == []
+    assert all(p.geom_type == "Polygon" and p.is_valid for p in out)
+    assert out[0].equals(box(0, 0, 10, 10))
+
+
 def test_explode_plots_and_seeded_runs_are_identical():
     bowtie = Polygon([(0, 0), (10, 10), (10, 0), (0, 10)])
     polygons, source = gz.explode_plots([MultiPolygon([box(0, 0, 1, 1), box(5, 5, 6, 6)]), None, bowtie])
