@@ -282,7 +282,8 @@ def main():
             step, count))
 
     plot_metrics = shape_metrics.plot_metrics(result.plots)
-    out_columns = {"source": source_cats, "method": result.methods}
+    out_columns = {"source": source_cats} if options["input"] else {}
+    out_columns["method"] = result.methods
     out_columns.update({k: plot_metrics[k] for k in shape_metrics.METRICS})
     grassio.write_features(output, result.plots, out_columns,
                            title="Generalised building plots ({})".format(", ".join(methods)))

@@ -163,6 +163,7 @@ def test_raster_class_input(mapset):
         best = max(shapely.intersection(g, truth).area / shapely.union(g, truth).area for g in geoms)
         assert best > 0.9
     assert max(cols["vertices"]) <= 6
+    assert "source" not in cols and set(cols["method"]) == {"alpha/regular+lines"}
     assert parse(out)["dropped_small"] == "1"
     assert temp_maps() == []
 
