@@ -33,7 +33,6 @@ exactly the footprint outline (walls are then plain quads); otherwise
 """
 
 import contextlib
-import io
 import itertools
 import math
 import os
@@ -329,6 +328,73 @@ def cgal_available():
     return _CGAL[0] is not None
 
 
+def _cgal_extrude(footprints, pitches, heights):
+    """Call CGAL's skeleton extrusion of pySVCGAL's library with numpy arrays
+    (its Python wrapper converts every vertex one by one). Returns
+    ``{"objects": [{"object_index", "vertices", "faces"}]}`` as the wrapper."""
+    import ctypes
+
+    from pySVCGAL.pySVCGAL import MESH_DATA2, SVCGAL_clib
+
+    fn = SVCGAL_clib.straight_skeleton_2d_extrude
+    fn.argtypes = [ctypes.c_int, ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_bool),
+                   ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_double),
+                   ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_int),
+                   ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_float * 3),
+                   ctypes.c_bool, ctypes.c_bool, ctypes.c_int, ctypes.c_bool]
+    fn.restype = ctypes.POINTER(MESH_DATA2)
+    free = SVCGAL_clib.free_mem2
+    free.argtypes = [ctypes.POINTER(MESH_DATA2)]
+    B = len(footprints)
+    counts = np.array([len(xy) for xy in footprints], dtype=np.int32)
+    verts = np.zeros((int(counts.sum()), 3), dtype=np.float32)
+    verts[:, :2] = np.concatenate(footprints)
+    # the library takes the angle of edge i at position i + 1
+    angles = np.concatenate([np.roll(np.asarray(a, dtype=float), 1) for a in pitches])
+    restrict = np.array([h is not None for h in heights], dtype=np.bool_)
+    height = np.array([0.0 if h is None else float(h) for h in heights], dtype=np.float64)
+    modes = np.zeros(B, dtype=np.int32)
+    ones = np.ones(B, dtype=np.int32)
+
+    def ptr(a, t):
+        return a.ctypes.data_as(ctypes.POINTER(t))
+
+    md = fn(B, ptr(modes, ctypes.c_int), ptr(restrict, ctypes.c_bool),
+            ptr(height, ctypes.c_double), ptr(np.ascontiguousarray(angles), ctypes.c_double),
+            ptr(ones, ctypes.c_int), ptr(ones, ctypes.c_int), ptr(counts, ctypes.c_int),
+            ptr(verts, ctypes.c_float * 3), False, False, 0, False)
+    try:
+        m = md.contents
+        nobj = m.nn_objects
+        objects = []
+        if nobj > 0:
+            def arr(pointer, n, t=ctypes.c_int):
+                if n == 0:
+                    return np.zeros(0)
+                return np.ctypeslib.as_array(ctypes.cast(pointer, ctypes.POINTER(t)), shape=(n,)).copy()
+
+            idx = arr(m.nn_objects_indexes, nobj)
+            nv = arr(m.nn_verts, nobj)
+            nf = arr(m.nn_faces, nobj)
+            counters = arr(m.nn_faces_indexes_counters, int(nf.sum()))
+            allv = arr(m.vertices, int(nv.sum()) * 3, ctypes.c_float).reshape(-1, 3)
+            allf = arr(m.faces, int(counters.sum()))
+            v0 = f0 = k0 = 0
+            for i in range(nobj):
+                cnt = counters[f0:f0 + nf[i]]
+                flat = allf[k0:k0 + int(cnt.sum())]
+                bounds = np.concatenate([[0], np.cumsum(cnt)])
+                faces = [flat[bounds[j]:bounds[j + 1]].tolist() for j in range(len(cnt))]
+                objects.append({"object_index": int(idx[i]),
+                                "vertices": allv[v0:v0 + nv[i]].astype(float), "faces": faces})
+                v0 += nv[i]
+                f0 += nf[i]
+                k0 += int(cnt.sum())
+        return {"objects": objects}
+    finally:
+        free(md)
+
+
 def cgal_roofs(footprints, pitches, heights):
     """Roofs over any simple footprints with CGAL's weighted straight skeleton.
 
@@ -339,22 +405,9 @@ def cgal_roofs(footprints, pitches, heights):
     """
     if not cgal_available():
         return [None] * len(footprints)
-    extrude = _CGAL[0]
-    objects = []
-    for xy, pitch, h in zip(footprints, pitches, heights):
-        # pySVCGAL takes the angle of edge i at position i+1 (verified in tests)
-        ang = np.roll(np.asarray(pitch, dtype=float), 1)
-        objects.append({
-            "shape_mode": 0, "restrict_height": h is not None,
-            "height": float(h) if h is not None else 0.0,
-            "planes": [[[(float(x), float(y), 0.0) for x, y in xy]]],
-            "angles": [[ang.tolist()]],
-        })
-    data = {"force_z_zero": False, "only_tests_for_valid": False, "join_mode": 0,
-            "verbose": False, "objects": objects}
     try:
-        with _quiet_stdout(), contextlib.redirect_stdout(io.StringIO()):
-            result = extrude(data)
+        with _quiet_stdout():
+            result = _cgal_extrude(footprints, pitches, heights)
     except Exception:
         return [None] * len(footprints)
     out = [None] * len(footprints)
@@ -385,44 +438,6 @@ def cgal_roofs(footprints, pitches, heights):
 # ---------------------------------------------------------------------------
 # Roof parameters per type
 # ---------------------------------------------------------------------------
-
-def hip_end_pitch(xy, height, end, pitch_min, rng):
-    """Pitch (degrees) of the hip ends: the long faces' pitch from Eq. 3.13 with
-    the end edge as baseline, the ends drawn in [max(pitch_min, long), 89]."""
-    base = float(edge_lengths(xy)[end])
-    p_long = math.degrees(math.atan2(height, base / 2.0))
-    low = min(max(pitch_min, p_long), 89.0)
-    return p_long, float(rng.uniform(low, 89.0)) if low < 89.0 else 89.0
-
-
-def _ends_quad_or_ngon(xy, end):
-    opp = opposite_edge(xy, end)
-    return [end] if opp is None else [end, opp]
-
-
-def roof_slopes(xy, roof_type, height, end, pitch_min, rng):
-    """Per-edge slopes (tan of pitch; inf = vertical) of a convex footprint."""
-    n = len(xy)
-    slopes = np.ones(n)
-    if roof_type == "hip":
-        p_long, p_end = hip_end_pitch(xy, height, end, pitch_min, rng)
-        ratio = math.tan(math.radians(p_end)) / math.tan(math.radians(p_long))
-        if n == 4:
-            for e in _ends_quad_or_ngon(xy, end):
-                slopes[e] = ratio
-    elif roof_type in ("gable", "stepped"):
-        for e in _ends_quad_or_ngon(xy, end):
-            slopes[e] = np.inf
-    return slopes
-
-
-def mansard_inset(xy, inset_range, rng):
-    """Mansard inset drawn in ``inset_range``, kept below half the shortest edge."""
-    lo, hi = inset_range
-    cap = 0.45 * float(edge_lengths(xy).min())
-    inset = float(rng.uniform(lo, hi)) if hi > lo else float(lo)
-    return max(min(inset, cap), 1e-3)
-
 
 def scale_roof(roof, height):
     """Scale a roof's heights so that its highest point is at ``height``."""
@@ -465,17 +480,6 @@ def _clip_strip(xy, e, thickness):
     qb = b + (next_v - b) * (thickness / d[(e + 2) % n])
     body = [qa, qb] + [xy[(e + 2 + k) % n] for k in range(n - 2)]
     return np.array(body), qa, qb
-
-
-def _orient(ring_pts, normal):
-    """Reverse a ring (list of 3D points' indices + coordinates) if its Newell
-    normal points away from ``normal``."""
-    p = ring_pts
-    q = _nxt(p)
-    nn = np.array([((p[:, 1] - q[:, 1]) * (p[:, 2] + q[:, 2])).sum(),
-                   ((p[:, 2] - q[:, 2]) * (p[:, 0] + q[:, 0])).sum(),
-                   ((p[:, 0] - q[:, 0]) * (p[:, 1] + q[:, 1])).sum()])
-    return float(nn @ normal) >= 0
 
 
 def add_stepped_facade(xy, end, body_roof, body, thickness, step):
@@ -582,20 +586,17 @@ def add_stepped_facade(xy, end, body_roof, body, thickness, step):
     allv = np.concatenate([np.concatenate([xy, np.zeros((n, 1))], axis=1), bv, extra], axis=0)
     corners = range(nc)
     faces = []
-    out = np.array([t[1], -t[0], 0.0])                 # outward normal of edge `end`
 
-    def oriented(ring, normal):
-        pts = allv[ring]
-        return ring if _orient(pts, normal) else ring[::-1]
-
-    # front facade above the eaves (ring includes a, b at z = 0)
-    faces.append(oriented(front[::-1], out))
-    # back face: stepped outline then the roof profile back from qb to qa
+    # orientation by construction (seen from outside, counter-clockwise): the
+    # outline runs up the left side, over the steps and down the right side
+    # ((u, z) clockwise), so the front facade is its reverse, the back face
+    # (facing the ridge) the outline then the roof profile back; the side
+    # faces run like the walls below them
+    faces.append(front[::-1])
     profile = [bidx(k) for k in top_pts]
-    faces.append(oriented(back[::-1] + profile, -out))
-    # side faces of the slab above the eaves (on the adjacent footprint edges)
-    faces.append(oriented([ia, front[1], back[1], i_qa0], _side_normal(xy, end, -1)))
-    faces.append(oriented([ib, i_qb0, back[-2], front[-2]], _side_normal(xy, end, +1)))
+    faces.append((back[::-1] + profile)[::-1])
+    faces.append([ia, front[1], back[1], i_qa0])
+    faces.append([ib, i_qb0, back[-2], front[-2]])
     # treads and risers: [front i, front i+1, back i+1, back i] is outward by
     # construction (u grows along the outline: treads face up, risers face
     # away from the ridge)
@@ -612,13 +613,6 @@ def add_stepped_facade(xy, end, body_roof, body, thickness, step):
     chains[(end + 1) % n] = [ib, i_qb0, (end + 2) % n]
     return {"vertices": allv, "faces": faces, "boundary": False, "chains": chains,
             "zmax": float(allv[:, 2].max())}
-
-
-def _side_normal(xy, end, side):
-    n = len(xy)
-    e = (end - 1) % n if side < 0 else (end + 1) % n
-    d = xy[(e + 1) % n] - xy[e]
-    return np.array([d[1], -d[0], 0.0])
 
 
 # ---------------------------------------------------------------------------

@@ -420,26 +420,32 @@ def validate(ss, tol=PLANARITY_TOL):
         rings = shapely.linearrings(closed, indices=ids)
         simple = shapely.is_simple(rings)
         flag(face_solid[big[~simple]], "self-intersecting ring")
-    # edges: each directed edge once, and its reverse once
+    # edges: every undirected edge exactly twice, in opposite directions
     a = ss.rings
     b = ss.rings[nxt]
     N = max(len(ss.vertices), 1)
-    key = a * N + b
-    rkey = b * N + a
-    uk, cnt = np.unique(key, return_counts=True)
-    dup = np.isin(key, uk[cnt > 1])
-    flag(face_solid[entry_face[dup]], "edge used twice in the same direction (orientation or non-manifold)")
-    pos = np.searchsorted(uk, rkey)
-    pos = np.minimum(pos, len(uk) - 1)
-    found = uk[pos] == rkey
-    flag(face_solid[entry_face[~found]], "edge used only once (shell not closed)")
+    ukey = np.minimum(a, b) * N + np.maximum(a, b)
+    forward = a < b
+    order = np.argsort(ukey, kind="stable")
+    sk = ukey[order]
+    E = len(sk)
+    start = np.ones(E, dtype=bool)
+    start[1:] = sk[1:] != sk[:-1]
+    starts = np.nonzero(start)[0]
+    run_len = np.diff(np.append(starts, E))
+    entry_run_len = np.repeat(run_len, run_len)          # in sorted order
+    once = order[entry_run_len == 1]
+    flag(face_solid[entry_face[once]], "edge used only once (shell not closed)")
+    many = order[entry_run_len > 2]
+    flag(face_solid[entry_face[many]], "edge used more than twice (non-manifold)")
+    pairs = starts[run_len == 2]
+    ea, eb = order[pairs], order[pairs + 1]
+    same = forward[ea] == forward[eb]
+    flag(face_solid[entry_face[ea[same]]],
+         "edge used twice in the same direction (faces not consistently oriented)")
     # one connected shell
-    order = np.argsort(key)
-    if found.any():
-        mate_pos = order[np.searchsorted(key[order], rkey[found])]
-        fa = entry_face[found]
-        fb = entry_face[mate_pos]
-        labels = _components(F, fa, fb)
+    if len(ea):
+        labels = _components(F, entry_face[ea], entry_face[eb])
         lo = np.minimum.reduceat(labels, ss.solid_start[:-1][nf > 0])
         hi = np.maximum.reduceat(labels, ss.solid_start[:-1][nf > 0])
         flag(np.nonzero(nf > 0)[0][lo != hi], "more than one shell")

@@ -37,6 +37,7 @@ def test_box_is_valid_with_semantics_and_volume():
 
 @pytest.mark.parametrize("defect,reason", [
     ("flip", "edge used twice in the same direction"),
+    ("extra", "edge used more than twice"),
     ("missing", "edge used only once"),
     ("inward", "zero or negative volume"),
     ("nonplanar", "non-planar face"),
@@ -48,6 +49,8 @@ def test_validator_reports_each_defect(defect, reason):
     v, faces = box_solidset()
     if defect == "flip":
         faces[1] = faces[1][::-1]
+    elif defect == "extra":
+        faces = faces + [[0, 1, 2]]
     elif defect == "missing":
         faces = faces[:-1]
     elif defect == "inward":
