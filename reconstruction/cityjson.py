@@ -45,6 +45,16 @@ def _attr_value(value):
     return value
 
 
+def _attr_list(values):
+    """Attribute values as plain Python values (numpy arrays in bulk; nan -> None)."""
+    if isinstance(values, np.ndarray) and values.dtype.kind in "fiub":
+        out = values.tolist()
+        if values.dtype.kind == "f" and np.isnan(values).any():
+            out = [None if v != v else v for v in out]
+        return out
+    return [_attr_value(v) for v in values]
+
+
 def citymodel(ss, semantics, ids, attributes=None, reference_system=None, title=None):
     """The CityJSON document (a dict) of a set of solids.
 
@@ -67,7 +77,7 @@ def citymodel(ss, semantics, ids, attributes=None, reference_system=None, title=
     fs = ss.face_start.tolist()
     sstart = ss.solid_start.tolist()
     sem = np.asarray(semantics, dtype=np.int64).tolist()
-    attr_lists = {k: [_attr_value(v) for v in vals] for k, vals in attributes.items()}
+    attr_lists = {k: _attr_list(vals) for k, vals in attributes.items()}
     surfaces_all = [{"type": name} for name in SEMANTIC_NAMES]
     objects = {}
     # every surface as [ring] once, then each shell is a slice of that list
