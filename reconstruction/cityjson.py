@@ -8,7 +8,6 @@ flat arrays of a :class:`reconstruction.solids.SolidSet` in bulk.
 
 import itertools
 import json
-import math
 
 import numpy as np
 
@@ -33,15 +32,11 @@ def crs_url(epsg):
 
 
 def _attr_value(value):
-    if value is None:
+    """A plain JSON value: numpy scalars as Python numbers, nan as None."""
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and value != value:
         return None
-    if isinstance(value, (np.integer,)):
-        return int(value)
-    if isinstance(value, (np.floating, float)):
-        value = float(value)
-        return None if math.isnan(value) else value
-    if isinstance(value, np.bool_):
-        return bool(value)
     return value
 
 
