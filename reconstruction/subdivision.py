@@ -6,10 +6,11 @@ splits every plot into plausible footprints with the five cases of Morlighem
 alignment (Section 3.3.3):
 
 1. a plot smaller than the area threshold is one footprint;
-2. a plot whose minimum rotated rectangle is at most one building deep
-   (shortest side <= ``depth[1]``) is one row of buildings: the long side is
-   the street edge, cut perpendicular into facade lengths drawn from
-   ``length``, each building ``depth`` deep (drawn from the range);
+2. a plot too shallow for two rows of buildings (the shortest side of its
+   minimum rotated rectangle below 2 ``depth[0]``) is one row: the long side
+   (the one along the street) is cut perpendicular into facade lengths drawn
+   from ``length``, each building ``depth`` deep (drawn from the range, at
+   most the plot);
 3. a plot at most two buildings deep (shortest side <= 2 ``depth[1]``) is
    split along its longest median line into two rows, back to back, each as
    case 2;
@@ -60,6 +61,8 @@ OVERLAP_TOLERANCE = 0.01
 STREET_TURN = 20.0
 
 CASE_ALIGNED = 0
+#: precision grid of the overlays that check the invariants (map units)
+CHECK_GRID = 1e-6
 
 
 @dataclass
@@ -449,7 +452,7 @@ def _convex_cells(ring, street, length, depth, area_threshold, rng):
     side1 = (far[0], far[1], -ex, -ey)
     if short <= 2 * depth[1]:
         support = _street_support(ring, street, frame)
-        if short <= depth[1] or min(support) == 0:
+        if short < 2 * depth[0] or min(support) == 0:
             line = side0 if support[0] >= support[1] else side1
             return 2, _row(ring, line, length, depth, rng)
         cells = []
@@ -1126,3 +1129,53 @@ def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_thre
     report["generated"] = sum(s == "2pm" for s in result.source)
     result.report = report
     return result
+
+
+# ---------------------------------------------------------------------------
+# Checks
+# ---------------------------------------------------------------------------
+
+def invariant_violations(geometries, plot, source, plots_by_cat, tolerance=OVERLAP_TOLERANCE):
+    """Footprints breaking the invariants, by kind (an empty dict when none).
+
+    ``plots_by_cat`` maps a plot category to its (prepared, disjoint) plot.
+    Checks: valid single polygons; generated ones convex, inside their plot
+    (area outside <= ``tolerance``), on its exterior boundary and no sliver
+    unless the plot is one; no two footprints overlapping by more than
+    ``tolerance`` (pairs found with an STRtree).
+    """
+    bad = {}
+
+    def count(kind, index):
+        bad.setdefault(kind, []).append(index)
+
+    for i, (g, cat, src) in enumerate(zip(geometries, plot, source)):
+        if g is None or g.geom_type != "Polygon" or not g.is_valid or g.is_empty:
+            count("invalid", i)
+            continue
+        if src != "2pm":
+            continue
+        parcel = plots_by_cat[cat]
+        # snap-rounded overlay: GEOS's floating overlay can lose a polygon that
+        # shares a vertex with the plot and has one on the plot's edge
+        if shapely.difference(g, parcel, grid_size=CHECK_GRID).area > tolerance:
+            count("outside", i)
+        if not is_convex(g):
+            count("concave", i)
+        if is_sliver(g) and not any(is_sliver(p) for p in _polygons(parcel)):
+            count("sliver", i)
+        if g.distance(_exterior_lines(parcel)) > 10 * SNAP:
+            count("no_street", i)
+    valid = [g if g is not None and g.is_valid else Polygon() for g in geometries]
+    if valid:
+        tree = shapely.STRtree(valid)
+        left, right = tree.query(valid, predicate="intersects")
+        pairs = left < right
+        if pairs.any():
+            areas = shapely.area(shapely.intersection(np.array(valid, dtype=object)[left[pairs]],
+                                                      np.array(valid, dtype=object)[right[pairs]],
+                                                      grid_size=CHECK_GRID))
+            for a, b, area in zip(left[pairs], right[pairs], areas):
+                if area > tolerance:
+                    count("overlap", (int(a), int(b)))
+    return bad
