@@ -22,6 +22,7 @@ SIZE=600                # synthetic map: pixels per side (1 m each)
 MAP=map                 # prefix of the map: rasters map.red/.green/.blue, vectors map_*
 BUILDING=1              # label of the building class in the training points
 REMOVE=2,6              # classes printed over the map (text, symbols): filled from around
+MIN_AREA=100            # building plots below this (m²) are specks, not plots
 HEIGHT=6.7,17           # eaves height range (m above ground), the thesis's values
 ATTIC=2.6,6             # roof height range above the eaves (m)
 
@@ -69,7 +70,8 @@ fi
 #    ground truth (report with precision, recall, F-score, shape metrics)
 # ---------------------------------------------------------------------------
 if have raster ${MAP}_classes && implemented v.histo.generalize; then
-    v.histo.generalize raster=${MAP}_classes class=$BUILDING output=plots \
+    v.histo.generalize raster=${MAP}_classes class=$BUILDING output=plots min_area=$MIN_AREA \
+        alpha=12 distance=5 angle=180 metrics="$OUT/generalize_metrics.csv" \
         gt_points=${MAP}_gt_points gt_polygons=${MAP}_plots report="$OUT/generalize.json"
 fi
 
