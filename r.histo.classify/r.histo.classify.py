@@ -238,7 +238,7 @@ def run_segmentations(inputs, pairs, nprocs):
                 minsize=minsize, memory=300, quiet=True, stderr=gs.PIPE)
         i = next(iter(running))
         proc = running.pop(i)
-        _, err = proc.communicate()
+        err = proc.communicate()[1]
         if proc.returncode != 0:
             gs.fatal(_("i.segment failed (threshold={}, minsize={}): {}").format(
                 pairs[i][0], pairs[i][1], gs.decode(err).strip()))

@@ -1,0 +1,261 @@
+"""r.histo.classify in a temporary GRASS location: results, options, bad inputs, acceptance."""
+
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+pytestmark = pytest.mark.grass
+
+MODULE = "r.histo.classify"
+DELFT = os.path.join("delft_1961_subset", "input")
+
+
+def _inputs(names):
+    return "{},{},{}".format(names.red, names.green, names.blue)
+
+
+def _temp_maps():
+    import grass.script as gs
+
+    return gs.list_strings("raster", pattern="tmp_histo_*") + \
+        gs.list_strings("vector", pattern="tmp_histo_*")
+
+
+def _building_areas(classified, label=1, min_area=20.0):
+    """Building class as polygons (one per area of r.to.vect), of at least min_area."""
+    import grass.script as gs
+
+    from reconstruction import grassio
+
+    mask = "acc_building"
+    gs.run_command("r.mapcalc", expression="{} = if({} == {}, 1, null())".format(
+        mask, classified, label), quiet=True, overwrite=True)
+    gs.run_command("r.to.vect", input=mask, output=mask, type="area", quiet=True, overwrite=True)
+    geoms, _ = grassio.read_features(mask)
+    polygons = [p for g in geoms for p in getattr(g, "geoms", [g])]
+    return [p for p in polygons if p.area >= min_area]
+
+
+@pytest.fixture
+def syn(synthetic, mapset):
+    import grass.script as gs
+
+    gs.run_command("g.region", quiet=True, **synthetic.region)
+    return synthetic
+
+
+@pytest.fixture
+def small(syn):
+    """The synthetic map cut to 200 x 200 m for quick runs."""
+    import grass.script as gs
+
+    r = syn.region
+    gs.run_command("g.region", n=r["n"], s=r["n"] - 200, w=r["w"], e=r["w"] + 200, res=r["res"])
+    gs.run_command("v.in.region", output="box", quiet=True)
+    gs.run_command("v.select", ainput=syn.training, binput="box", output="train_small",
+                   operator="overlap", quiet=True)
+    return syn
+
+
+def _run(syn, **kwargs):
+    import grass.script as gs
+
+    options = dict(input=_inputs(syn), training=syn.training, output="cls", quiet=True)
+    options.update(kwargs)
+    return gs.read_command(MODULE, **options)
+
+
+# ---------------------------------------------------------------------------
+# Acceptance on the embedded synthetic map
+# ---------------------------------------------------------------------------
+
+
+@pytest.mark.acceptance
+def test_synthetic_map_buildings_found_one_area_per_plot(syn):
+    import grass.script as gs
+
+    from reconstruction import grassio
+    from reconstruction.assessment import point_detection_scores
+
+    table = _run(syn, segments="segs", remove="2,6", min_area=50, min_width=3, separate=1,
+                 nprocs=2, seed=1, flags="p")
+    lines = table.strip().splitlines()
+    assert lines[0] == "threshold,minsize,vw,moran,vw_norm,moran_norm,f"
+    rows = [line.split(",") for line in lines[1:-1]]
+    assert len(rows) == 16  # default ranges: 4 thresholds x 4 minimum sizes
+    f = np.array([float(row[6]) for row in rows])
+    best = rows[int(np.argmax(f))]
+    assert lines[-1] == "best: threshold={} minsize={}".format(best[0], best[1])
+    assert {float(row[4]) for row in rows} >= {0.0, 1.0}  # normalised over the pairs
+
+    classified = grassio.read_raster("cls", dtype=np.int32)
+    assert set(np.unique(classified)) <= {1, 3, 4, 5}  # text (2) and symbols (6) removed
+    truth = syn.smap.truth
+    agreement = (classified == 1) == (truth == 1)
+    assert agreement.mean() > 0.95
+
+    categories = gs.read_command("r.category", map="cls", separator=":").split()
+    assert "1:building" in categories and "4:street" in categories
+    assert not any(c.startswith("2:") for c in categories)
+    colours = gs.read_command("r.colors.out", map="cls")
+    assert "1 230:80:80" in colours
+    assert gs.raster_info("cls")["datatype"] == "CELL"
+    assert gs.raster_info("segs")["max"] > 100
+
+    areas = _building_areas("cls")
+    precision, recall, f_score = point_detection_scores(areas, syn.smap.gt_points)
+    print("synthetic: P {:.3f} R {:.3f} F {:.3f}, {} areas for {} plots".format(
+        precision, recall, f_score, len(areas), len(syn.smap.plots)))
+    assert f_score >= 0.97
+    assert abs(len(areas) - len(syn.smap.plots)) <= 0.05 * len(syn.smap.plots)
+    assert _temp_maps() == []
+
+
+# ---------------------------------------------------------------------------
+# Options, determinism, clean-up
+# ---------------------------------------------------------------------------
+
+
+def test_seed_makes_runs_identical_and_other_options_take_effect(small):
+    import grass.script as gs
+
+    from reconstruction import grassio
+
+    common = dict(training="train_small", threshold="0.08,0.09", minsize="8,8", remove="6",
+                  nprocs=2, seed=7)
+    _run(small, output="a", **common)
+    _run(small, output="b", **common)
+    a = grassio.read_raster("a", dtype=np.int32)
+    b = grassio.read_raster("b", dtype=np.int32)
+    assert np.array_equal(a, b)
+    assert gs.read_command("r.category", map="a") == gs.read_command("r.category", map="b")
+    # a single classifier, a large minimum mapping unit: fewer, larger regions
+    _run(small, output="c", classifiers="rf", min_area=400, **common)
+    c = grassio.read_raster("c", dtype=np.int32)
+    from scipy import ndimage
+
+    def n_regions(x):
+        return sum(ndimage.label(x == k)[1] for k in np.unique(x) if k)
+
+    assert n_regions(c) < n_regions(a)
+    assert (a == 6).sum() == 0
+    # without remove= the symbols keep their label
+    _run(small, output="d", training="train_small", threshold="0.08,0.08", minsize="8,8")
+    d = grassio.read_raster("d", dtype=np.int32)
+    assert (d == 6).sum() > 0
+    assert _temp_maps() == []
+
+
+def test_temporary_maps_removed_after_a_failing_segmentation(small):
+    # the first pair segments, the second is refused by i.segment (minsize > 100000):
+    # the first segmentation must not be left behind
+    _fails("i.segment failed (threshold=0.08, minsize=100001)", input=_inputs(small),
+           training="train_small", threshold="0.08,0.08", minsize="1,100001",
+           minsize_step=100000, nprocs=1)
+
+
+# ---------------------------------------------------------------------------
+# Bad inputs: a clear error, nothing written
+# ---------------------------------------------------------------------------
+
+
+def _fails(message, **kwargs):
+    import grass.script as gs
+
+    options = dict(output="bad", quiet=True)
+    options.update(kwargs)
+    proc = gs.start_command(MODULE, stderr=subprocess.PIPE, **options)
+    _, err = proc.communicate()
+    err = " ".join(gs.decode(err).split())
+    assert proc.returncode != 0
+    assert message in err, err
+    assert not gs.find_file("bad", element="cell")["fullname"]
+    assert _temp_maps() == []
+
+
+def test_one_class_is_refused(syn):
+    import grass.script as gs
+
+    gs.run_command("v.extract", input=syn.training, where="label = 1", output="only_buildings",
+                   quiet=True)
+    _fails("at least two are needed", input=_inputs(syn), training="only_buildings")
+
+
+def test_unknown_remove_label_is_refused(syn):
+    _fails("No training point has the label(s) 9", input=_inputs(syn), training=syn.training,
+           remove="2,9")
+
+
+def test_missing_label_column_is_refused(syn):
+    _fails("has no column <code>", input=_inputs(syn), training=syn.training, label_column="code")
+
+
+def test_training_points_outside_the_region_are_refused(syn):
+    import grass.script as gs
+
+    r = syn.region
+    gs.run_command("g.region", n=r["n"], s=r["n"] - 100, w=r["w"], e=r["w"] + 100)
+    _fails("lie outside the computational region", input=_inputs(syn), training=syn.training)
+
+
+def test_inputs_of_different_regions_are_refused(syn):
+    import grass.script as gs
+
+    r = syn.region
+    gs.run_command("g.region", n=r["n"], s=r["n"] - 300, w=r["w"], e=r["w"] + 300)
+    gs.run_command("r.mapcalc", expression="half = {}".format(syn.blue), quiet=True)
+    gs.run_command("g.region", quiet=True, **r)
+    _fails("do not share the same extent", input="{},{},half".format(syn.red, syn.green),
+           training=syn.training)
+
+
+def test_unprojected_location_is_refused(grass_session, tmp_path):
+    loc = os.path.join(grass_session["dbase"], "latlong_classify")
+    if not os.path.isdir(loc):
+        subprocess.run(["grass", "-c", "EPSG:4326", loc, "-e"], check=True, capture_output=True)
+    env = dict(os.environ)
+    env.pop("GISRC", None)
+    proc = subprocess.run(["grass", os.path.join(loc, "PERMANENT"), "--exec", MODULE,
+                           "input=r,g,b", "training=t", "output=cls"],
+                          capture_output=True, text=True, env=env)
+    assert proc.returncode != 0
+    assert "not projected" in proc.stderr
+    assert not os.path.exists(os.path.join(loc, "PERMANENT", "cell", "cls"))
+
+
+# ---------------------------------------------------------------------------
+# Acceptance on the real Delft 1961 map
+# ---------------------------------------------------------------------------
+
+
+@pytest.mark.acceptance
+def test_delft_1961_buildings_match_ground_truth(shared_data, mapset):
+    import grass.script as gs
+
+    from reconstruction import grassio
+    from reconstruction.assessment import point_detection_scores
+
+    folder = os.path.join(shared_data, DELFT)
+    gs.run_command("r.in.gdal", input=os.path.join(folder, "delft_1961.tif"), output="delft",
+                   flags="o", quiet=True)
+    bands = gs.list_strings("raster", pattern="delft.*")
+    assert len(bands) == 3
+    red, green, blue = (n.split("@")[0] for n in sorted(bands, key=lambda n: (
+        0 if ".red" in n or n.endswith(".1") else 1 if ".green" in n or n.endswith(".2") else 2)))
+    gs.run_command("g.region", raster=red)
+    for name in ("training_points_delft_1961", "ground_truth_delft_1961"):
+        gs.run_command("v.in.ogr", input=os.path.join(folder, name + ".shp"), output=name,
+                       flags="o", quiet=True)
+    gs.run_command(MODULE, input="{},{},{}".format(red, green, blue),
+                   training="training_points_delft_1961", output="cls", remove="2,6",
+                   min_area=200, separate=1, nprocs=2, seed=1, quiet=True)
+    areas = _building_areas("cls")
+    gt, _ = grassio.read_points("ground_truth_delft_1961")
+    precision, recall, f_score = point_detection_scores(areas, gt)
+    print("Delft 1961: P {:.3f} R {:.3f} F {:.3f} ({} building areas, {} points)".format(
+        precision, recall, f_score, len(areas), len(gt)))
+    assert len(gt) == 31
+    assert f_score >= 0.95
+    assert _temp_maps() == []
