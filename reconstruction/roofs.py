@@ -151,14 +151,17 @@ def end_edges(xy):
 # Convex footprints: lower envelope of planes, in batch
 # ---------------------------------------------------------------------------
 
-def envelope_roofs(xy, slopes, top=None):
-    """Roofs over convex footprints with the same number of vertices.
+def envelope_arrays(xy, slopes, top=None):
+    """Roofs over convex footprints with the same number of vertices, as arrays.
 
     ``xy``: (B, n, 2) counter-clockwise footprints in local coordinates;
     ``slopes``: (B, n) tangent of each edge's pitch, ``inf`` for a vertical
     (gable) end; ``top``: (B,) height of a flat top (mansard) or None.
-    Returns a list of roof dicts (see the module doc); z is relative to the
-    eaves, unscaled.
+    Returns a dict of arrays: ``nodes`` (B, C, 3) skeleton node candidates
+    (z relative to the eaves, unscaled), ``ring_idx`` (B, P, K) and ``cnt``
+    (B, P): the faces (one per plane; the first ``cnt`` entries of a ring,
+    indices as in a roof dict: footprint vertices 0..n-1, node c -> n + c),
+    ``zmax`` (B,) and ``ok`` (B,) (False for degenerate input).
     """
     xy = np.asarray(xy, dtype=float)
     B, n, _ = xy.shape
@@ -244,22 +247,29 @@ def envelope_roofs(xy, slopes, top=None):
     index[:n, 1] = (j + 1) % n
     index[n:, :2] = -1
     ring_idx = np.take_along_axis(np.broadcast_to(index, (B, P, K)), order, axis=-1)
-    ring_list = ring_idx.tolist()
-    cnt_list = cnt.tolist()
-    verts = np.concatenate([np.concatenate([xy, np.zeros((B, n, 1))], axis=-1), nodes], axis=1)
-    roofs = []
-    for b in range(B):
-        faces = []
-        for p in range(P):
-            k = cnt_list[b][p]
-            if k >= 3:
-                faces.append(ring_list[b][p][:k])
-            elif p < n:
-                faces = None        # an edge without a face: degenerate input
-                break
-        roofs.append({"vertices": verts[b], "faces": faces, "boundary": True,
-                      "zmax": float(nodes[b, valid[b], 2].max()) if valid[b].any() else 0.0})
-    return roofs
+    zmax = np.where(valid, z, -np.inf).max(axis=1)
+    # an edge without a face: degenerate input
+    ok = np.all(cnt[:, :n] >= 3, axis=1) & np.isfinite(zmax) & (zmax > 1e-9)
+    return {"xy": xy, "nodes": nodes, "ring_idx": ring_idx, "cnt": cnt,
+            "zmax": np.where(ok, zmax, 0.0), "ok": ok}
+
+
+def envelope_roofs(xy, slopes, top=None):
+    """Roofs over convex footprints with the same number of vertices, as a
+    list of roof dicts (see the module doc); see :func:`envelope_arrays`."""
+    g = envelope_arrays(xy, slopes, top)
+    return [_roof_dict(g, b) for b in range(len(g["xy"]))]
+
+
+def _roof_dict(g, b):
+    """The roof dict of footprint ``b`` of an :func:`envelope_arrays` group."""
+    xy = g["xy"][b]
+    n = len(xy)
+    cnt = g["cnt"][b].tolist()
+    rings = g["ring_idx"][b].tolist()
+    faces = [r[:k] for r, k in zip(rings, cnt) if k >= 3] if g["ok"][b] else None
+    verts = np.concatenate([np.concatenate([xy, np.zeros((n, 1))], axis=1), g["nodes"][b]])
+    return {"vertices": verts, "faces": faces, "boundary": True, "zmax": float(g["zmax"][b])}
 
 
 # ---------------------------------------------------------------------------
@@ -627,23 +637,25 @@ def street_end(xy, street=None):
 
 
 def _batch_envelope(jobs):
-    """Run :func:`envelope_roofs` on jobs ``(key, xy, slopes, top)`` grouped by
-    vertex count; returns {key: roof}."""
+    """Run :func:`envelope_arrays` on jobs ``(key, xy, slopes, top)`` grouped
+    by vertex count; returns a list of groups (the arrays plus ``keys``)."""
     groups = {}
     for key, xy, slopes, top in jobs:
         groups.setdefault((len(xy), top is not None), []).append((key, xy, slopes, top))
-    out = {}
+    out = []
     for (n, has_top), items in groups.items():
         xy = np.stack([it[1] for it in items])
         slopes = np.stack([it[2] for it in items])
         top = np.array([it[3] for it in items], dtype=float) if has_top else None
-        for it, roof in zip(items, envelope_roofs(xy, slopes, top)):
-            out[it[0]] = roof
+        g = envelope_arrays(xy, slopes, top)
+        g["keys"] = [it[0] for it in items]
+        g["top"] = has_top
+        out.append(g)
     return out
 
 
 def make_roofs(footprints, roof_types, attic, uniforms, street=None, pitch_min=60.0,
-               inset=(1.0, 2.0), step=(0.4, 0.7), thickness=0.5):
+               inset=(1.0, 2.0), step=(0.4, 0.7), thickness=0.5, bulk=False):
     """Roofs of footprints (local coordinates, counter-clockwise rings).
 
     ``roof_types``: a type per footprint; ``attic``: roof heights above the
@@ -653,18 +665,24 @@ def make_roofs(footprints, roof_types, attic, uniforms, street=None, pitch_min=6
     footprint. Returns a list of roof dicts, None where the type could not be
     built (the caller falls back to a simpler type), and the type each roof
     really got (a stepped gable on a concave or triangular footprint is a
-    gable).
+    gable). With ``bulk=True`` flat roofs and the roofs of convex footprints
+    come as a third result instead, groups of arrays (``index``, ``xy`` and,
+    but for flat roofs, the :func:`envelope_arrays` ``nodes``, ``ring_idx``,
+    ``cnt``) for :func:`reconstruction.solids.build_solids`.
     """
     B = len(footprints)
     roofs = [None] * B
     kinds = list(roof_types)
     uniforms = np.asarray(uniforms, dtype=float).reshape(B, 3)
-    env_jobs, cgal_jobs, stepped = [], [], {}
+    env_jobs, cgal_jobs, stepped, flat_jobs = [], [], {}, {}
     for i, (xy, kind) in enumerate(zip(footprints, roof_types)):
         h = float(attic[i])
         n = len(xy)
         if kind == "flat" or h <= 1e-3:
-            roofs[i] = flat_roof(xy)
+            if bulk:
+                flat_jobs.setdefault(n, []).append(i)
+            else:
+                roofs[i] = flat_roof(xy)
             continue
         end = street_end(xy, None if street is None else street[i])
         convex = is_convex(xy)
@@ -718,16 +736,38 @@ def make_roofs(footprints, roof_types, attic, uniforms, street=None, pitch_min=6
                 ends = end_edges(xy) or [end]
                 pitch[ends] = 90.0
             cgal_jobs.append((i, xy, pitch, None))
-    env = _batch_envelope(env_jobs)
-    for key, roof in env.items():
-        if isinstance(key, tuple):
-            continue
-        if roof["faces"] is None:
-            continue
-        kind = kinds[key]
-        roofs[key] = roof if kind == "mansard" else scale_roof(roof, float(attic[key]))
+    bulk_groups = []
+    body_roofs = {}
+    for g in _batch_envelope(env_jobs):
+        keys = g["keys"]
+        if not g["top"]:                  # hip, gable, stepped bodies: ridge at the roof height
+            h = np.array([attic[k[1]] if isinstance(k, tuple) else attic[k] for k in keys],
+                         dtype=float)
+            factor = np.where(g["ok"], h / np.where(g["zmax"] > 0, g["zmax"], 1.0), 0.0)
+            g["nodes"] = g["nodes"].copy()
+            g["nodes"][..., 2] *= factor[:, None]
+            g["zmax"] = np.where(g["ok"], h, 0.0)
+        plain = []
+        for j, k in enumerate(keys):
+            if isinstance(k, tuple):
+                body_roofs[k[1]] = _roof_dict(g, j) if g["ok"][j] else None
+            else:
+                plain.append(j)
+        if bulk:
+            sel = np.array(plain, dtype=int)
+            sel = sel[g["ok"][sel]]
+            if len(sel):
+                bulk_groups.append({"index": np.array([keys[j] for j in sel], dtype=int),
+                                    "xy": g["xy"][sel], "nodes": g["nodes"][sel],
+                                    "ring_idx": g["ring_idx"][sel], "cnt": g["cnt"][sel]})
+        else:
+            for j in plain:
+                roofs[keys[j]] = _roof_dict(g, j) if g["ok"][j] else None
+    for n, idx in flat_jobs.items():
+        bulk_groups.append({"index": np.array(idx, dtype=int),
+                            "xy": np.stack([footprints[i] for i in idx])})
     for i, (end, body, s) in stepped.items():
-        body_roof = scale_roof(env.get(("body", i)), float(attic[i]))
+        body_roof = body_roofs.get(i)
         if body_roof is not None:
             try:
                 roofs[i] = add_stepped_facade(footprints[i], end, body_roof, body, thickness, s)
@@ -738,4 +778,6 @@ def make_roofs(footprints, roof_types, attic, uniforms, street=None, pitch_min=6
                          [j[3] for j in cgal_jobs])
         for (i, _, _, top), roof in zip(cgal_jobs, res):
             roofs[i] = roof if top is not None else scale_roof(roof, float(attic[i]))
+    if bulk:
+        return roofs, kinds, bulk_groups
     return roofs, kinds

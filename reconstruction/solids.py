@@ -230,19 +230,26 @@ def to_solidset(shells, origins, why=None):
     """Round shells to the millimetre grid and store them as a :class:`SolidSet`.
 
     ``shells``: list of ``(vertices, faces)`` (local x, y; None for a missing
-    shell), ``origins``: (S, 2) offsets added to x, y. Removes duplicate
+    shell, with its reason in ``why``), ``origins``: (S, 2) offsets added to x, y. Removes duplicate
     vertices and duplicate consecutive ring vertices; rings left with fewer
     than three vertices are dropped (the validator then checks that the shell
     is still closed).
     """
-    S = len(shells)
-    bad = [None] * S
-    vparts, ring_parts, sizes, nfaces = [], [], [], []
-    voff = 0
+    parts = _shell_parts(shells, origins, np.arange(len(shells)))
+    bad = [None] * len(shells)
     for s, shell in enumerate(shells):
         if shell is None:
             bad[s] = (why[s] if why is not None and why[s] else "no shell")
-            nfaces.append(0)
+    return _finish([parts], len(shells), bad)
+
+
+def _shell_parts(shells, origins, owners):
+    """Flat arrays ``(vertices, rings, face sizes, face owners)`` of shells
+    given as ``(vertices, faces)`` lists (None shells are skipped)."""
+    vparts, ring_parts, sizes, face_owner = [], [], [], []
+    voff = 0
+    for s, shell in enumerate(shells):
+        if shell is None:
             continue
         v, faces = shell
         w = v.copy()
@@ -250,17 +257,86 @@ def to_solidset(shells, origins, why=None):
         vparts.append(w)
         ring_parts.append(np.fromiter(itertools.chain.from_iterable(faces), dtype=np.int64) + voff)
         sizes.extend(len(f) for f in faces)
-        nfaces.append(len(faces))
+        face_owner.extend([owners[s]] * len(faces))
         voff += len(v)
-    if vparts:
-        allv = np.rint(np.concatenate(vparts) * 1000.0).astype(np.int64)
-        rings = np.concatenate(ring_parts)
+    if not vparts:
+        return (np.zeros((0, 3)), np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64),
+                np.zeros(0, dtype=np.int64))
+    return (np.concatenate(vparts), np.concatenate(ring_parts),
+            np.asarray(sizes, dtype=np.int64), np.asarray(face_owner, dtype=np.int64))
+
+
+def _group_parts(group, origins, ground, eaves):
+    """Flat arrays ``(vertices, rings, face sizes, face owners)`` of the
+    solids of one bulk roof group (see :func:`reconstruction.roofs.make_roofs`):
+    ground, walls and roof of every footprint in one numpy pass."""
+    idx = group["index"]
+    xy = group["xy"]
+    G, n, _ = xy.shape
+    flat = "nodes" not in group
+    C = 0 if flat else group["nodes"].shape[1]
+    Vb = 2 * n + C
+    org = origins[idx]
+    z0 = np.asarray(ground, dtype=float)[idx]
+    z1 = z0 + np.asarray(eaves, dtype=float)[idx]
+    v = np.empty((G, Vb, 3))
+    v[:, :n, :2] = xy + org[:, None, :]
+    v[:, :n, 2] = z0[:, None]
+    v[:, n:2 * n, :2] = v[:, :n, :2]
+    v[:, n:2 * n, 2] = z1[:, None]
+    if not flat:
+        v[:, 2 * n:, :2] = group["nodes"][..., :2] + org[:, None, :]
+        v[:, 2 * n:, 2] = group["nodes"][..., 2] + z1[:, None]
+    base = (np.arange(G) * Vb)[:, None]
+    j = np.arange(n)
+    ground_r = (base + j[::-1]).ravel()
+    walls_r = (base[:, :, None] + np.stack([j, (j + 1) % n, n + (j + 1) % n, n + j], axis=1)).ravel()
+    if flat:
+        roof_r = (base + n + j).ravel()
+        roof_sizes = np.full(G, n)
+        roof_owner = idx
     else:
-        allv = np.zeros((0, 3), dtype=np.int64)
-        rings = np.zeros(0, dtype=np.int64)
-    sizes = np.asarray(sizes, dtype=np.int64)
-    nfaces = np.asarray(nfaces, dtype=np.int64)
-    face_solid = np.repeat(np.arange(S), nfaces)
+        cnt = group["cnt"]
+        K = group["ring_idx"].shape[2]
+        use = cnt >= 3
+        mask = (np.arange(K) < cnt[..., None]) & use[..., None]
+        roof_r = (base[:, :, None] + n + group["ring_idx"])[mask]
+        roof_sizes = cnt[use]
+        roof_owner = np.broadcast_to(idx[:, None], cnt.shape)[use]
+    rings = np.concatenate([ground_r, walls_r, roof_r])
+    sizes = np.concatenate([np.full(G, n), np.full(G * n, 4), roof_sizes])
+    owner = np.concatenate([idx, np.repeat(idx, n), roof_owner])
+    return v.reshape(-1, 3), rings, sizes, owner
+
+
+def _finish(parts, S, bad):
+    """A :class:`SolidSet` of S solids from flat parts (see :func:`_shell_parts`):
+    faces ordered by owner (stable), millimetre rounding, distinct vertices
+    per solid, no duplicate consecutive ring vertices, collapsed rings dropped."""
+    vs, rs, ss_, os_ = [], [], [], []
+    voff = 0
+    for v, r, sz, ow in parts:
+        vs.append(v)
+        rs.append(r + voff)
+        ss_.append(sz)
+        os_.append(ow)
+        voff += len(v)
+    allv = np.rint(np.concatenate(vs) * 1000.0).astype(np.int64) if vs else np.zeros((0, 3), np.int64)
+    rings = np.concatenate(rs) if rs else np.zeros(0, dtype=np.int64)
+    sizes = np.concatenate(ss_) if ss_ else np.zeros(0, dtype=np.int64)
+    owner = np.concatenate(os_) if os_ else np.zeros(0, dtype=np.int64)
+    # faces ordered by solid, keeping each solid's face order
+    perm = np.argsort(owner, kind="stable")
+    if len(perm) and np.any(perm != np.arange(len(perm))):
+        starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+        new_sizes = sizes[perm]
+        new_starts = np.concatenate([[0], np.cumsum(new_sizes)[:-1]])
+        total = int(new_sizes.sum())
+        gather = np.arange(total) - np.repeat(new_starts, new_sizes) + np.repeat(starts[perm], new_sizes)
+        rings = rings[gather]
+        sizes = new_sizes
+        owner = owner[perm]
+    face_solid = owner
     entry_face = np.repeat(np.arange(len(sizes)), sizes)
     entry_solid = face_solid[entry_face]
     # distinct vertices per solid, only those used
@@ -288,7 +364,41 @@ def to_solidset(shells, origins, why=None):
         sizes_kept = sizes
     face_start = np.concatenate([[0], np.cumsum(sizes_kept)]).astype(np.int64)
     solid_start = np.concatenate([[0], np.cumsum(np.bincount(face_solid, minlength=S))]).astype(np.int64)
-    return SolidSet(vertices, inv.astype(np.int64), face_start, solid_start, bad)
+    return SolidSet(vertices, inv.astype(np.int64), face_start, solid_start, list(bad))
+
+
+def take(ss, idx):
+    """The solids ``idx`` (in that order) of a :class:`SolidSet`, as a new set."""
+    idx = np.asarray(idx, dtype=np.int64)
+    f0 = ss.solid_start[idx]
+    nf = ss.solid_start[idx + 1] - f0
+    faces = np.repeat(f0 - np.concatenate([[0], np.cumsum(nf)[:-1]]), nf) + np.arange(int(nf.sum()))
+    sizes = ss.face_start[faces + 1] - ss.face_start[faces]
+    e0 = ss.face_start[faces]
+    entries = np.repeat(e0 - np.concatenate([[0], np.cumsum(sizes)[:-1]]), sizes) + np.arange(int(sizes.sum()))
+    used, inv = np.unique(ss.rings[entries], return_inverse=True)
+    return SolidSet(ss.vertices[used], inv.reshape(-1).astype(np.int64),
+                    np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64),
+                    np.concatenate([[0], np.cumsum(nf)]).astype(np.int64),
+                    [ss.bad[i] for i in idx])
+
+
+def concat(sets):
+    """One :class:`SolidSet` of several, solids in order."""
+    voff = foff = eoff = 0
+    v, r, fs, ss_, bad = [], [], [np.zeros(1, dtype=np.int64)], [np.zeros(1, dtype=np.int64)], []
+    for s in sets:
+        v.append(s.vertices)
+        r.append(s.rings + voff)
+        fs.append(s.face_start[1:] + eoff)
+        ss_.append(s.solid_start[1:] + foff)
+        bad.extend(s.bad)
+        voff += len(s.vertices)
+        eoff += int(s.face_start[-1])
+        foff += int(s.solid_start[-1])
+    return SolidSet(np.concatenate(v) if v else np.zeros((0, 3), np.int64),
+                    np.concatenate(r) if r else np.zeros(0, np.int64),
+                    np.concatenate(fs), np.concatenate(ss_), bad)
 
 
 def _face_geometry(ss):
@@ -490,39 +600,52 @@ def build_solids(footprints, ground, eaves, attic, roof_types, uniforms, street=
     local = [xy - o for xy, o in zip(footprints, origins)]
     types = np.array(roof_types, dtype=object).copy()
     uniforms = np.asarray(uniforms, dtype=float).reshape(B, 3)
-    shells = [None] * B
+    ground = np.asarray(ground, dtype=float)
+    eaves = np.asarray(eaves, dtype=float)
+    attic = np.asarray(attic, dtype=float)
     todo = np.arange(B)
-    done = np.zeros(B, dtype=bool)
+    accepted = []
     log = []
     while len(todo):
-        rf, kinds = _roofs.make_roofs([local[i] for i in todo], types[todo], np.asarray(attic)[todo],
-                               uniforms[todo], None if street is None else [street[i] for i in todo],
-                               pitch_min=pitch_min, inset=inset, step=step, thickness=thickness)
+        T = len(todo)
+        rf, kinds, groups = _roofs.make_roofs(
+            [local[i] for i in todo], types[todo], attic[todo], uniforms[todo],
+            None if street is None else [street[i] for i in todo],
+            pitch_min=pitch_min, inset=inset, step=step, thickness=thickness, bulk=True)
         types[todo] = kinds
-        cand, why = [], []
-        for i, roof in zip(todo, rf):
-            shell = None
+        inbulk = np.zeros(T, dtype=bool)
+        for g in groups:
+            inbulk[g["index"]] = True
+        shells, bad = [None] * T, [None] * T
+        for k in np.nonzero(~inbulk)[0]:
+            roof = rf[k]
+            i = todo[k]
             if roof is not None and roof["faces"]:
-                shell = assemble(local[i], roof, float(ground[i]), float(eaves[i]))
-                why.append(None if shell is not None else
-                           "roof boundary does not follow the footprint")
+                shells[k] = assemble(local[i], roof, float(ground[i]), float(eaves[i]))
+                if shells[k] is None:
+                    bad[k] = "roof boundary does not follow the footprint"
             else:
-                why.append("roof cannot be built on this footprint")
-            cand.append(shell)
-        ss = to_solidset(cand, origins[todo], why)
+                bad[k] = "roof cannot be built on this footprint"
+        org = origins[todo]
+        parts = [_shell_parts(shells, org, np.arange(T))]
+        parts.extend(_group_parts(g, org, ground[todo], eaves[todo]) for g in groups)
+        ss = _finish(parts, T, bad)
         reasons = validate(ss)
+        good = np.array([r is None for r in reasons], dtype=bool)
+        if good.any():
+            accepted.append((take(ss, np.nonzero(good)[0]), todo[good]))
         retry = []
-        for k, i in enumerate(todo):
-            if reasons[k] is None:
-                shells[i] = cand[k]
-                done[i] = True
-            else:
-                log.append((int(i), types[i], reasons[k]))
-                nxt_type = FALLBACK.get(types[i])
-                if nxt_type is not None:
-                    types[i] = nxt_type
-                    retry.append(i)
+        for k in np.nonzero(~good)[0]:
+            i = todo[k]
+            log.append((int(i), types[i], reasons[k]))
+            nxt_type = FALLBACK.get(types[i])
+            if nxt_type is not None:
+                types[i] = nxt_type
+                retry.append(i)
         todo = np.array(retry, dtype=int)
-    kept = np.nonzero(done)[0]
-    final = to_solidset([shells[i] for i in kept], origins[kept])
-    return final, kept, types[kept], log
+    if not accepted:
+        return concat([]), np.zeros(0, dtype=int), types[:0], log
+    kept = np.concatenate([a[1] for a in accepted])
+    merged = concat([a[0] for a in accepted])
+    perm = np.argsort(kept, kind="stable")
+    return take(merged, perm), kept[perm], types[kept[perm]], log
