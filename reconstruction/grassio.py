@@ -330,29 +330,39 @@ def read_areas(name, layer=1):
     geometry per category, areas of one category merged; a dict column ->
     list of values with ``cat``), but without the per-feature cost of OGR:
     the areas come as WKT from v.out.ascii, each one gets the categories of
-    its centroid, and the table comes in one query. Areas shared by several
-    categories (overlapping input polygons) belong to each of them.
+    its centroid, and the table comes in one query; the GRASS tools run side
+    by side. Areas shared by several categories (overlapping input polygons)
+    belong to each of them.
     """
     import shapely
 
-    text = gs.read_command("v.out.ascii", input=name, layer=layer, type="area",
-                           format="wkt", quiet=True)
-    lines = [ln for ln in text.splitlines() if ln.strip()]
+    sep, null = "\x1f", "\x1e"
+    has_table = int(layer) in gs.vector_db(name)
+    commands = {
+        "wkt": ("v.out.ascii", dict(input=name, layer=layer, type="area", format="wkt")),
+        # (v.out.ascii warns about every centroid with several categories:
+        # those come from v.category)
+        "xy": ("v.out.ascii", dict(input=name, layer=layer, type="centroid", format="point",
+                                   separator="|")),
+        "cats": ("v.category", dict(input=name, layer=layer, type="centroid", option="print")),
+    }
+    if has_table:
+        commands["table"] = ("v.db.select", dict(map=name, layer=layer, separator=sep,
+                                                 null_value=null))
+        commands["types"] = ("v.info", dict(map=name, layer=layer, flags="c"))
+    procs = {k: gs.start_command(cmd, quiet=True, stdout=gs.PIPE, stderr=gs.PIPE, **kw)
+             for k, (cmd, kw) in commands.items()}
+    text = {}
+    for k, proc in procs.items():
+        out, err = proc.communicate()
+        if proc.returncode != 0:
+            gs.fatal(_("Cannot read vector map <{}> ({}): {}").format(
+                name, commands[k][0], gs.decode(err).strip()))
+        text[k] = gs.decode(out)
+    lines = [ln for ln in text["wkt"].splitlines() if ln.strip()]
     polys = shapely.from_wkt(np.array(lines, dtype=object)) if lines else np.array([])
-    # (v.out.ascii warns about every centroid with several categories: those
-    # come from v.category below)
-    proc = gs.start_command("v.out.ascii", input=name, layer=layer, type="centroid",
-                            format="point", separator="|", quiet=True,
-                            stdout=gs.PIPE, stderr=gs.PIPE)
-    out, err = proc.communicate()
-    if proc.returncode != 0:
-        gs.fatal(_("Cannot read the centroids of vector map <{}>: {}").format(
-            name, gs.decode(err).strip()))
-    text = gs.decode(out)
-    xy = [ln.split("|")[:2] for ln in text.splitlines() if ln.strip()]
-    cats_text = gs.read_command("v.category", input=name, layer=layer, type="centroid",
-                                option="print", quiet=True)
-    cats = [[int(c) for c in ln.split("/") if c.strip()] for ln in cats_text.splitlines()]
+    xy = [ln.split("|")[:2] for ln in text["xy"].splitlines() if ln.strip()]
+    cats = [[int(c) for c in ln.split("/") if c.strip()] for ln in text["cats"].splitlines()]
     if len(cats) != len(xy):
         gs.fatal(_("Cannot match the centroids and categories of vector map <{}>").format(name))
     by_cat = {}
@@ -368,25 +378,25 @@ def read_areas(name, layer=1):
         parts = by_cat[c]
         geoms.append(parts[0] if len(parts) == 1 else shapely.union_all(parts))
     columns = {"cat": list(order)}
-    info = gs.vector_db(name).get(int(layer))
-    if info:
-        key = info["key"]
-        types = {k: v["type"].upper() for k, v in gs.vector_columns(name, layer=layer).items()}
-        names = list(types)
-        sql = "SELECT {} FROM {}".format(", ".join('"{}"'.format(n) for n in names), info["table"])
-        out = gs.read_command("db.select", sql=sql, database=info["database"],
-                              driver=info["driver"], separator="\x1f", flags="c",
-                              null_value="\x1e", quiet=True)
+    if has_table:
+        types = {}
+        for ln in text["types"].splitlines():
+            if "|" in ln:
+                t, col = ln.split("|", 1)
+                types[col.strip()] = t.strip().upper()
+        rows_text = text["table"].split("\n")      # not splitlines(): it splits at \x1e
+        names = rows_text[0].rstrip("\r").split(sep) if rows_text else []
+        key = gs.vector_db(name)[int(layer)]["key"]
+        kpos = names.index(key) if key in names else None
         rows = {}
-        kpos = names.index(key)
-        for ln in out.split("\n"):      # not splitlines(): it splits at \x1e
-            vals = ln.rstrip("\r").split("\x1f")
-            if len(vals) != len(names):
+        for ln in rows_text[1:]:
+            vals = ln.rstrip("\r").split(sep)
+            if kpos is None or len(vals) != len(names) or vals[kpos] == null:
                 continue
             rows[int(vals[kpos])] = vals
 
         def convert(value, sql_type):
-            if value == "\x1e":
+            if value == null:
                 return None
             if sql_type in ("INTEGER", "INT", "SMALLINT", "BIGINT"):
                 try:
@@ -403,6 +413,6 @@ def read_areas(name, layer=1):
         for j, n in enumerate(names):
             if n == key:
                 continue
-            t = types[n]
+            t = types.get(n, "TEXT")
             columns[n] = [convert(rows[c][j], t) if c in rows else None for c in order]
     return geoms, columns
