@@ -55,8 +55,10 @@ MIN_AREA = 10.0
 MIN_STREET = 1.0
 #: vertices closer than this are the same vertex (map units)
 SNAP = 1e-6
-#: overlaps up to this area (square map units) are ignored
+#: overlaps up to this area (square map units) are not counted as overlaps
 OVERLAP_TOLERANCE = 0.01
+#: overlaps larger than this are removed all the same (GRASS would make them areas of their own)
+CLIP_AREA = 0.0
 #: consecutive street edges turning less than this (degrees) share one street line in case 4
 STREET_TURN = 20.0
 
@@ -695,10 +697,11 @@ def prepare_plots(plots, cats):
         losers = {}
         for a, b in pairs:
             shared = geoms[a].intersection(geoms[b]).area
-            if shared <= OVERLAP_TOLERANCE:
+            if shared <= CLIP_AREA:
                 continue
-            report["overlapping_pairs"] += 1
-            report["overlap_area"] += shared
+            if shared > OVERLAP_TOLERANCE:
+                report["overlapping_pairs"] += 1
+                report["overlap_area"] += shared
             winner, loser = (a, b) if order[a] < order[b] else (b, a)
             losers.setdefault(loser, []).append(winner)
         for loser in sorted(losers, key=lambda i: order[i]):
@@ -834,7 +837,8 @@ def assign_plots(footprints, plots, cats):
 def prepare_aligned(footprints):
     """Valid, pairwise disjoint aligned footprints (earlier ones keep shared areas).
 
-    Returns ``(geometries or None per input, report)``.
+    Returns ``(geometries or None per input, report)``; a geometry may be a
+    MultiPolygon when repair or clipping split it.
     """
     report = {"aligned": len(footprints), "aligned_repaired": 0, "aligned_skipped": 0,
               "aligned_clipped": 0}
@@ -842,8 +846,6 @@ def prepare_aligned(footprints):
     for g in footprints:
         repaired, fixed = repair(g)
         report["aligned_repaired"] += int(repaired and fixed is not None)
-        if fixed is not None and fixed.geom_type == "MultiPolygon":
-            fixed = max(fixed.geoms, key=lambda p: p.area)
         geoms.append(fixed)
     valid = [i for i, g in enumerate(geoms) if g is not None]
     if valid:
@@ -858,11 +860,12 @@ def prepare_aligned(footprints):
             if not others or geoms[i] is None:
                 continue
             union = shapely.union_all(others)
-            if geoms[i].intersection(union).area <= OVERLAP_TOLERANCE:
+            shared = geoms[i].intersection(union).area
+            if shared <= CLIP_AREA:
                 continue
-            parts = _polygons(geoms[i].difference(union))
-            report["aligned_clipped"] += 1
-            geoms[i] = max(parts, key=lambda p: p.area) if parts else None
+            parts = [p for p in _polygons(geoms[i].difference(union)) if p.area > OVERLAP_TOLERANCE]
+            report["aligned_clipped"] += int(shared > OVERLAP_TOLERANCE)
+            geoms[i] = (parts[0] if len(parts) == 1 else MultiPolygon(parts)) if parts else None
     report["aligned_skipped"] = sum(g is None for g in geoms)
     return geoms, report
 
@@ -927,7 +930,7 @@ def _clip_generated(result, aligned_geoms, exterior_of, report):
             continue
         fp = result.geometries[f]
         union = shapely.union_all([present[i] for i in idx])
-        if fp.intersection(union).area <= OVERLAP_TOLERANCE:
+        if fp.intersection(union).area <= CLIP_AREA:
             continue
         rest = _polygons(fp.difference(union))
         keep = None
@@ -1109,8 +1112,10 @@ def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_thre
     report.update({"length": length, "depth": depth, "area_threshold": float(area_threshold)})
     result = Subdivision()
     for i, g in enumerate(aligned_geoms):
-        if g is not None:
-            result.add(g, aligned_plots[i], CASE_ALIGNED, "aligned", i)
+        # a footprint that make_valid or clipping split stays one footprint per part
+        for part in _polygons(g):
+            if part.area > OVERLAP_TOLERANCE:
+                result.add(part, aligned_plots[i], CASE_ALIGNED, "aligned", i)
     seed = 0 if seed is None else int(seed)
     exterior_of = {}
     for cat, geom in zip(cats, geoms):
