@@ -78,6 +78,53 @@ def clean_ring(coords, tol=0.001):
     return xy, None
 
 
+def clean_rings(polygons, tol=0.001):
+    """:func:`clean_ring` of the exterior of many shapely polygons, in bulk.
+
+    Returns ``(rings, reasons)``: per polygon an (n, 2) ring or None, and the
+    reason (or None). Rings that need no repair take a numpy fast path.
+    """
+    import shapely
+
+    polygons = np.asarray(polygons, dtype=object)
+    P = len(polygons)
+    rings, reasons = [None] * P, [None] * P
+    if P == 0:
+        return rings, reasons
+    coords, which = shapely.get_coordinates(shapely.get_exterior_ring(polygons), return_index=True)
+    xy = np.round(coords * 1000.0) / 1000.0
+    counts = np.bincount(which, minlength=P)
+    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    closed = (counts > 1)
+    closed[closed] = np.all(xy[starts[closed]] == xy[(starts + counts - 1)[closed]], axis=1)
+    keep = np.ones(len(xy), dtype=bool)
+    keep[(starts + counts - 1)[closed]] = False
+    xy, which = xy[keep], which[keep]
+    n = np.bincount(which, minlength=P)
+    st = np.concatenate([[0], np.cumsum(n)[:-1]])
+    pos = np.arange(len(xy)) - np.repeat(st, n)
+    nn = np.repeat(n, n)
+    nxt_i = np.repeat(st, n) + (pos + 1) % np.maximum(nn, 1)
+    prv_i = np.repeat(st, n) + (pos - 1) % np.maximum(nn, 1)
+    prev, nxt = xy[prv_i], xy[nxt_i]
+    d = nxt - prev
+    ln = np.hypot(d[:, 0], d[:, 1])
+    cross = (xy[:, 0] - prev[:, 0]) * d[:, 1] - (xy[:, 1] - prev[:, 1]) * d[:, 0]
+    dist = np.abs(cross) / np.maximum(ln, 1e-12)
+    bad_v = (dist < tol) | (ln < tol) | np.all(xy == nxt, axis=1)
+    bad = np.bincount(which[bad_v], minlength=P) > 0
+    bad |= n < 3
+    area2 = np.bincount(which, weights=xy[:, 0] * nxt[:, 1] - nxt[:, 0] * xy[:, 1], minlength=P)
+    bad |= np.abs(area2) < 1e-6
+    parts = np.split(xy, np.cumsum(n)[:-1])
+    for k in range(P):
+        if bad[k]:
+            rings[k], reasons[k] = clean_ring(parts[k])
+        else:
+            rings[k] = parts[k] if area2[k] > 0 else parts[k][::-1].copy()
+    return rings, reasons
+
+
 def ring_is_simple(xy):
     """True when a ring (n, 2) does not self-intersect."""
     return bool(rings_are_simple([xy])[0])

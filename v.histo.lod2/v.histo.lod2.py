@@ -344,7 +344,7 @@ def main():
         ground = np.where(bad_ground, float(options["ground"]), ground)
 
     # footprints: one ring per polygon part -------------------------------
-    rings, src, part = [], [], []
+    polys, src, part = [], [], []
     n_holes = n_bad = 0
     reasons = {}
     for i, g in enumerate(geoms):
@@ -357,14 +357,18 @@ def main():
             if poly.geom_type != "Polygon":
                 continue
             n_holes += len(poly.interiors)
-            xy, why = solids.clean_ring(np.asarray(poly.exterior.coords))
-            if xy is None:
-                n_bad += 1
-                reasons[why] = reasons.get(why, 0) + 1
-                continue
-            rings.append(xy)
+            polys.append(poly)
             src.append(i)
             part.append(k if len(parts) > 1 else None)
+    cleaned, why = solids.clean_rings(polys)
+    ok = [r is not None for r in cleaned]
+    for w in why:
+        if w is not None:
+            n_bad += 1
+            reasons[w] = reasons.get(w, 0) + 1
+    rings = [r for r, good in zip(cleaned, ok) if good]
+    src = [i for i, good in zip(src, ok) if good]
+    part = [k for k, good in zip(part, ok) if good]
     simple = solids.rings_are_simple(rings)
     if not simple.all():
         n_bad += int((~simple).sum())

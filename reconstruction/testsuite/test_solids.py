@@ -95,6 +95,24 @@ def test_clean_ring_removes_duplicates_and_collinear_points_and_orients():
     assert solids.clean_ring([[0, 0], [1, 0], [2, 0]])[0] is None
 
 
+def test_clean_rings_in_bulk_match_clean_ring():
+    rng = np.random.default_rng(2)
+    polys = [Polygon([[0, 0], [0, 5], [0, 5.0001], [5, 5], [5, 2.5], [5, 0]]),
+             Polygon([[0, 0], [4, 0], [4, 3]]), Polygon([[0, 0], [0, 3], [4, 3], [4, 0]]),
+             Polygon([[0, 0], [1, 0], [2, 0], [1, 0.0001]])]
+    for _ in range(30):
+        pts = rng.uniform(0, 20, (int(rng.integers(3, 9)), 2))
+        polys.append(Polygon(pts).convex_hull)
+    rings, reasons = solids.clean_rings(polys)
+    for poly, ring, why in zip(polys, rings, reasons):
+        one, one_why = solids.clean_ring(np.asarray(poly.exterior.coords))
+        assert why == one_why
+        if one is None:
+            assert ring is None
+        else:
+            assert np.array_equal(ring, one)
+
+
 @pytest.mark.parametrize("kind", roofs.ROOF_TYPES)
 def test_every_roof_type_on_a_rectangle(kind):
     ss, kept, got, log = build(RECT, kind)
