@@ -374,3 +374,16 @@ def test_convex_parts_cover_the_polygon_exactly(plot):
         assert all(p.is_valid and sd.is_convex(p, 1e-6) for p in polys)
         assert sum(p.area for p in polys) == pytest.approx(part.area, rel=1e-9, abs=1e-6)
         assert shapely.union_all(polys).symmetric_difference(part).area < 1e-4
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(plot=plots_strategy, seed=st.integers(0, 1000),
+       aligned=st.lists(st.tuples(st.floats(0, 190), st.floats(0, 190), st.floats(4, 20),
+                                  st.floats(4, 20), st.floats(0, 90)), max_size=8))
+def test_invariants_hold_with_random_aligned_footprints(plot, seed, aligned):
+    footprints = [affinity.rotate(box(x, y, x + w, y + h), a) for x, y, w, h, a in aligned]
+    res = run([plot], seed=seed, aligned=footprints, area_threshold=100)
+    cats, prepared, _ = sd.prepare_plots([plot], [1])
+    bad = sd.invariant_violations(res.geometries, res.plot, res.source, dict(zip(cats, prepared)))
+    assert bad == {}
+    assert all(c == 0 for c, s in zip(res.case, res.source) if s == "aligned")

@@ -1,6 +1,7 @@
 """v.histo.subdivide in a temporary GRASS location: options, round trip, bad input, acceptance."""
 
 import os
+import re
 
 import numpy as np
 import pytest
@@ -231,6 +232,17 @@ def test_acceptance_delft_1961(tools, shared_data):
     geoms_a, cols_a = check_round_trip(gs, grassio, subdivision, "fpa", "delft")
     assert cols_a["source"].count("aligned") > 600
     assert cols_a["source"].count("2pm") > 50
+    # how much the calibrated ranges help: generate with them, without the aligned ones
+    ranges = re.search(r"length=([\d.]+,[\d.]+) depth=([\d.]+,[\d.]+)", " ".join(err.split()))
+    gs.run_command("v.histo.subdivide", input="delft", output="fpc", length=ranges.group(1),
+                   depth=ranges.group(2), area_threshold=100, seed=1, quiet=True)
+    geoms_c, cols_c = check_round_trip(gs, grassio, subdivision, "fpc", "delft")
+    _, count_c, area_c = plausibility(subdivision, plots, pcols["cat"], real, geoms_c,
+                                      cols_c["plot"])
+    print("Delft 1961 calibrated (length={} depth={}): {} footprints; median count ratio "
+          "{:.2f}, median area ratio {:.2f}".format(ranges.group(1), ranges.group(2),
+                                                    len(geoms_c), count_c, area_c))
+    assert abs(area_c - 1) < abs(area_ratio - 1)  # closer footprint sizes
 
 
 @pytest.mark.acceptance
