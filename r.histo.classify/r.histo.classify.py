@@ -182,9 +182,25 @@ def find_core():
             return
 
 
-# Distinct colours for the classes, in the order of their labels.
+# Colours of the classes: by class name where it is a usual one, otherwise
+# distinct colours in the order of the labels.
+NAMED_COLOURS = {
+    "building": "230:80:80", "buildings": "230:80:80", "text": "40:40:40", "water": "60:120:220",
+    "street": "235:235:225", "streets": "235:235:225", "road": "235:235:225",
+    "vegetation": "90:170:80", "park": "90:170:80", "garden": "90:170:80",
+    "symbol": "150:60:170", "church": "240:160:40", "railway": "120:120:120",
+}
 PALETTE = ("230:80:80", "40:40:40", "60:120:220", "235:235:225", "240:160:40", "150:60:170",
            "90:170:80", "200:200:60", "120:200:220", "170:110:70")
+
+
+def class_colours(labels, names):
+    """Colour rules (label r:g:b) for the labels, by name where known."""
+    rules = []
+    for i, label in enumerate(labels):
+        name = names.get(label, "").strip().lower()
+        rules.append("{} {}".format(label, NAMED_COLOURS.get(name, PALETTE[i % len(PALETTE)])))
+    return "\n".join(rules)
 
 
 def parse_range(options, key, cast):
@@ -408,8 +424,7 @@ def main():
     present = [c for c in classes if c not in remove]
     rules = "\n".join("{}:{}".format(c, names.get(c, "class {}".format(c))) for c in present)
     gs.write_command("r.category", map=output, rules="-", stdin=rules + "\n", separator=":", quiet=True)
-    colours = "\n".join("{} {}".format(c, PALETTE[i % len(PALETTE)]) for i, c in enumerate(classes)
-                        if c in present)
+    colours = class_colours(present, names)
     gs.write_command("r.colors", map=output, rules="-", stdin=colours + "\nnv 255:255:255\n", quiet=True)
     gs.run_command("r.support", map=output, source1="training points <{}>, inputs <{}>".format(
         training, ",".join(inputs)), description="i.segment threshold={} minsize={}".format(*pairs[best]))
