@@ -11,8 +11,8 @@ on the millimetre geometry that is written: rings of at least three distinct
 vertices, no duplicate consecutive vertices, no self-intersecting or
 degenerate (zero-area) ring, faces planar within 1 mm, every edge used
 exactly twice in opposite directions (closed, 2-manifold along edges,
-consistently oriented), one connected shell, positive volume (outward
-orientation). :func:`build_solids` never returns an invalid solid: a roof
+consistently oriented), one fan of faces around every vertex (2-manifold at
+the vertices), one connected shell, positive volume (outward orientation). :func:`build_solids` never returns an invalid solid: a roof
 that fails falls back to a simpler type (stepped -> gable -> mansard ->
 flat), and a footprint whose flat prism still fails is dropped and counted.
 """
@@ -600,6 +600,14 @@ def validate(ss, tol=PLANARITY_TOL):
     same = forward[ea] == forward[eb]
     flag(face_solid[entry_face[ea[same]]],
          "edge used twice in the same direction (faces not consistently oriented)")
+    # 2-manifold at the vertices: the faces around each vertex form one fan
+    if len(ea):
+        around = _components(len(a), np.concatenate([ea, eb]), np.concatenate([nxt[eb], nxt[ea]]))
+        pairs_vl = unique_rows(np.column_stack([a, around]))[0]
+        verts_multi = np.nonzero(np.bincount(pairs_vl[:, 0], minlength=N) > 1)[0]
+        if len(verts_multi):
+            multi = np.isin(a, verts_multi)
+            flag(face_solid[entry_face[multi]], "non-manifold vertex")
     # one connected shell
     if len(ea):
         labels = _components(F, entry_face[ea], entry_face[eb])

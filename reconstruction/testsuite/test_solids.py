@@ -38,6 +38,7 @@ def test_box_is_valid_with_semantics_and_volume():
 @pytest.mark.parametrize("defect,reason", [
     ("flip", "edge used twice in the same direction"),
     ("extra", "edge used more than twice"),
+    ("touching", "non-manifold vertex"),
     ("missing", "edge used only once"),
     ("inward", "zero or negative volume"),
     ("nonplanar", "non-planar face"),
@@ -49,6 +50,13 @@ def test_validator_reports_each_defect(defect, reason):
     v, faces = box_solidset()
     if defect == "flip":
         faces[1] = faces[1][::-1]
+    elif defect == "touching":
+        # two boxes sharing one corner vertex: closed, but not a 2-manifold there
+        v2 = np.vstack([v, v[1:] + [1, 1, 1]])
+        remap = {0: 6}
+        remap.update({k: k + 7 for k in range(1, 8)})
+        faces = faces + [[remap[k] for k in f] for f in faces]
+        v = v2
     elif defect == "extra":
         faces = faces + [[0, 1, 2]]
     elif defect == "missing":
