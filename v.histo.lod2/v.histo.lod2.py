@@ -429,8 +429,13 @@ def main():
     model = cityjson.citymodel(ss, semantic, ids, attributes, crs,
                                title="LoD2 model from <{}>".format(options["input"]))
     tmp = output + ".part"
-    cityjson.write(tmp, model)
-    os.replace(tmp, output)
+    try:
+        cityjson.write(tmp, model)
+        os.replace(tmp, output)
+    except OSError as error:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        gs.fatal(_("Cannot write '{}': {}").format(output, error))
 
     counts = {k: int(np.sum(got == k)) for k in roofs.ROOF_TYPES}
     gs.message(_("{} buildings written to '{}': {}").format(
