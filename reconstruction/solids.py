@@ -387,8 +387,16 @@ def _finish(parts, S, bad):
     entry_face = np.repeat(np.arange(len(sizes)), sizes)
     entry_solid = face_solid[entry_face]
     # distinct vertices per solid, only those used
-    keys = np.column_stack([entry_solid, allv[rings]])
-    uniq, inv = unique_rows(keys)
+    used = np.zeros(len(allv), dtype=bool)
+    used[rings] = True
+    uidx = np.nonzero(used)[0]
+    remap = np.full(len(allv), -1, dtype=np.int64)
+    remap[uidx] = np.arange(len(uidx))
+    local = remap[rings]
+    vsolid = np.empty(len(uidx), dtype=np.int64)
+    vsolid[local] = entry_solid
+    uniq, inv_u = unique_rows(np.column_stack([vsolid, allv[uidx]]))
+    inv = inv_u[local]
     vertices = np.ascontiguousarray(uniq[:, 1:])
     # duplicate consecutive vertices
     face_start = np.concatenate([[0], np.cumsum(sizes)])
@@ -603,10 +611,12 @@ def validate(ss, tol=PLANARITY_TOL):
     # 2-manifold at the vertices: the faces around each vertex form one fan
     if len(ea):
         around = _components(len(a), np.concatenate([ea, eb]), np.concatenate([nxt[eb], nxt[ea]]))
-        pairs_vl = unique_rows(np.column_stack([a, around]))[0]
-        verts_multi = np.nonzero(np.bincount(pairs_vl[:, 0], minlength=N) > 1)[0]
-        if len(verts_multi):
-            multi = np.isin(a, verts_multi)
+        lo_l = np.full(N, np.iinfo(np.int64).max)
+        hi_l = np.full(N, -1)
+        np.minimum.at(lo_l, a, around)
+        np.maximum.at(hi_l, a, around)
+        multi = (lo_l != hi_l)[a] & (hi_l[a] >= 0)
+        if multi.any():
             flag(face_solid[entry_face[multi]], "non-manifold vertex")
     # one connected shell
     if len(ea):
