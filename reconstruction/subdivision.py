@@ -915,7 +915,13 @@ def calibrate(aligned, aligned_plots, plots, cats, length, depth, min_samples=5,
 
 
 def _clip_generated(result, aligned_geoms, exterior_of, report):
-    """Clip or drop generated footprints that overlap aligned footprints."""
+    """Clip or drop generated footprints that overlap aligned footprints.
+
+    What is left of a generated footprint outside the aligned ones is kept
+    as convex pieces (its convex parts when it is concave) that are no
+    slivers, have street access and keep at least a quarter of the
+    footprint's area; a footprint with no such piece is dropped.
+    """
     present = [g for g in aligned_geoms if g is not None]
     if not present:
         return
@@ -924,7 +930,7 @@ def _clip_generated(result, aligned_geoms, exterior_of, report):
     hits = {}
     for f, a in zip(left, right):
         hits.setdefault(int(f), []).append(int(a))
-    drop = set()
+    replace = {}
     for f, idx in hits.items():
         if result.source[f] != "2pm":
             continue
@@ -932,24 +938,27 @@ def _clip_generated(result, aligned_geoms, exterior_of, report):
         union = shapely.union_all([present[i] for i in idx])
         if fp.intersection(union).area <= CLIP_AREA:
             continue
-        rest = _polygons(fp.difference(union))
-        keep = None
-        if len(rest) == 1:
-            p = rest[0]
-            exterior = exterior_of[result.plot[f]]
-            if (is_convex(p) and not is_sliver(p) and p.area >= 0.5 * fp.area
-                    and _street_length([_ring(p.exterior.coords)], exterior)[0] >= MIN_STREET):
-                keep = p
-        if keep is None:
-            drop.add(f)
-            report["generated_dropped"] += 1
-        else:
-            result.geometries[f] = keep
-            report["generated_clipped"] += 1
-    if drop:
+        pieces = []
+        for rest in _polygons(fp.difference(union)):
+            if rest.area < max(MIN_AREA, 0.25 * fp.area):
+                continue
+            if is_convex(rest):
+                pieces.append(_ring(rest.exterior.coords))
+            else:
+                pieces.extend(convex_parts(rest))
+        pieces = [r for r in pieces
+                  if not _is_sliver(r) and abs(_signed_area(r)) >= 0.25 * fp.area]
+        access = _street_length(pieces, exterior_of[result.plot[f]])
+        pieces = [r for r, a in zip(pieces, access) if a >= MIN_STREET]
+        replace[f] = _to_polygons(pieces)
+        report["generated_clipped" if pieces else "generated_dropped"] += 1
+    if replace:
+        out = Subdivision()
+        for i, g in enumerate(result.geometries):
+            for piece in replace.get(i, [g]):
+                out.add(piece, result.plot[i], result.case[i], result.source[i], result.aligned[i])
         for name in ("geometries", "plot", "case", "source", "aligned"):
-            values = getattr(result, name)
-            setattr(result, name, [v for i, v in enumerate(values) if i not in drop])
+            setattr(result, name, getattr(out, name))
 
 
 # ---------------------------------------------------------------------------

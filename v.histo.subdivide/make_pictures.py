@@ -77,10 +77,10 @@ def main():
     render("v_histo_subdivide_aligned.png", aligned_plot.bounds, [
         dict(map="row_fp", type="area", flags="c", width=1, color="black",
              where="source = '2pm'"),
-        dict(map="row_fp", type="area", fill_color="160:160:160", color="black", width=2,
+        dict(map="row_fp", type="area", fill_color="40:40:40", color="black", width=2,
              where="source = 'aligned'"),
         dict(map="row", type="area", fill_color="none", color="black", width=3),
-        dict(module="d.text", text="aligned footprints (grey) kept", at="2,85", size=7,
+        dict(module="d.text", text="aligned footprints (black) kept", at="2,85", size=7,
              color="black"),
     ], width=560)
 
