@@ -11,8 +11,9 @@ on the millimetre geometry that is written: rings of at least three distinct
 vertices, no duplicate consecutive vertices, no self-intersecting or
 degenerate (zero-area) ring, faces planar within 1 mm, every edge used
 exactly twice in opposite directions (closed, 2-manifold along edges,
-consistently oriented), one fan of faces around every vertex (2-manifold at
-the vertices), one connected shell, positive volume (outward orientation). :func:`build_solids` never returns an invalid solid: a roof
+consistently oriented), V - E + F = 2 (one fan of faces around every vertex:
+2-manifold at the vertices, no handle), one connected shell, positive
+volume (outward orientation). :func:`build_solids` never returns an invalid solid: a roof
 that fails falls back to a simpler type (stepped -> gable -> mansard ->
 flat), and a footprint whose flat prism still fails is dropped and counted.
 """
@@ -608,16 +609,16 @@ def validate(ss, tol=PLANARITY_TOL):
     same = forward[ea] == forward[eb]
     flag(face_solid[entry_face[ea[same]]],
          "edge used twice in the same direction (faces not consistently oriented)")
-    # 2-manifold at the vertices: the faces around each vertex form one fan
-    if len(ea):
-        around = _components(len(a), np.concatenate([ea, eb]), np.concatenate([nxt[eb], nxt[ea]]))
-        lo_l = np.full(N, np.iinfo(np.int64).max)
-        hi_l = np.full(N, -1)
-        np.minimum.at(lo_l, a, around)
-        np.maximum.at(hi_l, a, around)
-        multi = (lo_l != hi_l)[a] & (hi_l[a] >= 0)
-        if multi.any():
-            flag(face_solid[entry_face[multi]], "non-manifold vertex")
+    # 2-manifold at the vertices: with every edge used twice, the shell is a
+    # closed surface; V - E + F = 2 holds for a genus-0 surface whose every
+    # vertex has one fan of faces (a vertex with k fans lowers it by k - 1)
+    vsol = np.full(N, -1, dtype=np.int64)
+    vsol[a] = face_solid[entry_face]
+    nv = np.bincount(vsol[vsol >= 0], minlength=S)
+    ne = np.bincount(face_solid[entry_face], minlength=S) / 2.0
+    euler = nv - ne + nf
+    flag(np.nonzero((euler != 2) & (nf > 0))[0],
+         "non-manifold vertex or handle (V - E + F != 2)")
     # one connected shell
     if len(ea):
         labels = _components(F, entry_face[ea], entry_face[eb])
