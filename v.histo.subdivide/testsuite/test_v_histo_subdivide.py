@@ -167,6 +167,31 @@ def test_bad_input_fails_clearly_and_leaves_nothing(tools, options, message):
         gs.run_command("v.histo.subdivide", quiet=True, stderr=open(os.devnull, "w"), **kwargs)
 
 
+def test_without_decomposition_flag(tools):
+    gs, grassio, subdivision = tools
+    gs.run_command("v.histo.subdivide", input="plots", output="fp", flags="c", seed=3, quiet=True)
+    geoms, cols = read_output(grassio, "fp")
+    assert 5 not in cols["case"]
+    l_shaped = [g for g, p in zip(geoms, cols["plot"]) if p == 15]
+    assert l_shaped
+    plots, pcols = grassio.read_features("plots")
+    cats, prepared, _ = subdivision.prepare_plots(plots, pcols["cat"])
+    bad = subdivision.invariant_violations(geoms, cols["plot"], cols["source"],
+                                           dict(zip(cats, prepared)))
+    bad.pop("concave", None)  # -c: footprints of a concave plot may be concave
+    assert bad == {}
+
+
+def test_points_are_no_plots(tools):
+    gs, grassio, _ = tools
+    grassio.write_features("pts", [shapely.Point(X0 + 5, Y0 + 5)])
+    proc = gs.start_command("v.histo.subdivide", input="pts", output="fp", stderr=gs.PIPE)
+    _, err = proc.communicate()
+    assert proc.returncode != 0
+    assert "has no areas" in gs.decode(err)
+    assert not gs.find_file("fp", element="vector")["name"]
+
+
 def test_calibration_flag_needs_aligned(tools):
     gs, _, _ = tools
     proc = gs.start_command("v.histo.subdivide", input="plots", output="fp", flags="a",
