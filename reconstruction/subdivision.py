@@ -9,8 +9,9 @@ alignment (Section 3.3.3):
 2. a plot too shallow for two rows of buildings (the shortest side of its
    minimum rotated rectangle below 2 ``depth[0]``) is one row: the long side
    (the one along the street) is cut perpendicular into facade lengths drawn
-   from ``length``, each building ``depth`` deep (drawn from the range, at
-   most the plot);
+   from ``length``, each building ``depth`` deep (drawn from the range; a
+   building reaches the back of the plot when less than half the minimum
+   depth would be left behind it: no sliver of garden);
 3. a plot at most two buildings deep (shortest side <= 2 ``depth[1]``) is
    split along its longest median line into two rows, back to back, each as
    case 2;
@@ -299,6 +300,13 @@ def _slab_cells(ring, ox, oy, ex, ey, cuts):
     return cells
 
 
+def _depth(cell, nx, ny, c0, drawn, depth):
+    """A building's depth: the drawn one, or the whole cell when less than half
+    the minimum depth would be left behind it (no sliver of garden)."""
+    back = max(nx * x + ny * y for x, y in cell) - c0
+    return back if back - drawn < depth[0] / 2 else drawn
+
+
 def _row(face, line, length, depth, rng, inner=False):
     """Buildings of one face along its street line: facade cuts, depth per building.
 
@@ -321,7 +329,8 @@ def _row(face, line, length, depth, rng, inner=False):
     depths = list(rng.uniform(depth[0], depth[1], size=len(cuts) + 1))
     while True:
         cells = _slab_cells(face, ox, oy, ex, ey, cuts)
-        rings = [_clip(cell, nx, ny, c0 + d) if cell else [] for cell, d in zip(cells, depths)]
+        rings = [_clip(cell, nx, ny, c0 + _depth(cell, nx, ny, c0, d, depth)) if cell else []
+                 for cell, d in zip(cells, depths)]
         bad = [i for i, r in enumerate(rings) if r and _is_sliver(r)]
         bad += [i for i, r in enumerate(rings) if not r]
         if not bad or not cuts:
@@ -1149,11 +1158,13 @@ def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_thre
 # Checks
 # ---------------------------------------------------------------------------
 
-def invariant_violations(geometries, plot, source, plots_by_cat, tolerance=OVERLAP_TOLERANCE):
+def invariant_violations(geometries, plot, source, plots_by_cat, case=None,
+                         tolerance=OVERLAP_TOLERANCE):
     """Footprints breaking the invariants, by kind (an empty dict when none).
 
     ``plots_by_cat`` maps a plot category to its (prepared, disjoint) plot.
-    Checks: valid single polygons; generated ones convex, inside their plot
+    Checks: valid single polygons; generated ones convex (except case 1,
+    where the footprint is the plot itself, when ``case`` is given), inside their plot
     (area outside <= ``tolerance``), on its exterior boundary and no sliver
     unless the plot is one; no two footprints overlapping by more than
     ``tolerance`` (pairs found with an STRtree).
@@ -1174,7 +1185,7 @@ def invariant_violations(geometries, plot, source, plots_by_cat, tolerance=OVERL
         # shares a vertex with the plot and has one on the plot's edge
         if shapely.difference(g, parcel, grid_size=CHECK_GRID).area > tolerance:
             count("outside", i)
-        if not is_convex(g):
+        if not is_convex(g) and (case is None or case[i] != 1):
             count("concave", i)
         if is_sliver(g) and not any(is_sliver(p) for p in _polygons(parcel)):
             count("sliver", i)

@@ -27,7 +27,7 @@ def assert_invariants(result, plots, cats=None):
     cats = list(range(1, len(plots) + 1)) if cats is None else cats
     prepared_cats, prepared, _ = sd.prepare_plots(plots, cats)
     bad = sd.invariant_violations(result.geometries, result.plot, result.source,
-                                  dict(zip(prepared_cats, prepared)))
+                                  dict(zip(prepared_cats, prepared)), result.case)
     assert bad == {}
 
 
@@ -84,7 +84,7 @@ def test_case2_one_row_facades_in_range_and_depth_capped_by_plot():
 
 
 def test_case2_depth_drawn_in_range_when_plot_is_deeper():
-    plot = box(0, 0, 120, 15.5)
+    plot = box(0, 0, 120, 23)  # one row (< 2 x 12), at least 9 m of garden behind
     res = run([plot], depth=(12, 14))
     depths = [g.bounds[3] - g.bounds[1] for g in res.geometries]
     assert all(12 - 1e-9 <= d <= 14 + 1e-9 for d in depths)
@@ -152,7 +152,7 @@ def test_without_decomposition_footprints_stay_inside_and_disjoint():
     assert res.geometries and 5 not in res.case
     for g in res.geometries:
         assert g.difference(plot).area <= 0.01
-    bad = sd.invariant_violations(res.geometries, res.plot, res.source, {1: plot})
+    bad = sd.invariant_violations(res.geometries, res.plot, res.source, {1: plot}, res.case)
     assert set(bad) <= {"concave"}  # -c: footprints of concave plots may be concave
 
 
@@ -351,7 +351,8 @@ def test_invariants_hold_on_random_plots(plots, seed, decompose):
     plots = [affinity.translate(p, 150 * i, 0) for i, p in enumerate(plots)]
     res = run(plots, seed=seed, decompose=decompose, length=(5, 9), depth=(10, 15))
     cats, prepared, _ = sd.prepare_plots(plots, list(range(1, len(plots) + 1)))
-    bad = sd.invariant_violations(res.geometries, res.plot, res.source, dict(zip(cats, prepared)))
+    bad = sd.invariant_violations(res.geometries, res.plot, res.source,
+                                  dict(zip(cats, prepared)), res.case)
     if not decompose:
         bad.pop("concave", None)
     assert bad == {}
@@ -384,6 +385,7 @@ def test_invariants_hold_with_random_aligned_footprints(plot, seed, aligned):
     footprints = [affinity.rotate(box(x, y, x + w, y + h), a) for x, y, w, h, a in aligned]
     res = run([plot], seed=seed, aligned=footprints, area_threshold=100)
     cats, prepared, _ = sd.prepare_plots([plot], [1])
-    bad = sd.invariant_violations(res.geometries, res.plot, res.source, dict(zip(cats, prepared)))
+    bad = sd.invariant_violations(res.geometries, res.plot, res.source,
+                                  dict(zip(cats, prepared)), res.case)
     assert bad == {}
     assert all(c == 0 for c, s in zip(res.case, res.source) if s == "aligned")

@@ -57,7 +57,7 @@ def check_round_trip(gs, grassio, subdivision, output, plots_name):
     plots, pcols = grassio.read_features(plots_name)
     cats, prepared, _ = subdivision.prepare_plots(plots, pcols["cat"])
     bad = subdivision.invariant_violations(geoms, cols["plot"], cols["source"],
-                                           dict(zip(cats, prepared)))
+                                           dict(zip(cats, prepared)), cols["case"])
     assert bad == {}
     # GRASS kept every footprint as one area with its whole geometry: no piece of a
     # footprint cut off into an area of its own by unshared edges or overlaps
@@ -177,7 +177,7 @@ def test_without_decomposition_flag(tools):
     plots, pcols = grassio.read_features("plots")
     cats, prepared, _ = subdivision.prepare_plots(plots, pcols["cat"])
     bad = subdivision.invariant_violations(geoms, cols["plot"], cols["source"],
-                                           dict(zip(cats, prepared)))
+                                           dict(zip(cats, prepared)), cols["case"])
     bad.pop("concave", None)  # -c: footprints of a concave plot may be concave
     assert bad == {}
 
