@@ -101,26 +101,52 @@ def clean_rings(polygons, tol=0.001):
     keep = np.ones(len(xy), dtype=bool)
     keep[(starts + counts - 1)[closed]] = False
     xy, which = xy[keep], which[keep]
+    dead = np.zeros(P, dtype=bool)
+    # remove, in every ring at once, its worst vertex (a duplicate, else the
+    # most collinear one) until no ring has any: as clean_ring, in bulk
+    for _ in range(int(counts.max(initial=0)) + 1):
+        n = np.bincount(which, minlength=P)
+        dead |= n < 3
+        alive = ~dead[which]
+        if not alive.all():
+            xy, which = xy[alive], which[alive]
+            n = np.bincount(which, minlength=P)
+        st = np.concatenate([[0], np.cumsum(n)[:-1]])
+        rep = np.repeat(st, n)
+        pos = np.arange(len(xy)) - rep
+        nn = np.maximum(np.repeat(n, n), 1)
+        prev, nxt = xy[rep + (pos - 1) % nn], xy[rep + (pos + 1) % nn]
+        dup = np.all(xy == nxt, axis=1)
+        d = nxt - prev
+        ln = np.hypot(d[:, 0], d[:, 1])
+        cross = (xy[:, 0] - prev[:, 0]) * d[:, 1] - (xy[:, 1] - prev[:, 1]) * d[:, 0]
+        dist = np.abs(cross) / np.maximum(ln, 1e-12)
+        bad = dup | (dist < tol) | (ln < tol)
+        if not bad.any():
+            break
+        score = np.where(dup, -1.0, np.where(bad, dist, np.inf))
+        order = np.lexsort((score, which))
+        first = np.ones(len(order), dtype=bool)
+        first[1:] = which[order][1:] != which[order][:-1]
+        drop = order[first & np.isfinite(score[order])]
+        keep = np.ones(len(xy), dtype=bool)
+        keep[drop] = False
+        xy, which = xy[keep], which[keep]
     n = np.bincount(which, minlength=P)
+    nxt_x = np.empty(len(xy))
+    nxt_y = np.empty(len(xy))
     st = np.concatenate([[0], np.cumsum(n)[:-1]])
-    pos = np.arange(len(xy)) - np.repeat(st, n)
-    nn = np.repeat(n, n)
-    nxt_i = np.repeat(st, n) + (pos + 1) % np.maximum(nn, 1)
-    prv_i = np.repeat(st, n) + (pos - 1) % np.maximum(nn, 1)
-    prev, nxt = xy[prv_i], xy[nxt_i]
-    d = nxt - prev
-    ln = np.hypot(d[:, 0], d[:, 1])
-    cross = (xy[:, 0] - prev[:, 0]) * d[:, 1] - (xy[:, 1] - prev[:, 1]) * d[:, 0]
-    dist = np.abs(cross) / np.maximum(ln, 1e-12)
-    bad_v = (dist < tol) | (ln < tol) | np.all(xy == nxt, axis=1)
-    bad = np.bincount(which[bad_v], minlength=P) > 0
-    bad |= n < 3
-    area2 = np.bincount(which, weights=xy[:, 0] * nxt[:, 1] - nxt[:, 0] * xy[:, 1], minlength=P)
-    bad |= np.abs(area2) < 1e-6
+    rep = np.repeat(st, n)
+    pos = np.arange(len(xy)) - rep
+    nidx = rep + (pos + 1) % np.maximum(np.repeat(n, n), 1)
+    nxt_x, nxt_y = xy[nidx, 0], xy[nidx, 1]
+    area2 = np.bincount(which, weights=xy[:, 0] * nxt_y - nxt_x * xy[:, 1], minlength=P)
     parts = np.split(xy, np.cumsum(n)[:-1])
     for k in range(P):
-        if bad[k]:
-            rings[k], reasons[k] = clean_ring(parts[k])
+        if dead[k] or n[k] < 3:
+            reasons[k] = "fewer than 3 distinct vertices"
+        elif abs(area2[k]) < 1e-6:
+            reasons[k] = "zero area"
         else:
             rings[k] = parts[k] if area2[k] > 0 else parts[k][::-1].copy()
     return rings, reasons
