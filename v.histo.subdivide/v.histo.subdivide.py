@@ -81,6 +81,7 @@
 
 import os
 import sys
+import time
 
 import grass.script as gs
 
@@ -138,6 +139,7 @@ def main():
             gs.fatal(_("Vector map <{}> has no areas: aligned footprints must be areas").format(
                 aligned_name))
 
+    start = time.perf_counter()
     plots, plot_columns = grassio.read_features(plots_name, "area")
     cats = plot_columns["cat"]
     keep = [i for i, g in enumerate(plots) if g is not None and cats[i] is not None]
@@ -156,12 +158,14 @@ def main():
             gs.message(_("Aligned map <{}> has no plot column: each aligned footprint goes to "
                          "the plot it overlaps most").format(aligned_name))
 
+    read = time.perf_counter()
     gs.message(_("Subdividing {} plots...").format(len(plots)))
     result = subdivision.subdivide(
         plots, cats, length=length, depth=depth, area_threshold=area_threshold, seed=seed,
         decompose=not flags["c"], aligned=aligned, aligned_plots=aligned_plots,
         calibrate_ranges=flags["a"])
     report = result.report
+    core = time.perf_counter()
 
     if report["repaired"]:
         gs.warning(_("{} invalid plots repaired (make_valid)").format(report["repaired"]))
@@ -205,6 +209,8 @@ def main():
     grassio.write_features(output, result.geometries, columns,
                            title="Footprints of <{}> (v.histo.subdivide)".format(plots_name))
     gs.vector_history(output)
+    gs.verbose(_("Timing (s): read {:.2f}, subdivide {:.2f}, write {:.2f}").format(
+        read - start, core - read, time.perf_counter() - core))
     counts = {c: result.case.count(c) for c in sorted(set(result.case))}
     gs.message(_("{} footprints written to <{}> ({} generated, {} aligned); by case: {}").format(
         len(result.geometries), output, report["generated"],
