@@ -741,3 +741,37 @@ def build_solids(footprints, ground, eaves, attic, roof_types, uniforms, street=
     merged = concat([a[0] for a in accepted])
     perm = np.argsort(kept, kind="stable")
     return take(merged, perm), kept[perm], types[kept[perm]], log
+
+
+def _build_chunk(args):
+    footprints, ground, eaves, attic, roof_types, uniforms, kwargs = args
+    return build_solids(footprints, ground, eaves, attic, roof_types, uniforms, **kwargs)
+
+
+def build_solids_parallel(footprints, ground, eaves, attic, roof_types, uniforms, nprocs=1,
+                          **kwargs):
+    """:func:`build_solids` over ``nprocs`` processes (chunks of footprints).
+
+    The result is the same as with one process: every building depends only
+    on its own footprint, heights, type and uniform numbers.
+    """
+    B = len(footprints)
+    if nprocs <= 1 or B < 2000:
+        return build_solids(footprints, ground, eaves, attic, roof_types, uniforms, **kwargs)
+    import multiprocessing
+
+    bounds = np.linspace(0, B, nprocs + 1).astype(int)
+    ground, eaves, attic = (np.asarray(x, dtype=float) for x in (ground, eaves, attic))
+    roof_types = np.asarray(roof_types, dtype=object)
+    uniforms = np.asarray(uniforms, dtype=float)
+    jobs = [(footprints[a:b], ground[a:b], eaves[a:b], attic[a:b], roof_types[a:b],
+             uniforms[a:b], kwargs) for a, b in zip(bounds[:-1], bounds[1:])]
+    with multiprocessing.get_context("fork").Pool(nprocs) as pool:
+        results = pool.map(_build_chunk, jobs)
+    sets, kept, types, log = [], [], [], []
+    for a, (ss, k, t, lg) in zip(bounds[:-1], results):
+        sets.append(ss)
+        kept.append(k + a)
+        types.append(t)
+        log.extend((i + a, kind, why) for i, kind, why in lg)
+    return concat(sets), np.concatenate(kept), np.concatenate(types), log

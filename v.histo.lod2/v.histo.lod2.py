@@ -178,6 +178,10 @@
 # % required: no
 # %end
 
+# %option G_OPT_M_NPROCS
+# % description: Number of processes building the solids (the result does not depend on it)
+# %end
+
 # %flag
 # % key: v
 # % description: Validate every solid and print counts and percent valid, with the reason for each roof that had to fall back
@@ -271,6 +275,9 @@ def main():
         gs.fatal(_("Option thickness= must be positive"))
     pitch_min = float(options["pitch_min"])
     seed = int(options["seed"])
+    nprocs = int(options["nprocs"])
+    if nprocs < 1:
+        gs.fatal(_("Option nprocs= must be at least 1"))
     map_year = int(options["year"]) if options["year"] else None
     crs = options["crs"] or location_epsg()
     if crs is None:
@@ -391,8 +398,8 @@ def main():
     types = np.where(requested[src] == "auto", drawn, requested[src])
 
     gs.message(_("Building {} solids...").format(len(rings)))
-    ss, kept, got, log = solids.build_solids(
-        rings, ground[src], eaves[src], attic[src], types, u_shape[src],
+    ss, kept, got, log = solids.build_solids_parallel(
+        rings, ground[src], eaves[src], attic[src], types, u_shape[src], nprocs=nprocs,
         pitch_min=pitch_min, inset=tuple(inset_range), step=tuple(step_range),
         thickness=thickness)
     dropped = len(rings) - len(kept)

@@ -245,3 +245,30 @@ def test_many_roofs_in_bulk_keep_each_building():
     for s in (0, 150, 299):
         v, _ = ss.solid(s)
         assert Polygon(fps[s]).buffer(0.002).contains(Polygon(v[v[:, 2] == 0][:, :2]).convex_hull)
+
+
+def test_parallel_build_gives_the_same_solids():
+    rng = np.random.default_rng(8)
+    B = 2100
+    fps = []
+    for i in range(B):
+        w, d = rng.uniform(4, 10), rng.uniform(8, 20)
+        xy = np.array([[0, 0], [d, rng.uniform(-1, 1)], [d, w], [0, w]]) + [i * 25.0, 0]
+        fps.append(solids.clean_ring(xy + ORIGIN)[0])
+    kinds_ = rng.choice(roofs.ROOF_TYPES, B)
+    u = rng.random((B, 3))
+    args = (fps, np.zeros(B), np.full(B, 9.0), np.full(B, 3.5), kinds_, u)
+    a = solids.build_solids(*args)
+    b = solids.build_solids_parallel(*args, nprocs=2)
+    assert np.array_equal(a[1], b[1]) and list(a[2]) == list(b[2])
+    # the same model is written (vertices are stored in a global order)
+    from reconstruction import cityjson
+
+    models = [cityjson.citymodel(r[0], solids.semantics(r[0]), list(r[1]), {"t": list(r[2])})
+              for r in (a, b)]
+    assert models[0] == models[1]
+    for s in (0, 1049, 1050, 2099):
+        va, fa = a[0].solid(s)
+        vb, fb = b[0].solid(s)
+        assert len(fa) == len(fb)
+        assert np.array_equal(np.unique(va, axis=0), np.unique(vb, axis=0))
