@@ -591,19 +591,24 @@ def _decompose_ring(ring, budget):
 
 
 def _cut_holes(polygon):
-    """Simple polygons from a polygon with holes: full cuts through each hole."""
+    """Simple polygons from a polygon with holes: full cuts through each hole.
+
+    A piece that still has a hole after many cuts (never seen) is left out
+    rather than built over its hole.
+    """
     todo, out = [polygon], []
+    budget = 50 + 4 * len(polygon.interiors)
     while todo:
         p = todo.pop()
         if not p.interiors:
             out.append(p)
             continue
-        hole = Polygon(p.interiors[0])
+        budget -= 1
         frame = _rectangle_frame(_ring(shapely.convex_hull(p).exterior.coords))
-        c = hole.representative_point()
-        if frame is None:
-            out.append(p)
+        if budget < 0 or frame is None:
             continue
+        hole = Polygon(p.interiors[0])
+        c = hole.representative_point()
         ex, ey = frame[1]
         big = 4 * (math.sqrt(p.area) + p.length)
         # cut across the plot's long axis through the hole's centre
@@ -617,7 +622,7 @@ def _cut_holes(polygon):
                 (c.x - px * big + sign * nx * big, c.y - py * big + sign * ny * big),
                 (c.x + px * big + sign * nx * big, c.y + py * big + sign * ny * big),
             ])
-            halves.append(p.intersection(quad))
+            halves.append(_overlay(shapely.intersection, p, quad))
         for h in halves:
             for g in _polygons(h):
                 if g.area > 0:
@@ -644,6 +649,14 @@ def convex_parts(polygon, max_cuts=500):
 # ---------------------------------------------------------------------------
 # Plots: repair, overlaps, street edges
 # ---------------------------------------------------------------------------
+
+def _overlay(operation, a, b):
+    """A shapely overlay that falls back to snap-rounding when GEOS's floating one fails."""
+    try:
+        return operation(a, b)
+    except shapely.errors.GEOSException:
+        return operation(a, b, grid_size=CHECK_GRID)
+
 
 def _polygons(geom):
     """The polygons of any geometry (parts of collections and multipolygons)."""
@@ -705,7 +718,7 @@ def prepare_plots(plots, cats):
         order = {i: r for r, i in enumerate(rank)}
         losers = {}
         for a, b in pairs:
-            shared = geoms[a].intersection(geoms[b]).area
+            shared = _overlay(shapely.intersection, geoms[a], geoms[b]).area
             if shared <= CLIP_AREA:
                 continue
             if shared > OVERLAP_TOLERANCE:
@@ -714,7 +727,8 @@ def prepare_plots(plots, cats):
             winner, loser = (a, b) if order[a] < order[b] else (b, a)
             losers.setdefault(loser, []).append(winner)
         for loser in sorted(losers, key=lambda i: order[i]):
-            geom = geoms[loser].difference(shapely.union_all([geoms[w] for w in losers[loser]]))
+            winners = shapely.union_all([geoms[w] for w in losers[loser]])
+            geom = _overlay(shapely.difference, geoms[loser], winners)
             parts = [p for p in _polygons(geom) if p.area > OVERLAP_TOLERANCE]
             if len(parts) > 1:
                 parts = [p for p in parts if not is_sliver(p)] or parts[:1]
@@ -729,7 +743,9 @@ def prepare_plots(plots, cats):
 def _exterior_lines(polygon):
     """The plot's exterior (street) boundary: its outer rings as one geometry."""
     rings = [p.exterior for p in _polygons(polygon)]
-    return shapely.multilinestrings(rings) if len(rings) > 1 else shapely.linestrings(rings[0].coords)
+    if len(rings) > 1:
+        return shapely.multilinestrings(rings)
+    return shapely.linestrings(rings[0].coords)
 
 
 def _street_edges_many(rings, exterior):
@@ -797,7 +813,8 @@ def subdivide_plot(plot, length, depth, area_threshold, rng, decompose=True):
         ring = _ring(part.exterior.coords)
         concave = bool(part.interiors) or bool(_reflex_vertices(ring))
         if not concave:
-            case, cells = _convex_cells(ring, [True] * len(ring), length, depth, area_threshold, rng)
+            street = [True] * len(ring)
+            case, cells = _convex_cells(ring, street, length, depth, area_threshold, rng)
             access = _street_length(cells, exterior)
             out.extend((c, case) for c, a in zip(cells, access) if a >= MIN_STREET)
             continue
@@ -818,7 +835,7 @@ def subdivide_plot(plot, length, depth, area_threshold, rng, decompose=True):
         case, cells = _convex_cells(hull, street, length, depth, area_threshold, rng)
         pieces = []
         for c in _to_polygons(cells):
-            for p in _polygons(c.intersection(part)):
+            for p in _polygons(_overlay(shapely.intersection, c, part)):
                 if not is_sliver(p):
                     pieces.append(p)
         access = _street_length([_ring(p.exterior.coords) for p in pieces], exterior)
@@ -837,7 +854,7 @@ def assign_plots(footprints, plots, cats):
     best = [0.0] * len(footprints)
     left, right = tree.query(footprints, predicate="intersects")
     for f, p in zip(left, right):
-        a = footprints[f].intersection(plots[p]).area
+        a = _overlay(shapely.intersection, footprints[f], plots[p]).area
         if a > best[f]:
             best[f], out[f] = a, cats[p]
     return out
@@ -869,10 +886,11 @@ def prepare_aligned(footprints):
             if not others or geoms[i] is None:
                 continue
             union = shapely.union_all(others)
-            shared = geoms[i].intersection(union).area
+            shared = _overlay(shapely.intersection, geoms[i], union).area
             if shared <= CLIP_AREA:
                 continue
-            parts = [p for p in _polygons(geoms[i].difference(union)) if p.area > OVERLAP_TOLERANCE]
+            parts = [p for p in _polygons(_overlay(shapely.difference, geoms[i], union))
+                     if p.area > OVERLAP_TOLERANCE]
             report["aligned_clipped"] += int(shared > OVERLAP_TOLERANCE)
             geoms[i] = (parts[0] if len(parts) == 1 else MultiPolygon(parts)) if parts else None
     report["aligned_skipped"] = sum(g is None for g in geoms)
@@ -906,8 +924,8 @@ def calibrate(aligned, aligned_plots, plots, cats, length, depth, min_samples=5,
         if len(r) < 4:
             continue
         exterior = _exterior_lines(by_cat[cat])
-        mids = shapely.points([((r[i][0] + r[(i + 1) % 4][0]) / 2, (r[i][1] + r[(i + 1) % 4][1]) / 2)
-                               for i in range(4)])
+        corners = np.asarray(r)
+        mids = shapely.points((corners + np.roll(corners, -1, axis=0)) / 2)
         d = shapely.distance(mids, exterior)
         i = int(np.argmin(d))
         front = math.dist(r[i], r[(i + 1) % 4])
@@ -945,10 +963,10 @@ def _clip_generated(result, aligned_geoms, exterior_of, report):
             continue
         fp = result.geometries[f]
         union = shapely.union_all([present[i] for i in idx])
-        if fp.intersection(union).area <= CLIP_AREA:
+        if _overlay(shapely.intersection, fp, union).area <= CLIP_AREA:
             continue
         pieces = []
-        for rest in _polygons(fp.difference(union)):
+        for rest in _polygons(_overlay(shapely.difference, fp, union)):
             if rest.area < max(MIN_AREA, 0.25 * fp.area):
                 continue
             if is_convex(rest):
@@ -1103,7 +1121,8 @@ def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_thre
         if aligned_plots is None:
             aligned_plots = [None] * len(aligned)
         aligned_plots = list(aligned_plots)
-        missing = [i for i, c in enumerate(aligned_plots) if c is None and aligned_geoms[i] is not None]
+        missing = [i for i, c in enumerate(aligned_plots)
+                   if c is None and aligned_geoms[i] is not None]
         if missing and geoms:
             assigned = assign_plots([aligned_geoms[i] for i in missing], geoms, cats)
             for i, c in zip(missing, assigned):

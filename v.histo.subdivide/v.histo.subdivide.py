@@ -177,7 +177,8 @@ def main():
                          report["overlapping_pairs"], report["overlap_area"]))
     if aligned_name:
         if report.get("aligned_repaired"):
-            gs.warning(_("{} invalid aligned footprints repaired").format(report["aligned_repaired"]))
+            gs.warning(_("{} invalid aligned footprints repaired").format(
+                report["aligned_repaired"]))
         if report.get("aligned_clipped"):
             gs.warning(_("{} aligned footprints overlapping earlier ones were clipped").format(
                 report["aligned_clipped"]))
@@ -185,7 +186,8 @@ def main():
             gs.warning(_("{} aligned footprints without a plot left out").format(
                 report["aligned_without_plot"]))
         if report["generated_dropped"] or report["generated_clipped"]:
-            gs.message(_("Generated footprints overlapping aligned ones: {} clipped, {} dropped").format(
+            gs.message(_("Generated footprints overlapping aligned ones: {} clipped, "
+                         "{} dropped").format(
                 report["generated_clipped"], report["generated_dropped"]))
         if flags["a"]:
             if report["calibrated"]:
@@ -194,7 +196,8 @@ def main():
                                                           *(report["length"] + report["depth"])))
             else:
                 gs.warning(_("Too few aligned footprints on a street ({}) to calibrate: "
-                             "length= and depth= kept").format(report.get("calibration_samples", 0)))
+                             "length= and depth= kept").format(
+                                 report.get("calibration_samples", 0)))
     if not result.geometries:
         gs.fatal(_("No footprints: every plot was skipped"))
 
