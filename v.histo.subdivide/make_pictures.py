@@ -22,7 +22,7 @@ sys.path.insert(0, os.path.dirname(HERE))
 X0, Y0 = 84000.0, 446000.0
 
 CASES = {
-    1: box(0, 0, 9, 9),
+    1: Polygon([(0, 0), (10, 0), (10, 5), (5, 5), (5, 9), (0, 9)]),
     2: box(20, 0, 110, 11),
     3: box(20, 30, 110, 58),
     4: Polygon([(140, 0), (230, 0), (230, 55), (190, 72), (140, 60)]),
@@ -35,11 +35,12 @@ ALIGNED = [box(150, 90, 157, 103), box(157, 90, 163.5, 104), box(190, 90, 199, 1
 def render(name, bounds, layers, width=480):
     w, s, e, n = bounds
     margin = 0.08 * max(e - w, n - s)
-    height = int(min(360, max(150, width * (n - s + 2 * margin) / (e - w + 2 * margin))))
+    height = int(min(360, max(150, width * (n - s + 3.5 * margin) / (e - w + 2 * margin))))
     for kwargs in layers:
         if kwargs.get("module") == "d.text":
             kwargs["size"] = kwargs["size"] * 300.0 / height
-    gs.run_command("g.region", w=w - margin, e=e + margin, s=s - margin, n=n + margin, res=0.5)
+    gs.run_command("g.region", w=w - margin, e=e + margin, s=s - margin, n=n + 2.5 * margin,
+                   res=0.5)
     env = dict(os.environ, GRASS_RENDER_IMMEDIATE="cairo", GRASS_RENDER_WIDTH=str(width),
                GRASS_RENDER_HEIGHT=str(height), GRASS_RENDER_FILE=os.path.join(HERE, name),
                GRASS_RENDER_TRANSPARENT="FALSE", GRASS_RENDER_FILE_READ="TRUE")
@@ -66,7 +67,7 @@ def main():
                  where="plot = {}".format(case)),
             dict(map="plots", type="area", fill_color="none", color="black", width=3,
                  where="cat = {}".format(case)),
-            dict(module="d.text", text="case {}".format(case), at="2,92", size=6, color="black"),
+            dict(module="d.text", text="case {}".format(case), at="2,93", size=6, color="black"),
         ])
     aligned_plot = affinity.translate(ALIGNED_PLOT, X0, Y0)
     grassio.write_features("row", [aligned_plot], cats=[1])
