@@ -111,6 +111,9 @@ def main():
         with open(out) as f:
             n = len(json.load(f)["CityObjects"])
         ok &= report("synthetic footprints", n, median, times)
+        median, times = median_run(args.runs, input="bench_lod2_syn", output=out,
+                                   height="6.7,17", attic="2.6,6", year=1900, seed=3, nprocs=2)
+        report("synthetic footprints, nprocs=2", n, median, times)
         gs.run_command("g.remove", flags="f", type="vector", name="bench_lod2_syn", quiet=True)
     return 0 if ok else 1
 
