@@ -19,8 +19,11 @@ alignment (Section 3.3.3):
    the band inside the street edges is split by the straight skeleton of the
    plot (for a convex polygon, the face of an edge is the set of points
    nearer to that edge's line than to any other), each face cut perpendicular
-   to its street edge into facade lengths, each building ``depth`` deep, so
-   the inward offset at the maximum depth is the courtyard;
+   to its street edge at facade lengths measured along the inward offset at
+   the minimum depth (the thesis walks the offset at the maximum depth: this
+   line is crossed by every building, and gives corner buildings of a
+   plausible size), each building ``depth`` deep, so the inward offset at the
+   maximum depth is the courtyard;
 5. a concave plot (or a plot with holes) is decomposed into convex parts
    (chords from reflex vertices, as in Bayazit's decomposition: see
    :func:`convex_parts`), each part is handled by cases 1-4 with only the
@@ -301,8 +304,9 @@ def _slab_cells(ring, ox, oy, ex, ey, cuts):
 
 
 def _depth(cell, nx, ny, c0, drawn, depth):
-    """A building's depth: the drawn one, or the whole cell when less than half
-    the minimum depth would be left behind it (no sliver of garden)."""
+    """A building's depth in a row (cases 2, 3): the drawn one, or the whole cell
+    when less than half the minimum depth would be left behind it (no sliver
+    of garden; case 4 keeps its courtyard free instead)."""
     back = max(nx * x + ny * y for x, y in cell) - c0
     return back if back - drawn < depth[0] / 2 else drawn
 
@@ -319,18 +323,20 @@ def _row(face, line, length, depth, rng, inner=False):
     c0 = nx * ox + ny * oy
     span = face
     if inner:
-        # case 4: facade lengths along the courtyard side of the face (the inward
-        # offset at the maximum depth), or halfway to the face's apex when the
-        # courtyard closes before that depth; corner buildings take the rest
+        # case 4: facade lengths along the inner side of the band, where the face
+        # is as deep as the shallowest building (the inward offset at the minimum
+        # depth: every building of the face crosses it), or halfway to the face's
+        # apex when the face closes before that depth; corner buildings take the
+        # corners up to it
         top = max(nx * x + ny * y for x, y in face) - c0
-        span = _clip(face, -nx, -ny, -(c0 + min(depth[1], top / 2))) or face
+        span = _clip(face, -nx, -ny, -(c0 + min(depth[0], top / 2))) or face
     us = [(x - ox) * ex + (y - oy) * ey for x, y in span]
     cuts = _facade_cuts(min(us), max(us), length, rng)
     depths = list(rng.uniform(depth[0], depth[1], size=len(cuts) + 1))
     while True:
         cells = _slab_cells(face, ox, oy, ex, ey, cuts)
-        rings = [_clip(cell, nx, ny, c0 + _depth(cell, nx, ny, c0, d, depth)) if cell else []
-                 for cell, d in zip(cells, depths)]
+        rings = [_clip(cell, nx, ny, c0 + (d if inner else _depth(cell, nx, ny, c0, d, depth)))
+                 if cell else [] for cell, d in zip(cells, depths)]
         bad = [i for i, r in enumerate(rings) if r and _is_sliver(r)]
         bad += [i for i, r in enumerate(rings) if not r]
         if not bad or not cuts:
@@ -907,9 +913,8 @@ def calibrate(aligned, aligned_plots, plots, cats, length, depth, min_samples=5,
     of the exterior) count. The ranges run from the lower quartile to the
     median (``percentiles``): the minimum rotated rectangle overstates a real
     footprint, and corner buildings of cases 4 and 5 come out larger than
-    facade x depth, so this range reproduces the median footprint area
-    (checked on Delft 1961, where the interquartile range gives footprints
-    far too large and too few). Returns ``(length, depth, samples)``; the
+    facade x depth; on Delft 1961 the interquartile range gives footprints
+    far too large and too few. Returns ``(length, depth, samples)``; the
     given ranges when fewer than ``min_samples`` footprints qualify.
     """
     by_cat = {c: g for c, g in zip(cats, plots)}
