@@ -491,24 +491,24 @@ def thin_parts(classes, width, nodata=0):
     return thin
 
 
-def _facing(regions, ids, hole, distance):
-    """Do regions ``ids`` face each other within ``distance`` away from ``hole``?
+def _facing(regions, ids, hole, distance, share=0.25):
+    """Do regions ``ids`` face each other across a gap beside ``hole``?
 
-    True when some cell outside all of them and farther than half
-    ``distance`` from the hole lies within ``distance`` of two of the
-    regions: they are
-    two objects along a narrow gap (two plots across a street), not one
-    object cut by the hole.
+    The front is the cells outside the regions within ``distance`` of two of
+    them. Two plots on either side of a street face each other along the
+    street beyond the street name printed in it: a good part of the front
+    (at least ``share`` of the part inside the hole) lies outside the hole.
+    The two pieces of one plot cut by a label meet only through the label:
+    their front lies in the hole.
     """
-    near = []
-    for i in ids:
-        near.append(ndimage.distance_transform_edt(regions != i) <= distance)
-    far_from_hole = ndimage.distance_transform_edt(~hole) > distance / 2.0
-    free = far_from_hole & ~np.isin(regions, ids)
     count = np.zeros(hole.shape, dtype=np.int32)
-    for mask in near:
-        count += mask & free
-    return bool((count >= 2).any())
+    free = ~np.isin(regions, ids)
+    for i in ids:
+        count += (ndimage.distance_transform_edt(regions != i) <= distance) & free
+    front = count >= 2
+    inside = int((front & hole).sum())
+    outside = int((front & ~hole).sum())
+    return outside > 0 and outside >= share * inside
 
 
 def bridges(before, after, holes, min_cells=1, distance=3, nodata=0, labels=None):
@@ -519,11 +519,11 @@ def bridges(before, after, holes, min_cells=1, distance=3, nodata=0, labels=None
     components (8-connected) whose filled cells of that class join two or
     more regions of at least ``min_cells`` cells (4-connected) that were
     apart are checked: when those regions also face each other within
-    ``distance`` cells away from the hole, they are separate objects (two
-    plots across a narrow street, the hole a street name printed between
-    them) and the hole's cells of that class are returned; when they only
-    meet through the hole, the hole had cut one object in two and the fill
-    restores it.
+    ``distance`` cells along a front that goes on beside the hole
+    (:func:`_facing`), they are separate objects (two plots across a narrow
+    street, the hole a street name printed between them) and the hole's
+    cells of that class are returned; when they meet only through the hole,
+    the hole had cut one object in two and the fill restores it.
     """
     before = np.asarray(before)
     after = np.asarray(after)
