@@ -110,6 +110,98 @@ def citymodel(ss, semantics, ids, attributes=None, reference_system=None, title=
     }
 
 
+def _split_by_solid(values, starts, S, face_level):
+    """JSON text of ``values`` (one int per entry) cut into one piece per solid.
+
+    ``starts``: offset of each solid's first entry (and, with
+    ``face_level``, of every face: (face_start, solid_start) pair). Sentinels
+    -1 (new face) and -2 (new solid) ride in the list through the C JSON
+    encoder, then become brackets and cut points.
+    """
+    if face_level:
+        face_start, solid_first_face = starts
+        F = len(face_start) - 1
+        marks = np.full(F, -1, dtype=np.int64)
+        marks[solid_first_face] = -2
+        pos = face_start[1:-1]
+        arr = np.insert(values, pos, marks[1:])
+    else:
+        arr = np.insert(values, starts[1:-1], -2)
+    text = json.dumps(arr.tolist(), separators=(",", ":"))[1:-1]
+    if face_level:
+        text = text.replace(",-1,", "]],[[")
+    pieces = text.split(",-2,")
+    if len(pieces) != S:
+        raise ValueError("cannot split the boundaries by solid")
+    return pieces
+
+
+def citymodel_text(ss, semantics, ids, attributes=None, reference_system=None, title=None):
+    """The CityJSON document of a set of solids as compact JSON text.
+
+    Same document as ``json.dumps(citymodel(...))`` (see :func:`citymodel`),
+    written in bulk: the rings of all buildings go through the C JSON
+    encoder in one list.
+    """
+    attributes = attributes or {}
+    S = len(ss)
+    nf = np.diff(ss.solid_start)
+    if S == 0 or np.any(nf == 0):
+        return json.dumps(citymodel(ss, semantics, ids, attributes, reference_system, title),
+                          separators=(",", ":"))
+    uniq, inv = unique_rows(ss.vertices)
+    lo = uniq.min(axis=0)
+    hi = uniq.max(axis=0)
+    rings = inv[ss.rings]
+    shells = _split_by_solid(rings, (ss.face_start, ss.solid_start[:-1]), S, True)
+    sem = np.asarray(semantics, dtype=np.int64)
+    face_solid = np.repeat(np.arange(S), nf)
+    counts = np.bincount(face_solid * 3 + sem, minlength=3 * S).reshape(S, 3)
+    all_used = np.all(counts > 0, axis=1)
+    values = _split_by_solid(sem, ss.solid_start, S, False)
+    sem_list = None
+    surfaces_all = [{"type": name} for name in SEMANTIC_NAMES]
+    surf_all_text = json.dumps(surfaces_all, separators=(",", ":"))
+    attr_lists = {k: _attr_list(vals) for k, vals in attributes.items()}
+    names = list(attr_lists)
+    columns = [attr_lists[k] for k in names]
+    dumps = json.JSONEncoder(separators=(",", ":")).encode
+    pieces = []
+    for s in range(S):
+        if all_used[s]:
+            surf, vals = surf_all_text, "[[" + values[s] + "]]"
+        else:
+            if sem_list is None:
+                sem_list = sem.tolist()
+            v = sem_list[ss.solid_start[s]:ss.solid_start[s + 1]]
+            used = sorted(set(v))
+            remap = {u: k for k, u in enumerate(used)}
+            surf = dumps([surfaces_all[u] for u in used])
+            vals = dumps([[remap[x] for x in v]])
+        attrs = {k: c[s] for k, c in zip(names, columns) if c[s] is not None}
+        pieces.append('{}:{{"type":"Building",{}"geometry":[{{"type":"Solid","lod":"{}",'
+                      '"boundaries":[[[[{}]]]],"semantics":{{"surfaces":{},"values":{}}}}}]}}'.format(
+                          dumps(str(ids[s])), '"attributes":' + dumps(attrs) + "," if attrs else "",
+                          LOD, shells[s], surf, vals))
+    metadata = {"geographicalExtent": (np.concatenate([lo, hi]) / 1000.0).tolist()}
+    if reference_system is not None:
+        metadata["referenceSystem"] = crs_url(reference_system)
+    if title:
+        metadata["title"] = str(title)
+    head = dumps({"type": "CityJSON", "version": CITYJSON_VERSION,
+                  "transform": {"scale": [0.001, 0.001, 0.001],
+                                "translate": (lo / 1000.0).tolist()},
+                  "metadata": metadata})
+    return "".join([head[:-1], ',"CityObjects":{', ",".join(pieces), '},"vertices":',
+                    dumps((uniq - lo).tolist()), "}"])
+
+
+def write_text(path, text):
+    """Write a CityJSON document given as text."""
+    with open(path, "w") as f:
+        f.write(text)
+
+
 def write(path, model):
     """Write a CityJSON document compactly."""
     text = json.dumps(model, separators=(",", ":"))

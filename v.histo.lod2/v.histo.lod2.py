@@ -433,11 +433,11 @@ def main():
         "footprint": [cats[i] for i in fsrc],
     }
     semantic = solids.semantics(ss)
-    model = cityjson.citymodel(ss, semantic, ids, attributes, crs,
-                               title="LoD2 model from <{}>".format(options["input"]))
+    text = cityjson.citymodel_text(ss, semantic, ids, attributes, crs,
+                                   title="LoD2 model from <{}>".format(options["input"]))
     tmp = output + ".part"
     try:
-        cityjson.write(tmp, model)
+        cityjson.write_text(tmp, text)
         os.replace(tmp, output)
     except OSError as error:
         if os.path.exists(tmp):

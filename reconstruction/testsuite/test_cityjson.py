@@ -42,6 +42,26 @@ def test_schema_valid_and_consistent(schema_dir, tmp_path):
     assert len(back["CityObjects"]) == 10
 
 
+def test_text_writer_gives_the_same_document():
+    ss, model = model_of(list(roofs.ROOF_TYPES) * 3)
+    attrs = {"roof_type": [model["CityObjects"][k]["attributes"]["roof_type"]
+                           for k in model["CityObjects"]],
+             "eaves_height": np.full(15, 9.0), "roof_height": np.full(15, 3.0),
+             "ground_height": np.full(15, 1.5), "map_year": [1924] * 15, "plot": [7] * 15,
+             "source": ["2pm"] * 15, "nothing": [np.nan] * 15}
+    sem = solids.semantics(ss)
+    ids = ["b{}".format(i) for i in range(15)]
+    text = cityjson.citymodel_text(ss, sem, ids, attrs, 28992)
+    assert json.loads(text) == json.loads(json.dumps(cityjson.citymodel(ss, sem, ids, attrs, 28992)))
+    # a solid without a roof surface keeps its semantics consistent
+    sem2 = sem.copy()
+    sem2[sem2 == solids.ROOF] = solids.WALL
+    text = cityjson.citymodel_text(ss, sem2, ids, attrs, 28992, title="t")
+    back = json.loads(text)
+    assert back == json.loads(json.dumps(cityjson.citymodel(ss, sem2, ids, attrs, 28992, "t")))
+    assert cityjson.consistency_errors(back) == []
+
+
 def test_whole_file_against_the_schema(schema_dir):
     _, model = model_of(["hip", "stepped"])
     validator = cityjson.schema_validator(schema_dir)
