@@ -548,8 +548,17 @@ def bridges(before, after, holes, min_cells=1, distance=3, nodata=0, labels=None
         touch = (pre > 0) & (grown > 0)
         pairs = np.unique(np.stack([grown[touch], pre[touch]], axis=1), axis=0)
         per_component = np.bincount(pairs[:, 0], minlength=components.max() + 1)
+        # where each region ends up after the fill
+        post, _ = ndimage.label(after == label, _FOUR)
+        index = np.zeros(n_pre + 1, dtype=np.int64)
+        index[pre.ravel()] = post.ravel()
         for component in np.flatnonzero(per_component >= 2):
             ids = pairs[pairs[:, 0] == component, 1]
+            ends = index[ids]
+            shared = np.unique(ends)[np.bincount(np.unique(ends, return_inverse=True)[1]) >= 2]
+            ids = ids[np.isin(ends, shared)]
+            if len(ids) < 2:
+                continue  # the fill joined nothing that was apart
             rows, cols = np.nonzero(components == component)
             r0, r1 = max(rows.min() - margin, 0), rows.max() + margin + 1
             c0, c1 = max(cols.min() - margin, 0), cols.max() + margin + 1

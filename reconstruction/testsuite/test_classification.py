@@ -296,3 +296,18 @@ def test_class_raster_maps_segment_labels_back():
     index, _ = cl.relabel(np.array([[3, 3, 0], [7, 3, 7]]))
     out = cl.class_raster(index, np.array([1, 4]))
     assert out.tolist() == [[1, 1, 0], [4, 1, 4]]
+
+
+def test_label_across_a_courtyard_plot_is_filled_when_nothing_gets_joined():
+    from scipy import ndimage
+
+    classes = np.full((60, 60), 4)
+    classes[10:50, 25:55] = 1               # courtyard plot ...
+    classes[18:42, 33:47] = 4               # ... around its yard
+    classes[10:50, 5:16] = 1                # a second plot across a 9-cell street
+    classes[28:33, 13:37] = 2               # a label across the street and the west wing
+    out, _ = cl.remove_classes(classes, [2], window=5, separate=[1])
+    assert ndimage.label(out == 1)[1] == 2  # the two plots stay apart ...
+    assert (out[28:33, 25:33] == 1).all()   # ... the wing is whole again ...
+    assert (out[28:33, 14:16] == 1).all()   # ... and so is the other plot's edge
+    assert (out[28:33, 17:24] == 4).all()
