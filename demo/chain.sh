@@ -25,6 +25,7 @@ REMOVE=2,6              # classes printed over the map (text, symbols): filled f
 MIN_AREA=100            # building plots below this (m²) are specks, not plots
 HEIGHT=6.7,17           # eaves height range (m above ground), the thesis's values
 ATTIC=2.6,6             # roof height range above the eaves (m)
+YEAR=1900               # the map's year: roof types are drawn by the thesis's odds for it
 
 HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 mkdir -p "$OUT"
@@ -62,7 +63,8 @@ g.region raster=$MAP.red
 # ---------------------------------------------------------------------------
 if implemented r.histo.classify; then
     r.histo.classify input=$MAP.red,$MAP.green,$MAP.blue training=${MAP}_training \
-        output=${MAP}_classes remove=$REMOVE seed=$SEED
+        output=${MAP}_classes remove=$REMOVE min_area=50 min_width=3 separate=$BUILDING \
+        nprocs=2 seed=$SEED
 fi
 
 # ---------------------------------------------------------------------------
@@ -86,8 +88,8 @@ fi
 # 5. LoD2 buildings with roofs, written as CityJSON
 # ---------------------------------------------------------------------------
 if have vector footprints && implemented v.histo.lod2; then
-    v.histo.lod2 input=footprints output="$OUT/model.city.json" height=$HEIGHT \
-        attic=$ATTIC seed=$SEED
+    v.histo.lod2 -v input=footprints output="$OUT/model.city.json" height=$HEIGHT \
+        attic=$ATTIC year=$YEAR seed=$SEED
 fi
 
 # ---------------------------------------------------------------------------

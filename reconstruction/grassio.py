@@ -170,7 +170,7 @@ def _read_geojson(name, layer, feature_type, where=None):
         overwrite=True, quiet=True,
         stderr=gs.PIPE, **kwargs,
     )
-    _, err = proc.communicate()
+    err = proc.communicate()[1]
     if proc.returncode != 0 or not os.path.exists(path):
         gs.fatal(_("Cannot read {} features of vector map <{}>: {}").format(
             feature_type, name, gs.decode(err).strip()))
