@@ -12,6 +12,7 @@ import shapely
 from shapely.geometry import box
 
 from reconstruction import assessment, generalization, shape_metrics
+from histo_testing import key_values, run_module
 
 pytestmark = pytest.mark.grass
 
@@ -19,15 +20,10 @@ MODULE = "v.histo.generalize"
 
 
 def run(flags="", **kwargs):
-    import grass.script as gs
-
-    proc = gs.start_command(MODULE, flags=flags, stdout=gs.PIPE, stderr=gs.PIPE, **kwargs)
-    out, err = proc.communicate()
-    return proc.returncode, gs.decode(out), gs.decode(err)
+    return run_module(MODULE, flags, **kwargs)
 
 
-def parse(stdout):
-    return dict(line.split("=", 1) for line in stdout.splitlines() if "=" in line)
+parse = key_values
 
 
 def read_plots(name):

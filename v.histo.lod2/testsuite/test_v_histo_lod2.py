@@ -8,6 +8,7 @@ import subprocess
 import numpy as np
 import pytest
 
+from histo_testing import key_values, run_module
 from reconstruction import cityjson, roofs
 
 pytestmark = pytest.mark.grass
@@ -60,18 +61,12 @@ def import_features(feats, name, tmp_path):
     return name
 
 
-def run(**kwargs):
+def run(flags="", **kwargs):
     """Run the module; returns (returncode, stdout, stderr)."""
-    import grass.script as gs
-
-    flags = kwargs.pop("flags", "")
-    proc = gs.start_command(MODULE, flags=flags, stdout=gs.PIPE, stderr=gs.PIPE, **kwargs)
-    out, err = proc.communicate()
-    return proc.returncode, gs.decode(out), gs.decode(err)
+    return run_module(MODULE, flags, **kwargs)
 
 
-def report(stdout):
-    return dict(line.split("=", 1) for line in stdout.splitlines() if "=" in line)
+report = key_values
 
 
 def load(path):
