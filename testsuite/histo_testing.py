@@ -13,3 +13,24 @@ def run_module(module, flags="", **kwargs):
 def key_values(stdout):
     """The key=value lines a module prints (flag -g, -v, ...) as a dict of strings."""
     return dict(line.split("=", 1) for line in stdout.splitlines() if "=" in line)
+
+
+def run_in_latlong(dbase, name, *command):
+    """Run a command in a lat/long (EPSG:4326) location ``name`` under ``dbase``.
+
+    The location is made on first use; the command runs in its own GRASS
+    session (not the test session). Returns the location path and the
+    finished process (text output).
+    """
+    import os
+    import subprocess
+
+    location = os.path.join(dbase, name)
+    if not os.path.isdir(location):
+        subprocess.run(["grass", "-c", "EPSG:4326", location, "-e"], check=True,
+                       capture_output=True)
+    env = dict(os.environ)
+    env.pop("GISRC", None)
+    proc = subprocess.run(["grass", os.path.join(location, "PERMANENT"), "--exec"] + list(command),
+                          capture_output=True, text=True, env=env)
+    return location, proc

@@ -5,6 +5,7 @@ import subprocess
 
 import numpy as np
 import pytest
+from histo_testing import run_in_latlong
 
 pytestmark = pytest.mark.grass
 
@@ -212,14 +213,8 @@ def test_inputs_of_different_regions_are_refused(syn):
 
 
 def test_unprojected_location_is_refused(grass_session, tmp_path):
-    loc = os.path.join(grass_session["dbase"], "latlong_classify")
-    if not os.path.isdir(loc):
-        subprocess.run(["grass", "-c", "EPSG:4326", loc, "-e"], check=True, capture_output=True)
-    env = dict(os.environ)
-    env.pop("GISRC", None)
-    proc = subprocess.run(["grass", os.path.join(loc, "PERMANENT"), "--exec", MODULE,
-                           "input=r,g,b", "training=t", "output=cls"],
-                          capture_output=True, text=True, env=env)
+    loc, proc = run_in_latlong(grass_session["dbase"], "latlong_classify", MODULE,
+                               "input=r,g,b", "training=t", "output=cls")
     assert proc.returncode != 0
     assert "not projected" in proc.stderr
     assert not os.path.exists(os.path.join(loc, "PERMANENT", "cell", "cls"))

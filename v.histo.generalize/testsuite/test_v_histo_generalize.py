@@ -4,7 +4,6 @@ methods, bad inputs, and acceptance on the thesis's Delft 1961 plots."""
 import csv
 import json
 import os
-import subprocess
 
 import numpy as np
 import pytest
@@ -12,7 +11,7 @@ import shapely
 from shapely.geometry import box
 
 from reconstruction import assessment, generalization, shape_metrics
-from histo_testing import key_values, run_module
+from histo_testing import key_values, run_in_latlong, run_module
 
 pytestmark = pytest.mark.grass
 
@@ -255,15 +254,9 @@ def test_bad_inputs_fail_cleanly(synthetic, mapset, tmp_path, case):
 
 
 def test_unprojected_location_is_refused(grass_session, tmp_path):
-    loc = os.path.join(grass_session["dbase"], "latlong_generalize")
-    if not os.path.isdir(loc):
-        subprocess.run(["grass", "-c", "EPSG:4326", loc, "-e"], check=True, capture_output=True)
-    env = dict(os.environ)
-    env.pop("GISRC", None)
     script = ("echo '1|1' | v.in.ascii input=- output=pts --q && "
               "{} input=pts output=plots metrics={}".format(MODULE, tmp_path / "ll.csv"))
-    proc = subprocess.run(["grass", os.path.join(loc, "PERMANENT"), "--exec", "bash", "-c", script],
-                          capture_output=True, text=True, env=env)
+    loc, proc = run_in_latlong(grass_session["dbase"], "latlong_generalize", "bash", "-c", script)
     assert proc.returncode != 0
     assert "not projected" in proc.stderr
     assert not os.path.exists(tmp_path / "ll.csv")

@@ -3,12 +3,11 @@
 import json
 import math
 import os
-import subprocess
 
 import numpy as np
 import pytest
 
-from histo_testing import key_values, run_module
+from histo_testing import key_values, run_in_latlong, run_module
 from reconstruction import cityjson, roofs
 
 pytestmark = pytest.mark.grass
@@ -230,15 +229,9 @@ def test_null_and_negative_heights_warn_with_counts(mapset, tmp_path):
 
 
 def test_unprojected_location_is_refused(grass_session, tmp_path):
-    loc = os.path.join(grass_session["dbase"], "latlong_lod2")
-    if not os.path.isdir(loc):
-        subprocess.run(["grass", "-c", "EPSG:4326", loc, "-e"], check=True, capture_output=True)
     out = str(tmp_path / "ll.json")
-    env = dict(os.environ)
-    env.pop("GISRC", None)
-    proc = subprocess.run(["grass", os.path.join(loc, "PERMANENT"), "--exec", MODULE,
-                           "input=anything", "output=" + out], capture_output=True, text=True,
-                          env=env)
+    _, proc = run_in_latlong(grass_session["dbase"], "latlong_lod2", MODULE,
+                             "input=anything", "output=" + out)
     assert proc.returncode != 0
     assert "not projected" in proc.stderr
     assert not os.path.exists(out)
