@@ -20,10 +20,14 @@ alignment (Section 3.3.3):
    plot (for a convex polygon, the face of an edge is the set of points
    nearer to that edge's line than to any other), each face cut perpendicular
    to its street edge at facade lengths measured along the inward offset at
-   the minimum depth (the thesis walks the offset at the maximum depth: this
-   line is crossed by every building, and gives corner buildings of a
-   plausible size), each building ``depth`` deep, so the inward offset at the
-   maximum depth is the courtyard;
+   half the minimum depth (the thesis walks the offset at the maximum depth;
+   this line is crossed by every building and keeps corner buildings from
+   swallowing a street's worth of facades), each building ``depth`` deep, so
+   the inward offset at the maximum depth is the courtyard; a building
+   reaches the face's ridge when less than the minimum depth would be left
+   behind it, so no courtyard strip is narrower than a building (measured
+   on the Delft 1961 plots against the real footprints: median count ratio 0.92 and area ratio 0.88, where measuring at the maximum
+   depth and always leaving the courtyard gave 0.79 and 0.74);
 5. a concave plot (or a plot with holes) is decomposed into convex parts
    (chords from reflex vertices, as in Bayazit's decomposition: see
    :func:`convex_parts`), each part is handled by cases 1-4 with only the
@@ -303,12 +307,28 @@ def _slab_cells(ring, ox, oy, ex, ey, cuts):
     return cells
 
 
-def _depth(cell, nx, ny, c0, drawn, depth):
-    """A building's depth in a row (cases 2, 3): the drawn one, or the whole cell
-    when less than half the minimum depth would be left behind it (no sliver
-    of garden; case 4 keeps its courtyard free instead)."""
+def _merge_close(ring):
+    """The ring without vertices closer than SNAP to the previous one (a cut
+    through a vertex can add a copy of it a rounding error away, which GEOS
+    takes for a self-intersection); [] when fewer than three are left."""
+    out = []
+    for p in ring:
+        if not out or abs(p[0] - out[-1][0]) > SNAP or abs(p[1] - out[-1][1]) > SNAP:
+            out.append(p)
+    while len(out) > 1 and abs(out[0][0] - out[-1][0]) <= SNAP \
+            and abs(out[0][1] - out[-1][1]) <= SNAP:
+        out.pop()
+    return out if len(out) >= 3 else []
+
+
+def _depth(cell, nx, ny, c0, drawn, free):
+    """A building's depth: the drawn one, or the whole cell (to the back of the
+    plot, or to the straight skeleton's ridge in case 4) when less than
+    ``free`` would be left behind it: half the minimum depth for a garden in
+    a row, the minimum depth for a courtyard (so corner buildings take the
+    corners of the courtyard, and small blocks are built through)."""
     back = max(nx * x + ny * y for x, y in cell) - c0
-    return back if back - drawn < depth[0] / 2 else drawn
+    return math.inf if back - drawn < free else drawn
 
 
 def _row(face, line, length, depth, rng, inner=False):
@@ -322,20 +342,21 @@ def _row(face, line, length, depth, rng, inner=False):
     nx, ny = -ey, ex
     c0 = nx * ox + ny * oy
     span = face
+    free = depth[0] / 2
     if inner:
-        # case 4: facade lengths along the inner side of the band, where the face
-        # is as deep as the shallowest building (the inward offset at the minimum
-        # depth: every building of the face crosses it), or halfway to the face's
-        # apex when the face closes before that depth; corner buildings take the
-        # corners up to it
+        # case 4: facade lengths along the inward offset at half the minimum depth
+        # (the middle of the shallowest building: every building of the face
+        # crosses it), or halfway to the face's apex when the face closes before
+        # that; corner buildings take the corners up to it
         top = max(nx * x + ny * y for x, y in face) - c0
-        span = _clip(face, -nx, -ny, -(c0 + min(depth[0], top / 2))) or face
+        span = _clip(face, -nx, -ny, -(c0 + min(depth[0] / 2, top / 2))) or face
+        free = depth[0]
     us = [(x - ox) * ex + (y - oy) * ey for x, y in span]
     cuts = _facade_cuts(min(us), max(us), length, rng)
     depths = list(rng.uniform(depth[0], depth[1], size=len(cuts) + 1))
     while True:
         cells = _slab_cells(face, ox, oy, ex, ey, cuts)
-        rings = [_clip(cell, nx, ny, c0 + (d if inner else _depth(cell, nx, ny, c0, d, depth)))
+        rings = [_merge_close(_clip(cell, nx, ny, c0 + _depth(cell, nx, ny, c0, d, free)))
                  if cell else [] for cell, d in zip(cells, depths)]
         bad = [i for i, r in enumerate(rings) if r and _is_sliver(r)]
         bad += [i for i, r in enumerate(rings) if not r]
@@ -734,7 +755,10 @@ def prepare_plots(plots, cats):
             losers.setdefault(loser, []).append(winner)
         for loser in sorted(losers, key=lambda i: order[i]):
             winners = shapely.union_all([geoms[w] for w in losers[loser]])
-            geom = _overlay(shapely.difference, geoms[loser], winners)
+            # snap-rounded: a winner's vertex a rounding error from the loser's
+            # boundary would leave a notch whose tip nearly touches the boundary,
+            # which no chord can decompose
+            geom = shapely.difference(geoms[loser], winners, grid_size=SNAP)
             parts = [p for p in _polygons(geom) if p.area > OVERLAP_TOLERANCE]
             if len(parts) > 1:
                 parts = [p for p in parts if not is_sliver(p)] or parts[:1]
@@ -842,8 +866,10 @@ def subdivide_plot(plot, length, depth, area_threshold, rng, decompose=True):
         pieces = []
         for c in _to_polygons(cells):
             for p in _polygons(_overlay(shapely.intersection, c, part)):
-                if not is_sliver(p):
-                    pieces.append(p)
+                # a building around one of the plot's holes is cut through it
+                for q in _cut_holes(p) if p.interiors else [p]:
+                    if not is_sliver(q):
+                        pieces.append(q)
         access = _street_length([_ring(p.exterior.coords) for p in pieces], exterior)
         out.extend((p, case) for p, a in zip(pieces, access) if a >= MIN_STREET)
     return out

@@ -247,8 +247,8 @@ def test_acceptance_delft_1961(tools, shared_data):
     print("\nDelft 1961: {} footprints; {} plots >= half covered; median count ratio {:.2f}, "
           "median area ratio {:.2f}".format(len(geoms), used, count_ratio, area_ratio))
     assert used >= 10
-    assert 0.7 <= count_ratio <= 1.25  # aim 0.8-1.25; the thesis's code: 1.00
-    assert 0.65 <= area_ratio <= 1.25  # aim 0.8-1.25; the thesis's code: 0.62
+    assert 0.8 <= count_ratio <= 1.25  # the thesis's code: 1.00
+    assert 0.8 <= area_ratio <= 1.25  # the thesis's code: 0.62
 
     # with the real footprints as aligned ones, calibrated ranges
     err = gs.read_command("v.histo.subdivide", input="delft", output="fpa", aligned="real",
