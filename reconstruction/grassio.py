@@ -255,9 +255,79 @@ def write_features(name, geometries, columns=None, snap=-1, feature_type=None,
         "v.in.ogr", input=path, output=name, flags="ot", quiet=True,
         overwrite=gs.overwrite(), **kwargs,
     )
+    _finish_vector(name, cats, columns, title)
+    return name
+
+
+def _finish_vector(name, cats, columns, title):
     _write_table(name, cats, columns)
     if title:
         gs.run_command("v.support", map=name, comment=title, quiet=True)
+
+
+def area_boundaries(polygons):
+    """Boundaries and inside points of polygons that share exact vertices where
+    they touch, as GRASS builds areas from them.
+
+    Returns ``(lines, points, owner)``: the boundary lines (every ring edge
+    once, merged between nodes), one point inside every polygon part, and
+    the index of the polygon each point belongs to; or None when the edges
+    are not noded (two edges cross or overlap), which only a snapping import
+    can mend.
+    """
+    import shapely
+
+    parts, owner = shapely.get_parts(np.asarray(polygons, dtype=object), return_index=True)
+    keep = ~shapely.is_empty(parts)
+    parts, owner = parts[keep], owner[keep]
+    rings = shapely.get_rings(parts)
+    coords, ring = shapely.get_coordinates(rings, return_index=True)
+    same = ring[1:] == ring[:-1]
+    edges = np.hstack([coords[:-1][same], coords[1:][same]])
+    flip = (edges[:, 0] > edges[:, 2]) | ((edges[:, 0] == edges[:, 2]) & (edges[:, 1] > edges[:, 3]))
+    edges[flip] = edges[flip][:, [2, 3, 0, 1]]
+    edges = np.unique(edges, axis=0)
+    segments = shapely.multilinestrings(shapely.linestrings(edges.reshape(-1, 2, 2)))
+    noded = shapely.node(segments)
+    # crossings and T-junctions add pieces; overlaps take length away
+    if shapely.get_num_geometries(noded) != len(edges) or \
+            not math.isclose(shapely.length(noded), shapely.length(segments), rel_tol=1e-12):
+        return None
+    lines = shapely.get_parts(shapely.line_merge(segments))
+    return lines, shapely.point_on_surface(parts), owner
+
+
+def write_areas(name, polygons, columns=None, cats=None, title=None):
+    """Write polygons as areas, like :func:`write_features`, but fast when they
+    are noded (neighbours share their vertices exactly, no overlaps, as
+    v.histo.subdivide's footprints): the boundaries go in as GRASS ASCII
+    (v.in.ascii), which needs no snapping or cleaning. Polygons that are not
+    noded go through :func:`write_features`.
+    """
+    columns = dict(columns or {})
+    cats = list(cats) if cats is not None else list(range(1, len(polygons) + 1))
+    found = area_boundaries(polygons) if len(polygons) else None
+    if found is None:
+        return write_features(name, polygons, columns, title=title, cats=cats)
+    lines, points, owner = found
+    import shapely
+
+    text = []
+    coords, line = shapely.get_coordinates(lines, return_index=True)
+    starts = np.flatnonzero(np.r_[True, line[1:] != line[:-1]])
+    ends = np.r_[starts[1:], len(line)]
+    coords = coords.tolist()
+    for a, b in zip(starts.tolist(), ends.tolist()):
+        text.append("B {} 0\n".format(b - a))
+        text.extend(" {!r} {!r}\n".format(x, y) for x, y in coords[a:b])
+    for (x, y), i in zip(shapely.get_coordinates(points).tolist(), owner.tolist()):
+        text.append("C 1 1\n {!r} {!r}\n 1 {}\n".format(x, y, int(cats[i])))
+    path = temp_file(".txt")
+    with open(path, "w") as f:
+        f.write("".join(text))
+    gs.run_command("v.in.ascii", input=path, output=name, format="standard", flags="nt",
+                   quiet=True, overwrite=gs.overwrite())
+    _finish_vector(name, cats, columns, title)
     return name
 
 
@@ -281,36 +351,78 @@ def _sql_type(values):
     return "TEXT"
 
 
-def _sql_literal(value, sql_type):
+def _sql_value(value, sql_type):
     value = _json_value(value)
     if value is None:
-        return "NULL"
+        return None
     if sql_type == "INTEGER":
-        return str(int(value))
+        return int(value)
     if sql_type == "DOUBLE PRECISION":
-        return repr(float(value))
-    return "'{}'".format(str(value).replace("'", "''"))
+        return float(value)
+    return str(value)
+
+
+def _sql_literal(value, sql_type):
+    value = _sql_value(value, sql_type)
+    if value is None:
+        return "NULL"
+    if sql_type == "TEXT":
+        return "'{}'".format(value.replace("'", "''"))
+    return repr(value)
+
+
+def _sqlite_path(database):
+    env = gs.gisenv()
+    for key in ("GISDBASE", "LOCATION_NAME", "MAPSET"):
+        database = database.replace("$" + key, env[key])
+    return database
 
 
 def _write_table(name, cats, columns):
-    """Create the attribute table of a new map in one transaction and link it."""
+    """Create the attribute table of a new map in one transaction and link it.
+
+    Column names are quoted (domain names such as "case" are SQL keywords).
+    With GRASS's default SQLite driver the rows go in through Python's
+    sqlite3 (a tenth of the time of db.execute on 17,000 rows); other
+    drivers get the same statements through db.execute.
+    """
     table = name.split("@")[0]
     types = {key: _sql_type(values) for key, values in columns.items()}
     definition = ", ".join(['"cat" INTEGER PRIMARY KEY'] + [
         '"{}" {}'.format(key, sql_type) for key, sql_type in types.items()])
-    lines = ['DROP TABLE IF EXISTS "{}";'.format(table),
-             'CREATE TABLE "{}" ({});'.format(table, definition), "BEGIN TRANSACTION;"]
+    head = ['DROP TABLE IF EXISTS "{}"'.format(table),
+            'CREATE TABLE "{}" ({})'.format(table, definition)]
     names = ", ".join(['"cat"'] + ['"{}"'.format(k) for k in columns])
-    for i, cat in enumerate(cats):
-        values = [str(int(cat))] + [_sql_literal(columns[k][i], t) for k, t in types.items()]
-        lines.append('INSERT INTO "{}" ({}) VALUES ({});'.format(table, names, ", ".join(values)))
-    lines.append("COMMIT;")
-    sql = temp_file(".sql")
-    with open(sql, "w") as f:
-        f.write("\n".join(lines) + "\n")
     connection = gs.db_connection(force=True)
-    gs.run_command("db.execute", input=sql, driver=connection["driver"],
-                   database=connection["database"], quiet=True)
+    if connection["driver"] == "sqlite":
+        import sqlite3
+
+        path = _sqlite_path(connection["database"])
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        rows = zip([int(c) for c in cats], *[
+            [_sql_value(v, t) for v in columns[k]] for k, t in types.items()])
+        insert = 'INSERT INTO "{}" ({}) VALUES ({})'.format(
+            table, names, ", ".join("?" * (len(types) + 1)))
+        db = sqlite3.connect(path)
+        try:
+            with db:
+                for statement in head:
+                    db.execute(statement)
+                db.executemany(insert, rows)
+        finally:
+            db.close()
+    else:
+        lines = [h + ";" for h in head] + ["BEGIN TRANSACTION;"]
+        for i, cat in enumerate(cats):
+            values = [str(int(cat))] + [_sql_literal(columns[k][i], t) for k, t in types.items()]
+            lines.append('INSERT INTO "{}" ({}) VALUES ({});'.format(
+                table, names, ", ".join(values)))
+        lines.append("COMMIT;")
+        sql = temp_file(".sql")
+        with open(sql, "w") as f:
+            f.write("\n".join(lines) + "\n")
+        gs.run_command("db.execute", input=sql, driver=connection["driver"],
+                       database=connection["database"], quiet=True)
     gs.run_command("v.db.connect", map=name, table=table, key="cat", layer=1, flags="o",
                    driver=connection["driver"], database=connection["database"], quiet=True)
 

@@ -209,8 +209,8 @@ def main():
     }
     if aligned_name:
         columns.update(_aligned_columns(aligned_columns, result.aligned))
-    grassio.write_features(output, result.geometries, columns,
-                           title="Footprints of <{}> (v.histo.subdivide)".format(plots_name))
+    grassio.write_areas(output, result.geometries, columns,
+                        title="Footprints of <{}> (v.histo.subdivide)".format(plots_name))
     gs.vector_history(output)
     gs.verbose(_("Timing (s): read {:.2f}, subdivide {:.2f}, write {:.2f}").format(
         read - start, core - read, time.perf_counter() - core))

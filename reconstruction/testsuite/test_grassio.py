@@ -40,6 +40,55 @@ def test_areas_round_trip_keeps_cats_holes_shared_edges_and_keyword_columns(io):
     assert read[order[0]].touches(read[order[1]])
 
 
+def test_noded_areas_written_fast_are_the_same_map_as_through_ogr(io):
+    import grass.script as gs
+    from shapely.geometry import MultiPolygon
+
+    courtyard = Polygon([(84050, 446050), (84090, 446050), (84090, 446090), (84050, 446090)],
+                        [[(84060, 446060), (84070, 446060), (84080, 446060), (84080, 446080),
+                          (84060, 446080), (84060, 446070)]])
+    # three footprints in a row sharing vertices (the middle one with a T-junction
+    # vertex), one footprint inside the courtyard, one of two parts
+    row = [box(84000, 446000, 84010, 446010),
+           Polygon([(84010, 446000), (84020, 446000), (84020, 446010), (84010, 446010),
+                    (84010, 446005)]),
+           box(84020, 446000, 84030, 446010)]
+    row[0] = Polygon([(84000, 446000), (84010, 446000), (84010, 446005), (84010, 446010),
+                      (84000, 446010)])
+    inner = box(84060, 446060, 84070, 446070)
+    two = MultiPolygon([box(84000, 446030, 84005, 446035), box(84010, 446030, 84015, 446035)])
+    geoms = row + [courtyard, inner, two]
+    assert io.area_boundaries(geoms) is not None
+    columns = {"case": [2, 2, 2, 4, 0, 1], "source": ["2pm"] * 4 + ["aligned", "2pm"]}
+    io.write_areas("fast", geoms, columns, cats=[1, 2, 3, 4, 5, 6])
+    io.write_features("slow", geoms, columns, cats=[1, 2, 3, 4, 5, 6])
+    assert gs.vector_info_topo("fast") == gs.vector_info_topo("slow")
+    fast, fcols = io.read_features("fast")
+    slow, scols = io.read_features("slow")
+    assert fcols == scols
+    for a, b in zip(fast, slow):
+        assert a.symmetric_difference(b).area == 0
+    assert fast[fcols["cat"].index(6)].geom_type == "MultiPolygon"
+
+
+def test_areas_that_are_not_noded_still_written_through_ogr(io):
+    import grass.script as gs
+
+    # a T-junction without the shared vertex: the fast path cannot build it
+    geoms = [box(84000, 446000, 84010, 446010),
+             box(84010, 446000, 84020, 446005), box(84010, 446005, 84020, 446010)]
+    assert io.area_boundaries(geoms) is None
+    # nor edges that overlap without sharing their ends, or cross
+    assert io.area_boundaries([box(84000, 446000, 84010, 446010),
+                               box(84010, 446002, 84020, 446008)]) is None
+    assert io.area_boundaries([box(84000, 446000, 84010, 446010),
+                               box(84005, 446005, 84015, 446015)]) is None
+    io.write_areas("mended", geoms, {"case": [1, 2, 3]})
+    assert gs.vector_info_topo("mended")["centroids"] == 3
+    read, columns = io.read_features("mended")
+    assert sorted(round(g.area) for g in read) == [50, 50, 100]
+
+
 def test_points_round_trip(io):
     io.write_features("pts", [Point(84001.5, 446002.5), Point(84050, 446070)],
                       {"label": [1, 4], "class": ["building", "street"]})
