@@ -519,7 +519,11 @@ def remove_overlaps(polygons):
 
     GEOS coverage cleaning gives each overlap to the plot with the longest
     shared border; a plot split or emptied by it keeps its largest part, or
-    its own area minus its neighbours.
+    its own area minus its neighbours. Coverage cleaning is made for slivers:
+    where plots overlap widely (one grown over another) it can return parts
+    that are not what each plot loses to its neighbours, and then plain
+    differences are used instead (pair by pair, the later plot loses the
+    shared area, or the earlier one when the later would vanish).
     """
     polygons = list(polygons)
     pairs = overlapping_pairs(polygons)
@@ -531,11 +535,22 @@ def remove_overlaps(polygons):
     try:
         cleaned = shapely.coverage_clean(arr, snapping_distance=0.0)
     except shapely.errors.GEOSException:
-        # plain differences: each plot loses what overlaps the plots before it
-        cleaned = list(arr)
-        for a, b in pairs:
-            cleaned[involved.index(b)] = shapely.difference(cleaned[involved.index(b)],
-                                                            cleaned[involved.index(a)])
+        cleaned = None
+    if cleaned is not None:
+        # a plot may only lose (part of) what it shares with its neighbours
+        shared = dict.fromkeys(involved, 0.0)
+        for i, j in pairs:
+            area = shapely.intersection(polygons[i], polygons[j]).area
+            shared[i] += area
+            shared[j] += area
+        for k, geom in zip(involved, cleaned):
+            if geom is None or shapely.difference(geom, polygons[k]).area > 1e-6 or \
+                    geom.area < polygons[k].area - shared[k] - 1e-6:
+                cleaned = None
+                break
+    if cleaned is None:
+        return _plain_differences(polygons, pairs)
+    swallowed = []
     for k, geom in zip(involved, cleaned):
         poly = _clean(largest_polygon(geom))
         if poly is None:
@@ -543,6 +558,32 @@ def remove_overlaps(polygons):
             poly = _clean(largest_polygon(shapely.difference(polygons[k], others)))
         if poly is not None:
             polygons[k] = poly
+        else:
+            swallowed.append(k)
+    # a plot lying wholly inside a neighbour's generalisation keeps its own
+    # shape and is cut out of the neighbour (which may get a hole)
+    for k in swallowed:
+        for j in involved:
+            if j != k and shapely.intersection(polygons[j], polygons[k]).area > 0:
+                cut = _clean(largest_polygon(shapely.difference(polygons[j], polygons[k])))
+                if cut is not None:
+                    polygons[j] = cut
+    return _plain_differences(polygons, overlapping_pairs(polygons))
+
+
+def _plain_differences(polygons, pairs):
+    """Overlaps removed pair by pair: the later plot loses the shared area, or
+    the earlier one when the later would vanish (it lies inside the earlier)."""
+    for a, b in pairs:
+        if shapely.intersection(polygons[a], polygons[b]).area <= 1e-6:
+            continue  # resolved by an earlier pair
+        rest = _clean(largest_polygon(shapely.difference(polygons[b], polygons[a])))
+        if rest is not None:
+            polygons[b] = rest
+            continue
+        rest = _clean(largest_polygon(shapely.difference(polygons[a], polygons[b])))
+        if rest is not None:
+            polygons[a] = rest
     return polygons
 
 

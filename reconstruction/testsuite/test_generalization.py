@@ -239,3 +239,17 @@ def test_property_pixel_patches(plots, methods):
     for out in result.plots:
         assert out.geom_type == "Polygon" and out.is_valid and out.area > 0
     assert gz.overlapping_pairs(result.plots, min_area=1e-6) == []
+
+
+def test_plot_swallowed_by_a_neighbours_generalisation_is_cut_out_of_it():
+    # found by test_property_pixel_patches: the alpha shape of one plot grew over
+    # a small neighbour entirely; coverage cleaning emptied the small one
+    big = shapely.from_wkt(
+        "POLYGON ((11.974537811344426 -28, 6 -16.44651785848218, 6 -8, 3.6238820746317524 -8, "
+        "-0.797768135145202 -19.002795262371638, 3.769824016114838 -28, 11.974537811344426 -28))")
+    small = box(6, -24, 8, -22)
+    out = gz.remove_overlaps([big, small])
+    assert len(out) == 2 and all(p.is_valid and p.area > 0 for p in out)
+    assert gz.overlapping_pairs(out, min_area=1e-6) == []
+    assert out[1].equals(small)
+    assert out[0].area == pytest.approx(big.area - small.area)
