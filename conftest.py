@@ -16,6 +16,14 @@ import sys
 import uuid
 
 import pytest
+from hypothesis import settings
+
+# Property tests draw the same examples on every run of `make test` (CI): a
+# failure there is reproducible, not luck. Draw new ones while developing with
+# `python3 -m pytest --hypothesis-profile=explore` (docs/developing.md).
+settings.register_profile("ci", derandomize=True)
+settings.register_profile("explore", derandomize=False)
+settings.load_profile("ci")
 
 ROOT = os.path.dirname(os.path.abspath(__file__))
 DIST = os.environ.get("HISTO_DIST", os.path.join(ROOT, "dist"))
