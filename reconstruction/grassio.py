@@ -323,6 +323,62 @@ def column_names(name, layer=1):
         return []
 
 
+def _column_kind(sql_type):
+    """int, float or str: how values of a column of SQL type ``sql_type`` are read."""
+    t = (sql_type or "").upper()
+    if "INT" in t:
+        return int
+    if any(k in t for k in ("DOUBLE", "REAL", "FLOA", "NUMERIC", "DECIMAL")):
+        return float
+    return str
+
+
+def _column_value(value, kind):
+    """A table value as ``kind`` (int, float or str); None when NULL or not convertible."""
+    if value is None:
+        return None
+    if kind is str:
+        return value if isinstance(value, str) else str(value)
+    try:
+        return kind(value)
+    except (TypeError, ValueError):
+        return None
+
+
+def _table_sqlite(database, table):
+    """Column names, SQL types and rows of a table of a SQLite database, read
+    directly (the GRASS database driver hands over rows one by one, which is
+    slow for large tables)."""
+    import sqlite3
+
+    connection = sqlite3.connect(database)
+    try:
+        quoted = '"{}"'.format(table.replace('"', '""'))
+        info = connection.execute("PRAGMA table_info({})".format(quoted)).fetchall()
+        rows = connection.execute("SELECT * FROM {}".format(quoted)).fetchall()
+    finally:
+        connection.close()
+    return [c[1] for c in info], [c[2] for c in info], rows
+
+
+def _table_text(table_text, types_text, sep, null):
+    """Column names, SQL types and rows of a table from v.db.select text
+    (``sep`` between values, ``null`` for NULL) and v.info -c text."""
+    types = {}
+    for ln in types_text.splitlines():
+        if "|" in ln:
+            t, col = ln.split("|", 1)
+            types[col.strip()] = t.strip().upper()
+    lines = table_text.split("\n")      # not splitlines(): it splits at \x1e
+    names = lines[0].rstrip("\r").split(sep) if lines else []
+    rows = []
+    for ln in lines[1:]:
+        vals = ln.rstrip("\r").split(sep)
+        if len(vals) == len(names):
+            rows.append([None if v == null else v for v in vals])
+    return names, [types.get(n, "TEXT") for n in names], rows
+
+
 def read_areas(name, layer=1):
     """Read the areas of a vector map fast, with their attribute columns.
 
@@ -330,14 +386,16 @@ def read_areas(name, layer=1):
     geometry per category, areas of one category merged; a dict column ->
     list of values with ``cat``), but without the per-feature cost of OGR:
     the areas come as WKT from v.out.ascii, each one gets the categories of
-    its centroid, and the table comes in one query; the GRASS tools run side
-    by side. Areas shared by several categories (overlapping input polygons)
-    belong to each of them.
+    its centroid, and the table comes in one query (straight from the file
+    of a SQLite database, else from v.db.select); the GRASS tools run side
+    by side, writing to files. Areas shared by several categories
+    (overlapping input polygons) belong to each of them.
     """
     import shapely
 
     sep, null = "\x1f", "\x1e"
-    has_table = int(layer) in gs.vector_db(name)
+    link = gs.vector_db(name).get(int(layer))
+    direct = link is not None and link["driver"] == "sqlite" and os.path.isfile(link["database"])
     commands = {
         "wkt": ("v.out.ascii", dict(input=name, layer=layer, type="area", format="wkt")),
         # (v.out.ascii warns about every centroid with several categories:
@@ -346,19 +404,29 @@ def read_areas(name, layer=1):
                                    separator="|")),
         "cats": ("v.category", dict(input=name, layer=layer, type="centroid", option="print")),
     }
-    if has_table:
+    if link is not None and not direct:
         commands["table"] = ("v.db.select", dict(map=name, layer=layer, separator=sep,
                                                  null_value=null))
         commands["types"] = ("v.info", dict(map=name, layer=layer, flags="c"))
-    procs = {k: gs.start_command(cmd, quiet=True, stdout=gs.PIPE, stderr=gs.PIPE, **kw)
-             for k, (cmd, kw) in commands.items()}
+    outdir = os.path.dirname(temp_file())
+    os.makedirs(outdir, exist_ok=True)
+    procs = {}
+    for k, (cmd, kw) in commands.items():
+        with open(os.path.join(outdir, k + ".out"), "wb") as out, \
+                open(os.path.join(outdir, k + ".err"), "wb") as err:
+            procs[k] = gs.start_command(cmd, quiet=True, stdout=out, stderr=err, **kw)
+    if direct:
+        table = _table_sqlite(link["database"], link["table"])
     text = {}
     for k, proc in procs.items():
-        out, err = proc.communicate()
+        proc.wait()
         if proc.returncode != 0:
+            with open(os.path.join(outdir, k + ".err"), "rb") as f:
+                err = f.read()
             gs.fatal(_("Cannot read vector map <{}> ({}): {}").format(
                 name, commands[k][0], gs.decode(err).strip()))
-        text[k] = gs.decode(out)
+        with open(os.path.join(outdir, k + ".out"), "rb") as f:
+            text[k] = gs.decode(f.read())
     lines = [ln for ln in text["wkt"].splitlines() if ln.strip()]
     polys = shapely.from_wkt(np.array(lines, dtype=object)) if lines else np.array([])
     xy = [ln.split("|")[:2] for ln in text["xy"].splitlines() if ln.strip()]
@@ -378,41 +446,21 @@ def read_areas(name, layer=1):
         parts = by_cat[c]
         geoms.append(parts[0] if len(parts) == 1 else shapely.union_all(parts))
     columns = {"cat": list(order)}
-    if has_table:
-        types = {}
-        for ln in text["types"].splitlines():
-            if "|" in ln:
-                t, col = ln.split("|", 1)
-                types[col.strip()] = t.strip().upper()
-        rows_text = text["table"].split("\n")      # not splitlines(): it splits at \x1e
-        names = rows_text[0].rstrip("\r").split(sep) if rows_text else []
-        key = gs.vector_db(name)[int(layer)]["key"]
+    if link is not None:
+        if direct:
+            names, sql_types, rows = table
+        else:
+            names, sql_types, rows = _table_text(text["table"], text["types"], sep, null)
+        key = link["key"]
         kpos = names.index(key) if key in names else None
-        rows = {}
-        for ln in rows_text[1:]:
-            vals = ln.rstrip("\r").split(sep)
-            if kpos is None or len(vals) != len(names) or vals[kpos] == null:
-                continue
-            rows[int(vals[kpos])] = vals
-
-        def convert(value, sql_type):
-            if value == null:
-                return None
-            if sql_type in ("INTEGER", "INT", "SMALLINT", "BIGINT"):
-                try:
-                    return int(value)
-                except ValueError:
-                    return None
-            if sql_type in ("DOUBLE PRECISION", "REAL", "FLOAT", "DOUBLE", "NUMERIC"):
-                try:
-                    return float(value)
-                except ValueError:
-                    return None
-            return value
-
+        by_key = {}
+        for vals in rows:
+            if kpos is not None and vals[kpos] is not None:
+                by_key[int(vals[kpos])] = vals
         for j, n in enumerate(names):
             if n == key:
                 continue
-            t = types.get(n, "TEXT")
-            columns[n] = [convert(rows[c][j], t) if c in rows else None for c in order]
+            kind = _column_kind(sql_types[j])
+            columns[n] = [_column_value(by_key[c][j], kind) if c in by_key else None
+                          for c in order]
     return geoms, columns
