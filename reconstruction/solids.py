@@ -343,12 +343,20 @@ def _shell_parts(shells, origins, owners):
 def _group_parts(group, origins, ground, eaves):
     """Flat arrays ``(vertices, rings, face sizes, face owners)`` of the
     solids of one bulk roof group (see :func:`reconstruction.roofs.make_roofs`):
-    ground, walls and roof of every footprint in one numpy pass."""
+    ground, walls and roof of every footprint in one numpy pass. The walls
+    are quads, or pentagons along the footprint edges whose roof boundary
+    has a vertex between the edge's ends (``wall_mid``)."""
     idx = group["index"]
     xy = group["xy"]
     G, n, _ = xy.shape
-    flat = "nodes" not in group
-    C = 0 if flat else group["nodes"].shape[1]
+    flat = "ring_idx" not in group
+    if "roof" in group:
+        extra = group["roof"][:, n:]          # roof vertices past the footprint
+    elif not flat:
+        extra = group["nodes"]
+    else:
+        extra = np.zeros((G, 0, 3))
+    C = extra.shape[1]
     Vb = 2 * n + C
     org = origins[idx]
     z0 = np.asarray(ground, dtype=float)[idx]
@@ -358,13 +366,24 @@ def _group_parts(group, origins, ground, eaves):
     v[:, :n, 2] = z0[:, None]
     v[:, n:2 * n, :2] = v[:, :n, :2]
     v[:, n:2 * n, 2] = z1[:, None]
-    if not flat:
-        v[:, 2 * n:, :2] = group["nodes"][..., :2] + org[:, None, :]
-        v[:, 2 * n:, 2] = group["nodes"][..., 2] + z1[:, None]
+    v[:, 2 * n:, :2] = extra[..., :2] + org[:, None, :]
+    v[:, 2 * n:, 2] = extra[..., 2] + z1[:, None]
     base = (np.arange(G) * Vb)[:, None]
     j = np.arange(n)
     ground_r = (base + j[::-1]).ravel()
-    walls_r = (base[:, :, None] + np.stack([j, (j + 1) % n, n + (j + 1) % n, n + j], axis=1)).ravel()
+    mid = group.get("wall_mid")
+    if mid is None:
+        walls_r = (base[:, :, None] + np.stack([j, (j + 1) % n, n + (j + 1) % n, n + j],
+                                               axis=1)).ravel()
+        wall_sizes = np.full(G * n, 4)
+    else:
+        w = np.empty((G, n, 5), dtype=np.int64)
+        w[..., 0], w[..., 1], w[..., 2] = j, (j + 1) % n, n + (j + 1) % n
+        w[..., 3] = np.where(mid >= 0, n + mid, n + j)
+        w[..., 4] = n + j
+        walls_r = (base[:, :, None] + w)[np.broadcast_to(
+            (np.arange(5) < 4) | (mid >= 0)[..., None], w.shape)]
+        wall_sizes = np.where(mid >= 0, 5, 4).ravel()
     if flat:
         roof_r = (base + n + j).ravel()
         roof_sizes = np.full(G, n)
@@ -378,7 +397,7 @@ def _group_parts(group, origins, ground, eaves):
         roof_sizes = cnt[use]
         roof_owner = np.broadcast_to(idx[:, None], cnt.shape)[use]
     rings = np.concatenate([ground_r, walls_r, roof_r])
-    sizes = np.concatenate([np.full(G, n), np.full(G * n, 4), roof_sizes])
+    sizes = np.concatenate([np.full(G, n), wall_sizes, roof_sizes])
     owner = np.concatenate([idx, np.repeat(idx, n), roof_owner])
     return v.reshape(-1, 3), rings, sizes, owner
 

@@ -272,3 +272,34 @@ def test_parallel_build_gives_the_same_solids():
         vb, fb = b[0].solid(s)
         assert len(fa) == len(fb)
         assert np.array_equal(np.unique(va, axis=0), np.unique(vb, axis=0))
+
+
+def test_stepped_solids_in_bulk_are_valid_with_pentagon_walls():
+    """Crow-stepped gables built in bulk (flat arrays, walls next to the
+    facade are pentagons) are valid and equal the solids assembled from each
+    building's roof dict."""
+    rng = np.random.default_rng(8)
+    fps = []
+    for k in range(40):
+        w, d = rng.uniform(5, 9), rng.uniform(10, 18)
+        xy = [[0, 0], [w, rng.uniform(-0.8, 0.8)], [w + rng.uniform(-0.8, 0.8), d], [0, d]]
+        if k % 4 == 3:
+            xy = [[0, 0], [w, 0], [w + 2, d / 2], [w, d], [0, d]]
+        fps.append(solids.clean_ring(np.array(xy) + ORIGIN + [30.0 * k, 0])[0])
+    B = len(fps)
+    u = rng.random((B, 3))
+    h = rng.uniform(1.5, 6, B)
+    ss, kept, types, log = solids.build_solids(fps, np.ones(B), np.full(B, 7.0), h,
+                                               ["stepped"] * B, u)
+    assert len(kept) == B and all(r is None for r in solids.validate(ss))
+    assert np.mean(types == "stepped") > 0.9
+    assert solids.volumes(ss).min() > 0
+    origins = np.array([xy[0] for xy in fps])
+    local = [xy - o for xy, o in zip(fps, origins)]
+    rf, kinds = roofs.make_roofs(local, ["stepped"] * B, h, u)
+    for k in np.nonzero(types == "stepped")[0]:
+        shell = solids.assemble(local[k], rf[k], 1.0, 7.0)
+        one = solids.to_solidset([shell], origins[k:k + 1])
+        mine = solids.take(ss, [k])
+        assert np.array_equal(one.vertices[one.rings], mine.vertices[mine.rings])
+        assert np.array_equal(one.face_start, mine.face_start)
