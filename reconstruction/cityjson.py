@@ -8,6 +8,7 @@ flat arrays of a :class:`reconstruction.solids.SolidSet` in bulk.
 
 import itertools
 import json
+import math
 
 import numpy as np
 
@@ -136,12 +137,30 @@ def _split_by_solid(values, starts, S, face_level):
     return pieces
 
 
+def _member_texts(name, values):
+    """JSON text ``"name":value,`` of one attribute per object ('' where the
+    value is None), as ``json.dumps`` writes it, in bulk."""
+    key = json.encoder.encode_basestring_ascii(name) + ":"
+    out = []
+    for v in values:
+        if v is None:
+            out.append("")
+        elif type(v) is str:
+            out.append(key + json.encoder.encode_basestring_ascii(v) + ",")
+        elif type(v) is float and math.isfinite(v) or type(v) is int:
+            out.append(key + repr(v) + ",")
+        else:
+            out.append(key + json.dumps(v, separators=(",", ":")) + ",")
+    return out
+
+
 def citymodel_text(ss, semantics, ids, attributes=None, reference_system=None, title=None):
     """The CityJSON document of a set of solids as compact JSON text.
 
-    Same document as ``json.dumps(citymodel(...))`` (see :func:`citymodel`),
-    written in bulk: the rings of all buildings go through the C JSON
-    encoder in one list.
+    Same document as ``json.dumps(citymodel(...))`` (see :func:`citymodel`;
+    attributes come before the geometry), written in bulk: the rings of all buildings go
+    through the C JSON encoder in one list, attributes column by column, and
+    the city objects are joined from columns of text.
     """
     attributes = attributes or {}
     S = len(ss)
@@ -159,30 +178,31 @@ def citymodel_text(ss, semantics, ids, attributes=None, reference_system=None, t
     counts = np.bincount(face_solid * 3 + sem, minlength=3 * S).reshape(S, 3)
     all_used = np.all(counts > 0, axis=1)
     values = _split_by_solid(sem, ss.solid_start, S, False)
-    sem_list = None
     surfaces_all = [{"type": name} for name in SEMANTIC_NAMES]
-    surf_all_text = json.dumps(surfaces_all, separators=(",", ":"))
-    attr_lists = {k: _attr_list(vals) for k, vals in attributes.items()}
-    names = list(attr_lists)
-    columns = [attr_lists[k] for k in names]
     dumps = json.JSONEncoder(separators=(",", ":")).encode
-    pieces = []
-    for s in range(S):
-        if all_used[s]:
-            surf, vals = surf_all_text, "[[" + values[s] + "]]"
-        else:
-            if sem_list is None:
-                sem_list = sem.tolist()
+    surf_all_text = dumps(surfaces_all)
+    surf = [surf_all_text] * S
+    vals = ["[[" + v + "]]" for v in values]
+    if not all_used.all():
+        sem_list = sem.tolist()
+        for s in np.nonzero(~all_used)[0].tolist():
             v = sem_list[ss.solid_start[s]:ss.solid_start[s + 1]]
             used = sorted(set(v))
             remap = {u: k for k, u in enumerate(used)}
-            surf = dumps([surfaces_all[u] for u in used])
-            vals = dumps([[remap[x] for x in v]])
-        attrs = {k: c[s] for k, c in zip(names, columns) if c[s] is not None}
-        pieces.append('{}:{{"type":"Building",{}"geometry":[{{"type":"Solid","lod":"{}",'
-                      '"boundaries":[[[[{}]]]],"semantics":{{"surfaces":{},"values":{}}}}}]}}'.format(
-                          dumps(str(ids[s])), '"attributes":' + dumps(attrs) + "," if attrs else "",
-                          LOD, shells[s], surf, vals))
+            surf[s] = dumps([surfaces_all[u] for u in used])
+            vals[s] = dumps([[remap[x] for x in v]])
+    members = [_member_texts(k, _attr_list(v)) for k, v in attributes.items()]
+    if members:
+        attrs = ['"attributes":{' + m[:-1] + "}," if m else ""
+                 for m in map("".join, zip(*members))]
+    else:
+        attrs = [""] * S
+    keys = [json.encoder.encode_basestring_ascii(str(i)) for i in ids]
+    geometry = '"geometry":[{"type":"Solid","lod":"' + LOD + '","boundaries":[[[['
+    pieces = map("".join, zip(keys, itertools.repeat(':{"type":"Building",'), attrs,
+                              itertools.repeat(geometry), shells,
+                              itertools.repeat(']]]],"semantics":{"surfaces":'), surf,
+                              itertools.repeat(',"values":'), vals, itertools.repeat("}}]}")))
     metadata = {"geographicalExtent": (np.concatenate([lo, hi]) / 1000.0).tolist()}
     if reference_system is not None:
         metadata["referenceSystem"] = crs_url(reference_system)

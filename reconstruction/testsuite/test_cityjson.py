@@ -130,3 +130,21 @@ def test_consistency_checks_find_defects():
     assert "orphan" in errors
     assert "duplicate consecutive" in errors
     assert "semantic values do not match" in errors
+
+
+def test_text_writer_attributes_as_json_dumps():
+    """Attribute values of every kind (text with quotes, commas and accents,
+    booleans, big integers, infinity, NULL) and identifiers are written as
+    json.dumps writes them."""
+    ss, _ = model_of(["flat", "hip", "gable", "stepped"])
+    sem = solids.semantics(ss)
+    attrs = {"name": ['Rue "Haute", 12', None, "caf\u00e9 \\ \n", ""],
+             "flag": [True, False, None, np.True_], "big": [2 ** 62, -1, 0, None],
+             "height": np.array([1.25, np.nan, np.inf, 1e-7]), "empty": [None] * 4,
+             "year": np.array([1924, 1930, 1900, 2000])}
+    ids = ["b,1", 'b"2', "b\u00e93", 4]
+    text = cityjson.citymodel_text(ss, sem, ids, attrs, 28992)
+    assert json.loads(text) == json.loads(json.dumps(cityjson.citymodel(ss, sem, ids, attrs, 28992)))
+    assert json.loads(text)["CityObjects"]["b,1"]["attributes"]["name"] == 'Rue "Haute", 12'
+    no_attrs = cityjson.citymodel_text(ss, sem, ids, {"empty": [None] * 4}, 28992)
+    assert "attributes" not in no_attrs
