@@ -477,8 +477,12 @@ def take(ss, idx):
     sizes = ss.face_start[faces + 1] - ss.face_start[faces]
     e0 = ss.face_start[faces]
     entries = np.repeat(e0 - np.concatenate([[0], np.cumsum(sizes)[:-1]]), sizes) + np.arange(int(sizes.sum()))
-    used, inv = np.unique(ss.rings[entries], return_inverse=True)
-    return SolidSet(ss.vertices[used], inv.reshape(-1).astype(np.int64),
+    taken = ss.rings[entries]
+    # the vertices used, in their order (as np.unique, without sorting)
+    used = np.zeros(len(ss.vertices), dtype=bool)
+    used[taken] = True
+    remap = np.cumsum(used) - 1
+    return SolidSet(ss.vertices[used], remap[taken].astype(np.int64),
                     np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64),
                     np.concatenate([[0], np.cumsum(nf)]).astype(np.int64),
                     [ss.bad[i] for i in idx])
@@ -588,14 +592,27 @@ def validate(ss, tol=PLANARITY_TOL):
     degenerate = area2 < 2e-7
     flag(face_solid[degenerate], "degenerate ring (zero area)")
     unit = normal / np.maximum(area2, 1e-300)[:, None]
-    # planarity: distance of each vertex to the least-squares plane (as val3dity)
+    # planarity: distance of each vertex to the least-squares plane (as
+    # val3dity). The plane through the centroid normal to the Newell normal
+    # bounds it: the least-squares plane's largest distance is at most the
+    # root of its sum of squares, at most that of any other plane through
+    # the centroid, at most sqrt(k) times that plane's largest distance; only
+    # faces this bound does not clear need the least-squares fit
     rel = p - centroid[entry_face]
-    cov = np.add.reduceat(rel[:, :, None] * rel[:, None, :], ss.face_start[:-1], axis=0)
-    _, vecs = np.linalg.eigh(cov)
-    fit = vecs[:, :, 0]
-    dist = np.abs(np.einsum("ij,ij->i", rel, fit[entry_face]))
+    dist = np.abs(np.einsum("ij,ij->i", rel, unit[entry_face]))
     maxdist = np.maximum.reduceat(dist, ss.face_start[:-1])
-    flag(face_solid[(maxdist > tol) & ~degenerate], "non-planar face (> 1 mm)")
+    fit_faces = np.nonzero((maxdist * np.sqrt(sizes) > tol) & ~degenerate)[0]
+    if len(fit_faces):
+        e0 = ss.face_start[fit_faces]
+        k = sizes[fit_faces]
+        entries = np.repeat(e0 - np.concatenate([[0], np.cumsum(k)[:-1]]), k) + np.arange(int(k.sum()))
+        r = rel[entries]
+        starts = np.concatenate([[0], np.cumsum(k)[:-1]])
+        cov = np.add.reduceat(r[:, :, None] * r[:, None, :], starts, axis=0)
+        _, vecs = np.linalg.eigh(cov)
+        fit = np.repeat(vecs[:, :, 0], k, axis=0)
+        far = np.maximum.reduceat(np.abs(np.einsum("ij,ij->i", r, fit)), starts) > tol
+        flag(face_solid[fit_faces[far]], "non-planar face (> 1 mm)")
     # self-intersection: quads by segment tests in numpy, larger rings with
     # shapely, all projected on their plane
     quads = np.nonzero((sizes == 4) & ~degenerate)[0]
@@ -637,7 +654,7 @@ def validate(ss, tol=PLANARITY_TOL):
     N = max(len(ss.vertices), 1)
     ukey = np.minimum(a, b) * N + np.maximum(a, b)
     forward = a < b
-    order = np.argsort(ukey, kind="stable")
+    order = np.argsort(ukey)
     sk = ukey[order]
     E = len(sk)
     start = np.ones(E, dtype=bool)

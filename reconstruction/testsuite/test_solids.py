@@ -81,6 +81,26 @@ def test_validator_reports_each_defect(defect, reason):
     assert res[0] is not None and reason in res[0], res
 
 
+@pytest.mark.parametrize("lift", [0.0, 0.002, 0.003, 0.0034, 0.0047, 0.005, 0.02])
+def test_planarity_is_the_least_squares_distance(lift):
+    """A corner of a 10 m box lifted by ``lift``: the face is non-planar
+    exactly when a vertex is more than 1 mm from its least-squares plane (for
+    a square, lift / 4, on the millimetre grid), whether or not the cheap
+    bound decides it."""
+    v, faces = box_solidset()
+    v = v * 10.0
+    v[6, 2] += lift
+    v = np.rint(v * 1000.0) / 1000.0
+    ss = solids.to_solidset([(v, faces)], np.zeros((1, 2)))
+    worst = 0.0
+    for f in faces:
+        pts = v[f] - v[f].mean(axis=0)
+        normal = np.linalg.svd(pts)[2][-1]
+        worst = max(worst, np.abs(pts @ normal).max())
+    res = solids.validate(ss)[0]
+    assert (res is not None and "non-planar" in res) == (worst > solids.PLANARITY_TOL)
+
+
 def test_duplicate_consecutive_vertices_are_removed_and_degenerate_rings_flagged():
     v, faces = box_solidset()
     faces[1] = [4, 4, 5, 6, 7]
