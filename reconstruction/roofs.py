@@ -108,27 +108,45 @@ def edge_lengths(xy):
     return np.hypot(*(_nxt(xy) - xy).T)
 
 
+def _edge_vectors(xy):
+    """Edge vectors ``xy[i] -> xy[i+1]`` and lengths of rings (G, n, 2)."""
+    d = np.roll(xy, -1, axis=1) - xy
+    return d, np.hypot(d[..., 0], d[..., 1])
+
+
+def convex_rings(xy, tol=1e-9):
+    """(G,) True for counter-clockwise rings (G, n, 2) without a reflex vertex."""
+    d2, l2 = _edge_vectors(xy)
+    d1, l1 = np.roll(d2, 1, axis=1), np.roll(l2, 1, axis=1)
+    cross = d1[..., 0] * d2[..., 1] - d1[..., 1] * d2[..., 0]
+    return np.all(cross > -tol * l1 * l2, axis=1)
+
+
+def opposite_edges(xy, ends):
+    """(G,) for rings (G, n, 2): the edge most anti-parallel to edge
+    ``ends[g]`` (more than 135 degrees) and not next to it, or -1."""
+    G, n, _ = xy.shape
+    ends = np.asarray(ends, dtype=np.int64)
+    d, ln = _edge_vectors(xy)
+    d = d / np.maximum(ln, 1e-300)[..., None]
+    rows = np.arange(G)
+    c = np.einsum("gjx,gx->gj", d, d[rows, ends])
+    j = np.arange(n)[None, :]
+    e = ends[:, None]
+    c = np.where((j == e) | (j == (e - 1) % n) | (j == (e + 1) % n), np.inf, c)
+    best = np.argmin(c, axis=1)
+    return np.where(c[rows, best] < -math.cos(math.radians(45)), best, -1)
+
+
 def is_convex(xy, tol=1e-9):
     """True when a counter-clockwise ring has no reflex vertex."""
-    d1 = xy - _prv(xy)
-    d2 = _nxt(xy) - xy
-    cross = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
-    return bool(np.all(cross > -tol * np.hypot(*d1.T) * np.hypot(*d2.T)))
+    return bool(convex_rings(np.asarray(xy, dtype=float)[None], tol)[0])
 
 
 def opposite_edge(xy, i):
     """The edge most anti-parallel to edge ``i`` and not adjacent to it, or None."""
-    n = len(xy)
-    d = _nxt(xy) - xy
-    d = d / np.maximum(np.hypot(*d.T), 1e-300)[:, None]
-    best, best_cos = None, -math.cos(math.radians(45))
-    for j in range(n):
-        if j in (i, (i - 1) % n, (i + 1) % n):
-            continue
-        c = float(d[i] @ d[j])
-        if c < best_cos:
-            best, best_cos = j, c
-    return best
+    best = int(opposite_edges(np.asarray(xy, dtype=float)[None], [i])[0])
+    return None if best < 0 else best
 
 
 def end_edges(xy):
@@ -469,27 +487,28 @@ def flat_roof(xy):
 # Crow-stepped gable
 # ---------------------------------------------------------------------------
 
-def _clip_strip(xy, e, thickness):
-    """Split a convex footprint at distance ``thickness`` from edge ``e``.
+def clip_strips(xy, ends, thickness):
+    """Split convex footprints (G, n, 2) at distance ``thickness`` from their
+    edge ``ends``.
 
-    Returns ``(body, qa, qb)``: the main body ring starting with the inner
-    edge ``qa -> qb`` (parallel to edge e), or None when the strip would cut
-    more than the two edges next to ``e``.
+    Returns ``(body, ok)``: the main body rings (G, n, 2), each starting
+    with its inner edge (parallel to the end edge) and going on with the
+    footprint's vertices after the end edge, and False where the strip would
+    cut more than the two edges next to the end edge.
     """
-    n = len(xy)
-    a, b = xy[e], xy[(e + 1) % n]
-    t = (b - a) / np.hypot(*(b - a))
-    nrm = np.array([-t[1], t[0]])
-    d = (xy - a) @ nrm
-    others = [k for k in range(n) if k not in (e, (e + 1) % n)]
-    if min(d[k] for k in others) <= thickness + 0.05:
-        return None
-    prev_v = xy[(e - 1) % n]
-    next_v = xy[(e + 2) % n]
-    qa = a + (prev_v - a) * (thickness / d[(e - 1) % n])
-    qb = b + (next_v - b) * (thickness / d[(e + 2) % n])
-    body = [qa, qb] + [xy[(e + 2 + k) % n] for k in range(n - 2)]
-    return np.array(body), qa, qb
+    G, n, _ = xy.shape
+    ends = np.asarray(ends, dtype=np.int64)
+    ring = xy[np.arange(G)[:, None], (ends[:, None] + np.arange(n)) % n]   # end edge first
+    a, b = ring[:, 0], ring[:, 1]
+    t = (b - a) / np.hypot(*(b - a).T)[:, None]
+    nrm = np.stack([-t[:, 1], t[:, 0]], axis=1)
+    d = np.einsum("gkx,gx->gk", ring - a[:, None], nrm)
+    ok = d[:, 2:].min(axis=1) > thickness + 0.05
+    dd = np.where(ok[:, None], d, 1.0)
+    body = ring.copy()
+    body[:, 0] = a + (ring[:, -1] - a) * (thickness / dd[:, -1])[:, None]
+    body[:, 1] = b + (ring[:, 2] - b) * (thickness / dd[:, 2])[:, None]
+    return body, ok
 
 
 def _interp_rows(x, xp, fp):
@@ -512,7 +531,7 @@ def stepped_arrays(xy, ends, body, steps, thickness):
     ``xy``: (G, n, 2) footprints (local coordinates, counter-clockwise);
     ``ends``: (G,) index of the stepped edge; ``body``: the
     :func:`envelope_arrays` gable roofs (scaled to the roof height) of the main
-    bodies from :func:`_clip_strip` (inner edge first, vertical face on edge
+    bodies from :func:`clip_strips` (inner edge first, vertical face on edge
     0); ``steps``: (G,) step heights; ``thickness`` of the facade. The facade
     is a slab between the street edge and the inner edge whose profile rises
     in steps of ``steps`` above the body roof's gable profile.
@@ -699,6 +718,34 @@ def street_end(xy, street=None):
     return int(np.argmin(edge_lengths(xy)))
 
 
+def outline_facts(footprints, street=None):
+    """What the roofs need to know of each footprint's outline, in bulk
+    (one numpy pass per vertex count): a dict of arrays ``convex``, ``end``
+    (see :func:`street_end`), ``shortest`` (edge length), ``end_length`` and
+    ``opposite`` (see :func:`opposite_edge`; -1 = none)."""
+    B = len(footprints)
+    out = {"convex": np.zeros(B, dtype=bool), "end": np.zeros(B, dtype=np.int64),
+           "shortest": np.zeros(B), "end_length": np.zeros(B),
+           "opposite": np.full(B, -1, dtype=np.int64)}
+    by_n = {}
+    for i, xy in enumerate(footprints):
+        by_n.setdefault(len(xy), []).append(i)
+    for n, idx in by_n.items():
+        idx = np.array(idx, dtype=np.int64)
+        xy = np.stack([footprints[i] for i in idx]).astype(float)
+        _, ln = _edge_vectors(xy)
+        end = np.argmin(ln, axis=1)
+        if street is not None:
+            given = np.array([-1 if street[i] is None else int(street[i]) for i in idx])
+            end = np.where((given >= 0) & (given < n), given, end)
+        out["convex"][idx] = convex_rings(xy)
+        out["end"][idx] = end
+        out["shortest"][idx] = ln.min(axis=1)
+        out["end_length"][idx] = ln[np.arange(len(idx)), end]
+        out["opposite"][idx] = opposite_edges(xy, end) if n > 3 else -1
+    return out
+
+
 def _batch_envelope(jobs):
     """Run :func:`envelope_arrays` on jobs ``(key, xy, slopes, top)`` grouped
     by vertex count; returns a list of groups (the arrays plus ``keys``)."""
@@ -740,59 +787,68 @@ def make_roofs(footprints, roof_types, attic, uniforms, street=None, pitch_min=6
     kinds = list(roof_types)
     uniforms = np.asarray(uniforms, dtype=float).reshape(B, 3)
     env_jobs, cgal_jobs, stepped, flat_jobs = [], [], {}, {}
+    facts = outline_facts(footprints, street)
+    convex_all, end_all, opp_all = (facts[k].tolist() for k in ("convex", "end", "opposite"))
+    attic = np.asarray(attic, dtype=float)
+    # crow-stepped gables on convex footprints: the main body behind the facade
+    flat = np.array([k == "flat" for k in roof_types], dtype=bool) | (attic <= 1e-3)
+    want = np.array([k == "stepped" for k in roof_types], dtype=bool) & ~flat & facts["convex"]
+    want &= np.array([len(xy) >= 4 for xy in footprints], dtype=bool)
+    bodies = {}
+    for n in sorted({len(footprints[i]) for i in np.nonzero(want)[0]}):
+        idx = np.array([i for i in np.nonzero(want)[0] if len(footprints[i]) == n])
+        body, ok = clip_strips(np.stack([footprints[i] for i in idx]), facts["end"][idx], thickness)
+        opp = opposite_edges(body, np.zeros(len(idx), dtype=np.int64))
+        for k in np.nonzero(ok)[0]:
+            bodies[int(idx[k])] = (body[k], int(opp[k]))
     for i, (xy, kind) in enumerate(zip(footprints, roof_types)):
         h = float(attic[i])
         n = len(xy)
-        if kind == "flat" or h <= 1e-3:
+        if flat[i]:
             if bulk:
                 flat_jobs.setdefault(n, []).append(i)
             else:
                 roofs[i] = flat_roof(xy)
             continue
-        end = street_end(xy, None if street is None else street[i])
-        convex = is_convex(xy)
+        end = end_all[i]
+        convex = convex_all[i]
         if kind == "mansard":
             lo, hi = inset
-            cap = 0.45 * float(edge_lengths(xy).min())
+            cap = 0.45 * float(facts["shortest"][i])
             ins = max(min(lo + (hi - lo) * uniforms[i, 1], cap), 1e-3)
             if convex:
                 env_jobs.append((i, xy, np.full(n, h / ins), h))
             else:
                 cgal_jobs.append((i, xy, np.full(n, math.degrees(math.atan2(h, ins))), h))
             continue
-        if kind == "stepped" and convex and n >= 4:
-            res = _clip_strip(xy, end, thickness)
-            if res is not None:
-                body = res[0]
-                slopes = np.ones(len(body))
-                slopes[0] = np.inf
-                opp = opposite_edge(body, 0)
-                if opp is not None:
-                    slopes[opp] = np.inf
-                s_lo, s_hi = step
-                stepped[i] = (end, s_lo + (s_hi - s_lo) * uniforms[i, 2])
-                env_jobs.append((("body", i), body, slopes, None))
-                continue
-            kind = "gable"
-        elif kind == "stepped":
+        if kind == "stepped" and i in bodies:
+            body, opp = bodies[i]
+            slopes = np.ones(len(body))
+            slopes[0] = np.inf
+            if opp >= 0:
+                slopes[opp] = np.inf
+            s_lo, s_hi = step
+            stepped[i] = (end, s_lo + (s_hi - s_lo) * uniforms[i, 2])
+            env_jobs.append((("body", i), body, slopes, None))
+            continue
+        if kind == "stepped":
             kind = "gable"
         kinds[i] = kind
         if convex:
             slopes = np.ones(n)
+            opp = opp_all[i]
             if kind == "hip" and n == 4:
-                base = float(edge_lengths(xy)[end])
+                base = float(facts["end_length"][i])
                 p_long = math.degrees(math.atan2(h, base / 2.0))
                 low = min(max(pitch_min, p_long), 89.0)
                 p_end = low + (89.0 - low) * uniforms[i, 0]
                 ratio = math.tan(math.radians(p_end)) / math.tan(math.radians(p_long))
                 slopes[end] = ratio
-                opp = opposite_edge(xy, end)
-                if opp is not None:
+                if opp >= 0:
                     slopes[opp] = ratio
             elif kind == "gable":
                 slopes[end] = np.inf
-                opp = opposite_edge(xy, end)
-                if opp is not None:
+                if opp >= 0:
                     slopes[opp] = np.inf
             env_jobs.append((i, xy, slopes, None))
         else:
