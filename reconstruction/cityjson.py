@@ -111,30 +111,80 @@ def citymodel(ss, semantics, ids, attributes=None, reference_system=None, title=
     }
 
 
-def _split_by_solid(values, starts, S, face_level):
-    """JSON text of ``values`` (one int per entry) cut into one piece per solid.
+def _int_text(values, prefix, table):
+    """Decimal text of non-negative integers, each after its separator
+    ``table[prefix[i]]``, built in numpy (as ``json.dumps`` writes ints).
 
-    ``starts``: offset of each solid's first entry (and, with
-    ``face_level``, of every face: (face_start, solid_start) pair). Sentinels
-    -1 (new face) and -2 (new solid) ride in the list through the C JSON
-    encoder, then become brackets and cut points.
+    Returns the text and the offset in it of each value's separator.
     """
+    values = np.asarray(values, dtype=np.int64)
+    if len(values) == 0:
+        return "", np.zeros(0, dtype=np.int64)
+    if values.min() < 0:
+        raise ValueError("negative value")
+    digits = np.ones(len(values), dtype=np.int64)
+    top = int(values.max())
+    k = 10
+    while k <= top:
+        digits += values >= k
+        k *= 10
+    seps = [t.encode("ascii") for t in table]
+    size = np.array([len(t) for t in seps], dtype=np.int64)[prefix] + digits
+    end = np.cumsum(size)
+    start = end - size
+    buf = np.empty(int(end[-1]), dtype=np.uint8)
+    for code, sep in enumerate(seps):
+        at = start[prefix == code]
+        for j, ch in enumerate(sep):
+            buf[at + j] = ch
+    rest = values.copy()
+    last = end - 1
+    for j in range(int(digits.max())):
+        live = np.nonzero(digits > j)[0]
+        buf[last[live] - j] = 48 + rest[live] % 10
+        rest //= 10
+    return buf.tobytes().decode("ascii"), start
+
+
+def _pieces(text, offsets, first):
+    """``text`` cut at the ``offsets`` of the entries ``first`` (one piece each)."""
+    cuts = offsets[first].tolist() + [len(text)]
+    return [text[a:b] for a, b in zip(cuts[:-1], cuts[1:])]
+
+
+def _split_by_solid(values, starts, S, face_level):
+    """JSON text of ``values`` (one non-negative int per entry) cut into one
+    piece per solid: ``a,b,c`` per solid, or with ``face_level`` the rings
+    of its faces ``a,b,c]],[[d,e,f``.
+
+    ``starts``: offset of each solid's first entry, or with ``face_level``
+    the pair (offset of every face's first entry, first face of each solid).
+    """
+    values = np.asarray(values, dtype=np.int64)
+    prefix = np.full(len(values), 2, dtype=np.int64)
     if face_level:
         face_start, solid_first_face = starts
-        F = len(face_start) - 1
-        marks = np.full(F, -1, dtype=np.int64)
-        marks[solid_first_face] = -2
-        pos = face_start[1:-1]
-        arr = np.insert(values, pos, marks[1:])
+        prefix[face_start[:-1]] = 1
+        first = face_start[solid_first_face]
     else:
-        arr = np.insert(values, starts[1:-1], -2)
-    text = json.dumps(arr.tolist(), separators=(",", ":"))[1:-1]
-    if face_level:
-        text = text.replace(",-1,", "]],[[")
-    pieces = text.split(",-2,")
+        first = np.asarray(starts[:-1], dtype=np.int64)
+    prefix[first] = 0
+    text, offsets = _int_text(values, prefix, ["", "]],[[", ","])
+    pieces = _pieces(text, offsets, first)
     if len(pieces) != S:
         raise ValueError("cannot split the boundaries by solid")
     return pieces
+
+
+def _vertices_text(vertices):
+    """JSON text of an (n, 3) array of non-negative integers ``[[x,y,z],...]``."""
+    if len(vertices) == 0:
+        return "[]"
+    prefix = np.full(vertices.shape, 2, dtype=np.int64)
+    prefix[:, 0] = 1
+    prefix[0, 0] = 0
+    text, _ = _int_text(vertices.ravel(), prefix.ravel(), ["[", "],[", ","])
+    return "[" + text + "]]"
 
 
 def _member_texts(name, values):
@@ -213,7 +263,7 @@ def citymodel_text(ss, semantics, ids, attributes=None, reference_system=None, t
                                 "translate": (lo / 1000.0).tolist()},
                   "metadata": metadata})
     return "".join([head[:-1], ',"CityObjects":{', ",".join(pieces), '},"vertices":',
-                    dumps((uniq - lo).tolist()), "}"])
+                    _vertices_text(uniq - lo), "}"])
 
 
 def write_text(path, text):
