@@ -721,8 +721,72 @@ def build_solids(footprints, ground, eaves, attic, roof_types, uniforms, street=
     Returns ``(solidset, kept, types, log)``: the valid solids of the
     footprints ``kept`` (indices into the input), the roof type each one got
     after any fallback, and a log of ``(footprint index, roof type, reason)``
-    for every roof that failed and fell back.
+    for every roof that failed and fell back (by footprint).
+
+    The pitched roofs of concave footprints (CGAL's straight skeleton, which
+    releases the interpreter while it runs) are built in a thread beside the
+    others; the result does not depend on it.
     """
+    import threading
+
+    args = [list(footprints), np.asarray(ground, dtype=float),
+            np.asarray(eaves, dtype=float), np.asarray(attic, dtype=float),
+            np.array(roof_types, dtype=object),
+            np.asarray(uniforms, dtype=float).reshape(len(footprints), 3),
+            None if street is None else list(street)]
+    kwargs = dict(pitch_min=pitch_min, inset=inset, step=step, thickness=thickness)
+    concave = ~_roofs.outline_facts(footprints)["convex"] if len(footprints) else np.zeros(0, bool)
+    skeleton = concave & (args[4] != "flat") & (args[3] > 1e-3)
+    if not skeleton.any() or skeleton.all():
+        return _build_solids(*args, **kwargs)
+    parts = [np.nonzero(skeleton)[0], np.nonzero(~skeleton)[0]]
+    results = [None, None]
+
+    def run(k):
+        try:
+            results[k] = _build_solids(*[_subset(a, parts[k]) for a in args], **kwargs)
+        except BaseException as error:  # re-raised below
+            results[k] = error
+
+    worker = threading.Thread(target=run, args=(0,))
+    worker.start()
+    run(1)
+    worker.join()
+    for r in results:
+        if isinstance(r, BaseException):
+            raise r
+    return _merge(list(zip(parts, results)))
+
+
+def _subset(values, idx):
+    """The elements ``idx`` of a list or array (None stays None)."""
+    if values is None or isinstance(values, np.ndarray):
+        return None if values is None else values[idx]
+    return [values[i] for i in idx]
+
+
+def _merge(parts):
+    """One :func:`build_solids` result from results on subsets of the
+    footprints, ``[(footprint indices, result), ...]``: solids in footprint
+    order, the log by footprint."""
+    sets, kept, types, log = [], [], [], []
+    for idx, (ss, k, t, lg) in parts:
+        sets.append(ss)
+        kept.append(idx[k])
+        types.append(t)
+        log.extend((int(idx[i]), kind, why) for i, kind, why in lg)
+    kept = np.concatenate(kept)
+    types = np.concatenate(types)
+    perm = np.argsort(kept, kind="stable")
+    merged = concat(sets)
+    if np.any(perm != np.arange(len(perm))):
+        merged, kept, types = take(merged, perm), kept[perm], types[perm]
+    return merged, kept, types, sorted(log, key=lambda entry: entry[0])
+
+
+def _build_solids(footprints, ground, eaves, attic, roof_types, uniforms, street=None,
+                  pitch_min=60.0, inset=(1.0, 2.0), step=(0.4, 0.7), thickness=0.5):
+    """:func:`build_solids` in one thread."""
     B = len(footprints)
     origins = np.array([xy[0] for xy in footprints], dtype=float).reshape(B, 2)
     local = [xy - o for xy, o in zip(footprints, origins)]
@@ -804,10 +868,4 @@ def build_solids_parallel(footprints, ground, eaves, attic, roof_types, uniforms
              uniforms[a:b], kwargs) for a, b in zip(bounds[:-1], bounds[1:])]
     with multiprocessing.get_context("fork").Pool(nprocs) as pool:
         results = pool.map(_build_chunk, jobs)
-    sets, kept, types, log = [], [], [], []
-    for a, (ss, k, t, lg) in zip(bounds[:-1], results):
-        sets.append(ss)
-        kept.append(k + a)
-        types.append(t)
-        log.extend((i + a, kind, why) for i, kind, why in lg)
-    return concat(sets), np.concatenate(kept), np.concatenate(types), log
+    return _merge([(np.arange(a, b), r) for a, b, r in zip(bounds[:-1], bounds[1:], results)])

@@ -323,3 +323,32 @@ def test_stepped_solids_in_bulk_are_valid_with_pentagon_walls():
         mine = solids.take(ss, [k])
         assert np.array_equal(one.vertices[one.rings], mine.vertices[mine.rings])
         assert np.array_equal(one.face_start, mine.face_start)
+
+
+def test_concave_roofs_built_beside_give_the_same_model():
+    """Concave footprints' skeleton roofs are built in a thread beside the
+    others: the same solids, types, log and file as one pass over all."""
+    if not roofs.cgal_available():
+        pytest.skip("pySVCGAL not installed")
+    from reconstruction import cityjson
+
+    rng = np.random.default_rng(12)
+    fps = []
+    for i in range(60):
+        w, d = rng.uniform(5, 9), rng.uniform(10, 18)
+        if i % 3 == 0:
+            xy = np.array([[0, 0], [d, 0], [d, w / 2], [w / 2, w / 2], [w / 2, d], [0, d]])
+        else:
+            xy = np.array([[0, 0], [w, rng.uniform(-0.8, 0.8)], [w, d], [0, d]])
+        fps.append(solids.clean_ring(xy + ORIGIN + [i * 25.0, 0])[0])
+    B = len(fps)
+    kinds_ = rng.choice(roofs.ROOF_TYPES, B)
+    args = (fps, np.zeros(B), np.full(B, 9.0), rng.uniform(0.5, 5, B), kinds_, rng.random((B, 3)))
+    a = solids.build_solids(*args)
+    b = solids._build_solids(*args)
+    assert np.array_equal(a[1], b[1]) and list(a[2]) == list(b[2])
+    assert sorted(a[3]) == sorted(b[3])
+    texts = [cityjson.citymodel_text(r[0], solids.semantics(r[0]), list(r[1]), {"t": list(r[2])})
+             for r in (a, b)]
+    assert texts[0] == texts[1]
+    assert all(r is None for r in solids.validate(a[0]))
