@@ -161,10 +161,13 @@ def rings_are_simple(rings):
     """For each ring (n, 2): True when it does not self-intersect (in bulk)."""
     import shapely
 
-    if not rings:
+    if not len(rings):
         return np.zeros(0, dtype=bool)
-    closed = np.concatenate([np.vstack([xy, xy[:1]]) for xy in rings])
-    ids = np.repeat(np.arange(len(rings)), [len(xy) + 1 for xy in rings])
+    counts = np.array([len(xy) for xy in rings])
+    ends = np.cumsum(counts)
+    flat = np.concatenate(rings)
+    closed = np.insert(flat, ends, flat[ends - counts], axis=0)
+    ids = np.repeat(np.arange(len(rings)), counts + 1)
     return shapely.is_simple(shapely.linearrings(closed, indices=ids))
 
 
