@@ -79,9 +79,30 @@ def forget_temp_map(kind, name):
 # Checks
 # ---------------------------------------------------------------------------
 
+_PROJECTION = []
+
+
+def projection():
+    """The current location's projection (g.proj -g) as a dict (asked once)."""
+    if not _PROJECTION:
+        _PROJECTION.append(gs.parse_command("g.proj", flags="g"))
+    return _PROJECTION[0]
+
+
+def location_epsg():
+    """The current location's EPSG code, or None."""
+    proj = projection()
+    srid = proj.get("srid", "") or proj.get("epsg", "")
+    if srid:
+        code = srid.split(":")[-1]
+        if code.isdigit():
+            return int(code)
+    return None
+
+
 def require_projected():
     """Fail unless the current location has a projected CRS in metres."""
-    proj = gs.parse_command("g.proj", flags="g")
+    proj = projection()
     name = proj.get("name", "")
     if proj.get("proj", "") in ("ll", "") or "lat" in name.lower() and "long" in name.lower():
         gs.fatal(
@@ -391,11 +412,25 @@ def read_areas(name, layer=1):
     by side, writing to files. Areas shared by several categories
     (overlapping input polygons) belong to each of them.
     """
-    import shapely
+    return finish_read_areas(start_read_areas(name, layer))
 
-    sep, null = "\x1f", "\x1e"
-    link = gs.vector_db(name).get(int(layer))
-    direct = link is not None and link["driver"] == "sqlite" and os.path.isfile(link["database"])
+
+def _start_tools(commands, outdir):
+    """Start GRASS tools ``{key: (module, options)}`` writing to files in ``outdir``."""
+    procs = {}
+    for k, (cmd, kw) in commands.items():
+        with open(os.path.join(outdir, k + ".out"), "wb") as out, \
+                open(os.path.join(outdir, k + ".err"), "wb") as err:
+            procs[k] = gs.start_command(cmd, quiet=True, stdout=out, stderr=err, **kw)
+    return procs
+
+
+def start_read_areas(name, layer=1):
+    """Start reading the areas of a vector map (see :func:`read_areas`): the
+    GRASS tools export the geometry in the background while the caller does
+    other work (e.g. checks its inputs); :func:`finish_read_areas` waits for
+    them and returns the result. Errors (e.g. no such map) are reported by
+    :func:`finish_read_areas`."""
     commands = {
         "wkt": ("v.out.ascii", dict(input=name, layer=layer, type="area", format="wkt")),
         # (v.out.ascii warns about every centroid with several categories:
@@ -404,17 +439,27 @@ def read_areas(name, layer=1):
                                    separator="|")),
         "cats": ("v.category", dict(input=name, layer=layer, type="centroid", option="print")),
     }
-    if link is not None and not direct:
-        commands["table"] = ("v.db.select", dict(map=name, layer=layer, separator=sep,
-                                                 null_value=null))
-        commands["types"] = ("v.info", dict(map=name, layer=layer, flags="c"))
     outdir = os.path.dirname(temp_file())
     os.makedirs(outdir, exist_ok=True)
-    procs = {}
-    for k, (cmd, kw) in commands.items():
-        with open(os.path.join(outdir, k + ".out"), "wb") as out, \
-                open(os.path.join(outdir, k + ".err"), "wb") as err:
-            procs[k] = gs.start_command(cmd, quiet=True, stdout=out, stderr=err, **kw)
+    return {"name": name, "layer": layer, "outdir": outdir, "commands": commands,
+            "procs": _start_tools(commands, outdir)}
+
+
+def finish_read_areas(job):
+    """The areas and attribute columns of a :func:`start_read_areas` job."""
+    import shapely
+
+    name, layer, outdir = job["name"], job["layer"], job["outdir"]
+    commands, procs = dict(job["commands"]), dict(job["procs"])
+    sep, null = "\x1f", "\x1e"
+    link = gs.vector_db(name).get(int(layer))
+    direct = link is not None and link["driver"] == "sqlite" and os.path.isfile(link["database"])
+    if link is not None and not direct:
+        table_commands = {
+            "table": ("v.db.select", dict(map=name, layer=layer, separator=sep, null_value=null)),
+            "types": ("v.info", dict(map=name, layer=layer, flags="c"))}
+        commands.update(table_commands)
+        procs.update(_start_tools(table_commands, outdir))
     if direct:
         table = _table_sqlite(link["database"], link["table"])
     text = {}
