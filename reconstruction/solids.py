@@ -39,6 +39,40 @@ SEMANTIC_ANGLE = 5.0
 # Footprints
 # ---------------------------------------------------------------------------
 
+def footprint_polygons(geometries, skip=None):
+    """The polygons to build on: every polygon of every footprint geometry
+    (shapely Polygon or MultiPolygon; None, empty and other geometries are
+    left out, as are footprints where ``skip`` is True), in bulk.
+
+    Returns ``(polygons, source, part, holes, empty)``: the polygons, the
+    index of the footprint of each, its part number in a MultiPolygon of
+    several parts (-1 for a single polygon), the number of holes of all
+    polygons and the number of missing or empty footprints.
+    """
+    import shapely
+
+    geoms = np.empty(len(geometries), dtype=object)
+    geoms[:] = list(geometries)
+    empty = shapely.is_missing(geoms) | shapely.is_empty(geoms)
+    use = ~empty
+    if skip is not None:
+        use &= ~np.asarray(skip, dtype=bool)
+    idx = np.nonzero(use)[0]
+    kind = shapely.get_type_id(geoms[idx])
+    single = idx[kind == 3]
+    multi = idx[kind == 6]
+    parts, owner = shapely.get_parts(geoms[multi], return_index=True)
+    count = shapely.get_num_geometries(geoms[multi])
+    number = np.arange(len(parts)) - np.repeat(np.cumsum(count) - count, count)
+    polygons = np.concatenate([geoms[single], parts])
+    source = np.concatenate([single, multi[owner]])
+    part = np.concatenate([np.full(len(single), -1), np.where(count[owner] > 1, number, -1)])
+    order = np.argsort(source, kind="stable")
+    polygons, source, part = polygons[order], source[order], part[order].astype(np.int64)
+    holes = int(shapely.get_num_interior_rings(polygons).sum()) if len(polygons) else 0
+    return polygons, source, part, holes, int(empty.sum())
+
+
 def clean_ring(coords, tol=0.001):
     """A footprint ring ready for extrusion, or ``(None, reason)``.
 

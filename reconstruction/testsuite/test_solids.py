@@ -352,3 +352,19 @@ def test_concave_roofs_built_beside_give_the_same_model():
              for r in (a, b)]
     assert texts[0] == texts[1]
     assert all(r is None for r in solids.validate(a[0]))
+
+
+def test_footprint_polygons_parts_holes_and_empties():
+    from shapely.geometry import GeometryCollection, MultiPolygon, box
+
+    courtyard = Polygon([(0, 0), (10, 0), (10, 10), (0, 10)], [[(2, 2), (4, 2), (4, 4), (2, 4)]])
+    geoms = [box(0, 0, 1, 1), None, MultiPolygon([box(0, 0, 1, 1), box(2, 0, 3, 1)]),
+             Polygon(), courtyard, MultiPolygon([box(5, 5, 6, 6)]),
+             GeometryCollection([box(0, 0, 1, 1)]), box(7, 7, 8, 8)]
+    polys, src, part, holes, empty = solids.footprint_polygons(geoms, skip=[0, 0, 0, 0, 0, 0, 0, 1])
+    assert list(src) == [0, 2, 2, 4, 5]
+    assert list(part) == [-1, 0, 1, -1, -1]
+    assert polys[2].equals(box(2, 0, 3, 1)) and polys[3].equals(courtyard)
+    assert holes == 1 and empty == 2
+    none = solids.footprint_polygons([])
+    assert len(none[0]) == 0 and none[3:] == (0, 0)
