@@ -115,6 +115,8 @@ def _int_text(values, prefix, table):
     """Decimal text of non-negative integers, each after its separator
     ``table[prefix[i]]``, built in numpy (as ``json.dumps`` writes ints).
 
+    Every value gets a row of characters (separator, then its digits right
+    aligned); the text is the row-major selection of the characters in use.
     Returns the text and the offset in it of each value's separator.
     """
     values = np.asarray(values, dtype=np.int64)
@@ -122,28 +124,29 @@ def _int_text(values, prefix, table):
         return "", np.zeros(0, dtype=np.int64)
     if values.min() < 0:
         raise ValueError("negative value")
-    digits = np.ones(len(values), dtype=np.int64)
     top = int(values.max())
+    seps = [t.encode("ascii") for t in table]
+    sep_len = np.array([len(t) for t in seps], dtype=np.int64)
+    S, W = int(sep_len.max()), len(str(top))
+    chars = np.zeros((len(values), S + W), dtype=np.uint8)
+    sep_chars = np.zeros((len(seps), S), dtype=np.uint8)
+    for code, sep in enumerate(seps):
+        sep_chars[code, :len(sep)] = np.frombuffer(sep, dtype=np.uint8)
+    chars[:, :S] = sep_chars[prefix]
+    rest = values.astype(np.int32 if top < 2 ** 31 else np.int64)
+    for j in range(S + W - 1, S - 1, -1):
+        rest, chars[:, j] = np.divmod(rest, 10)
+    chars[:, S:] += 48
+    digits = np.ones(len(values), dtype=np.int64)
     k = 10
     while k <= top:
         digits += values >= k
         k *= 10
-    seps = [t.encode("ascii") for t in table]
-    size = np.array([len(t) for t in seps], dtype=np.int64)[prefix] + digits
-    end = np.cumsum(size)
-    start = end - size
-    buf = np.empty(int(end[-1]), dtype=np.uint8)
-    for code, sep in enumerate(seps):
-        at = start[prefix == code]
-        for j, ch in enumerate(sep):
-            buf[at + j] = ch
-    rest = values.copy()
-    last = end - 1
-    for j in range(int(digits.max())):
-        live = np.nonzero(digits > j)[0]
-        buf[last[live] - j] = 48 + rest[live] % 10
-        rest //= 10
-    return buf.tobytes().decode("ascii"), start
+    lead = sep_len[prefix]
+    col = np.arange(S + W)[None, :]
+    used = (col < lead[:, None]) | (col >= S + W - digits[:, None])
+    size = lead + digits
+    return chars[used].tobytes().decode("ascii"), np.cumsum(size) - size
 
 
 def _pieces(text, offsets, first):

@@ -266,16 +266,20 @@ class SolidSet:
     - ``rings``: (K,) vertex indices of all rings, one after the other;
     - ``face_start``: (F + 1,) offsets of the rings in ``rings``;
     - ``solid_start``: (S + 1,) offsets of each solid's faces;
-    - ``bad``: (S,) reason why a solid could not even be stored (or None).
+    - ``bad``: (S,) reason why a solid could not even be stored (or None);
+    - ``face_normal``: (F, 3) Newell normals of the faces once
+      :func:`validate` has computed them (kept by :func:`take` and
+      :func:`concat`, used by :func:`semantics`), else None.
     """
 
-    def __init__(self, vertices, rings, face_start, solid_start, bad=None):
+    def __init__(self, vertices, rings, face_start, solid_start, bad=None, face_normal=None):
         self.vertices = vertices
         self.rings = rings
         self.face_start = face_start
         self.solid_start = solid_start
         S = len(solid_start) - 1
         self.bad = bad if bad is not None else [None] * S
+        self.face_normal = face_normal
 
     def __len__(self):
         return len(self.solid_start) - 1
@@ -522,7 +526,8 @@ def take(ss, idx):
     return SolidSet(ss.vertices[used], remap[taken].astype(np.int64),
                     np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64),
                     np.concatenate([[0], np.cumsum(nf)]).astype(np.int64),
-                    [ss.bad[i] for i in idx])
+                    [ss.bad[i] for i in idx],
+                    None if ss.face_normal is None else ss.face_normal[faces])
 
 
 def concat(sets):
@@ -538,9 +543,12 @@ def concat(sets):
         voff += len(s.vertices)
         eoff += int(s.face_start[-1])
         foff += int(s.solid_start[-1])
+    normals = [s.face_normal for s in sets]
+    known = bool(sets) and all(n is not None for n in normals)
     return SolidSet(np.concatenate(v) if v else np.zeros((0, 3), np.int64),
                     np.concatenate(r) if r else np.zeros(0, np.int64),
-                    np.concatenate(fs), np.concatenate(ss_), bad)
+                    np.concatenate(fs), np.concatenate(ss_), bad,
+                    np.concatenate(normals) if known else None)
 
 
 def _face_geometry(ss):
@@ -577,7 +585,9 @@ def semantics(ss):
     """Semantic surface per face (GROUND, WALL, ROOF) from its normal:
     ground when pointing down within 5 degrees, wall when horizontal within
     5 degrees, roof otherwise."""
-    _, _, _, normal, _, _ = _face_geometry(ss)
+    normal = ss.face_normal
+    if normal is None:
+        normal = _face_geometry(ss)[3]
     ln = np.linalg.norm(normal, axis=1)
     nz = normal[:, 2] / np.maximum(ln, 1e-300)
     out = np.full(len(nz), ROOF, dtype=np.int8)
@@ -623,6 +633,7 @@ def validate(ss, tol=PLANARITY_TOL):
     if F == 0:
         return reasons
     p, nxt, entry_face, normal, centroid, sizes = _face_geometry(ss)
+    ss.face_normal = normal
     face_solid = ss.face_solid
     area2 = np.linalg.norm(normal, axis=1)
     # degenerate rings: zero area

@@ -368,3 +368,21 @@ def test_footprint_polygons_parts_holes_and_empties():
     assert holes == 1 and empty == 2
     none = solids.footprint_polygons([])
     assert len(none[0]) == 0 and none[3:] == (0, 0)
+
+
+def test_semantics_from_the_normals_kept_since_validation():
+    """build_solids keeps the face normals of validation through take and
+    concat: semantics from them equal semantics computed afresh."""
+    rng = np.random.default_rng(3)
+    fps = [solids.clean_ring(np.array([[0, 0], [w, 0], [w, d], [0, d]]) + ORIGIN + [20.0 * i, 0])[0]
+           for i, (w, d) in enumerate(zip(rng.uniform(5, 9, 30), rng.uniform(10, 18, 30)))]
+    B = len(fps)
+    ss, kept, types, log = solids.build_solids(fps, np.zeros(B), np.full(B, 7.0),
+                                               rng.uniform(0.5, 5, B),
+                                               rng.choice(roofs.ROOF_TYPES, B), rng.random((B, 3)))
+    assert ss.face_normal is not None and len(ss.face_normal) == len(ss.face_start) - 1
+    fresh = solids.SolidSet(ss.vertices, ss.rings, ss.face_start, ss.solid_start)
+    assert np.array_equal(solids.semantics(ss), solids.semantics(fresh))
+    part = solids.take(ss, [5, 2, 7])
+    assert np.array_equal(solids.semantics(part), solids.semantics(
+        solids.SolidSet(part.vertices, part.rings, part.face_start, part.solid_start)))
