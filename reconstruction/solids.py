@@ -558,20 +558,23 @@ def _face_geometry(ss):
     F = len(face_start) - 1
     sizes = np.diff(face_start)
     entry_face = np.repeat(np.arange(F), sizes)
-    face_solid = ss.face_solid
     # reference point per solid: its first ring vertex
+    first = face_start[ss.solid_start]
     ref_idx = np.zeros(len(ss), dtype=np.int64)
-    has = np.diff(ss.solid_start) > 0
-    ref_idx[has] = ss.rings[face_start[ss.solid_start[:-1][has]]]
-    ref = ss.vertices[ref_idx]
-    p = (ss.vertices[ss.rings] - ref[face_solid[entry_face]]) / 1000.0
+    has = np.diff(first) > 0
+    ref_idx[has] = ss.rings[first[:-1][has]]
+    p = ss.vertices[ss.rings] - np.repeat(ss.vertices[ref_idx], np.diff(first), axis=0)
+    p = p / 1000.0
     nxt = np.arange(len(ss.rings)) + 1
     if F:
         nxt[face_start[1:] - 1] = face_start[:-1]
     q = p[nxt]
-    cr = np.column_stack([(p[:, 1] - q[:, 1]) * (p[:, 2] + q[:, 2]),
-                          (p[:, 2] - q[:, 2]) * (p[:, 0] + q[:, 0]),
-                          (p[:, 0] - q[:, 0]) * (p[:, 1] + q[:, 1])])
+    d = p - q
+    t = p + q
+    cr = np.empty_like(p)
+    np.multiply(d[:, 1], t[:, 2], out=cr[:, 0])
+    np.multiply(d[:, 2], t[:, 0], out=cr[:, 1])
+    np.multiply(d[:, 0], t[:, 1], out=cr[:, 2])
     if F:
         normal = np.add.reduceat(cr, face_start[:-1], axis=0)
         centroid = np.add.reduceat(p, face_start[:-1], axis=0) / sizes[:, None]
