@@ -705,7 +705,7 @@ def validate(ss, tol=PLANARITY_TOL):
     N = max(len(ss.vertices), 1)
     ukey = np.minimum(a, b) * N + np.maximum(a, b)
     forward = a < b
-    order = np.argsort(ukey)
+    order = np.argsort(ukey, kind="stable")      # (timsort: faster on these runs)
     sk = ukey[order]
     E = len(sk)
     start = np.ones(E, dtype=bool)
