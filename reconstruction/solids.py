@@ -894,9 +894,16 @@ def _build_solids(footprints, ground, eaves, attic, roof_types, uniforms, street
     return take(merged, perm), kept[perm], types[kept[perm]], log
 
 
-def _build_chunk(args):
-    footprints, ground, eaves, attic, roof_types, uniforms, kwargs = args
-    return build_solids(footprints, ground, eaves, attic, roof_types, uniforms, **kwargs)
+#: The work of build_solids_parallel, inherited by its forked processes.
+_CHUNKS = []
+
+
+def _build_chunk(k):
+    """Build chunk ``k`` of the work in :data:`_CHUNKS`."""
+    bounds, (footprints, ground, eaves, attic, roof_types, uniforms), kwargs = _CHUNKS[0]
+    a, b = bounds[k], bounds[k + 1]
+    return build_solids(footprints[a:b], ground[a:b], eaves[a:b], attic[a:b], roof_types[a:b],
+                        uniforms[a:b], **kwargs)
 
 
 def build_solids_parallel(footprints, ground, eaves, attic, roof_types, uniforms, nprocs=1,
@@ -904,7 +911,9 @@ def build_solids_parallel(footprints, ground, eaves, attic, roof_types, uniforms
     """:func:`build_solids` over ``nprocs`` processes (chunks of footprints).
 
     The result is the same as with one process: every building depends only
-    on its own footprint, heights, type and uniform numbers.
+    on its own footprint, heights, type and uniform numbers. The calling
+    process builds the first chunk itself; forked processes build the others
+    from the input they inherit (only their results are sent back).
     """
     B = len(footprints)
     if nprocs <= 1 or B < 2000:
@@ -912,11 +921,14 @@ def build_solids_parallel(footprints, ground, eaves, attic, roof_types, uniforms
     import multiprocessing
 
     bounds = np.linspace(0, B, nprocs + 1).astype(int)
-    ground, eaves, attic = (np.asarray(x, dtype=float) for x in (ground, eaves, attic))
-    roof_types = np.asarray(roof_types, dtype=object)
-    uniforms = np.asarray(uniforms, dtype=float)
-    jobs = [(footprints[a:b], ground[a:b], eaves[a:b], attic[a:b], roof_types[a:b],
-             uniforms[a:b], kwargs) for a, b in zip(bounds[:-1], bounds[1:])]
-    with multiprocessing.get_context("fork").Pool(nprocs) as pool:
-        results = pool.map(_build_chunk, jobs)
+    work = (list(footprints), np.asarray(ground, dtype=float), np.asarray(eaves, dtype=float),
+            np.asarray(attic, dtype=float), np.array(roof_types, dtype=object),
+            np.asarray(uniforms, dtype=float).reshape(B, 3))
+    _CHUNKS[:] = [(bounds, work, kwargs)]
+    try:
+        with multiprocessing.get_context("fork").Pool(nprocs - 1) as pool:
+            others = pool.map_async(_build_chunk, range(1, nprocs))
+            results = [_build_chunk(0)] + others.get()
+    finally:
+        _CHUNKS[:] = []
     return _merge([(np.arange(a, b), r) for a, b, r in zip(bounds[:-1], bounds[1:], results)])

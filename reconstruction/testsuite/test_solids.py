@@ -281,6 +281,9 @@ def test_parallel_build_gives_the_same_solids():
     a = solids.build_solids(*args)
     b = solids.build_solids_parallel(*args, nprocs=2)
     assert np.array_equal(a[1], b[1]) and list(a[2]) == list(b[2])
+    c = solids.build_solids_parallel(*args, nprocs=3)
+    assert np.array_equal(a[1], c[1]) and list(a[2]) == list(c[2]) and sorted(a[3]) == sorted(c[3])
+    assert np.array_equal(solids.semantics(a[0]), solids.semantics(c[0]))
     # the same model is written (vertices are stored in a global order)
     from reconstruction import cityjson
 
