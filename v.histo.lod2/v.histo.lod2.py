@@ -179,7 +179,8 @@
 # %end
 
 # %option G_OPT_M_NPROCS
-# % description: Number of processes building the solids (the result does not depend on it)
+# % description: Number of processes building the solids: 0 = one per core, negative = all cores but that many (the result does not depend on it)
+# % answer: 0
 # %end
 
 # %flag
@@ -269,8 +270,8 @@ def main():
     pitch_min = float(options["pitch_min"])
     seed = int(options["seed"])
     nprocs = int(options["nprocs"])
-    if nprocs < 1:
-        gs.fatal(_("Option nprocs= must be at least 1"))
+    if nprocs <= 0:
+        nprocs = max(1, (os.cpu_count() or 1) + nprocs)
     map_year = int(options["year"]) if options["year"] else None
     crs = options["crs"] or grassio.location_epsg()
     if crs is None:
