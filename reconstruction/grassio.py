@@ -80,12 +80,37 @@ def forget_temp_map(kind, name):
 # ---------------------------------------------------------------------------
 
 _PROJECTION = []
+#: GRASS queries of the checks started ahead (see prefetch_checks).
+_QUERIES = {}
+
+
+def prefetch_checks(vector=None):
+    """Start the GRASS queries behind :func:`require_projected` (and
+    :func:`require_vector` of ``vector``) now, so that they run while the
+    caller imports and parses; the checks then take their answers."""
+    if not _PROJECTION and "proj" not in _QUERIES:
+        _QUERIES["proj"] = gs.start_command("g.proj", flags="g", stdout=gs.PIPE,
+                                            stderr=gs.PIPE)
+    if vector:
+        _QUERIES[("vector", vector)] = gs.start_command(
+            "g.findfile", flags="n", element="vector", file=vector, stdout=gs.PIPE,
+            stderr=gs.PIPE)
+
+
+def _answer(key):
+    """The parsed output of a query started by :func:`prefetch_checks`, or None."""
+    proc = _QUERIES.pop(key, None)
+    if proc is None:
+        return None
+    return gs.parse_key_val(gs.decode(proc.communicate()[0]))
 
 
 def projection():
     """The current location's projection (g.proj -g) as a dict (asked once)."""
     if not _PROJECTION:
-        _PROJECTION.append(gs.parse_command("g.proj", flags="g"))
+        answer = _answer("proj")
+        _PROJECTION.append(answer if answer is not None else
+                           gs.parse_command("g.proj", flags="g"))
     return _PROJECTION[0]
 
 
@@ -120,7 +145,10 @@ def require_raster(name):
 
 
 def require_vector(name):
-    if not gs.find_file(name, element="vector")["fullname"]:
+    found = _answer(("vector", name))
+    if found is None:
+        found = gs.find_file(name, element="vector")
+    if not found.get("fullname"):
         gs.fatal(_("Vector map <{}> not found").format(name))
 
 
@@ -400,6 +428,31 @@ def _table_text(table_text, types_text, sep, null):
     return names, [types.get(n, "TEXT") for n in names], rows
 
 
+def _standard_points(text, layer):
+    """Coordinates (x, y) and categories in ``layer`` of the points of a
+    v.out.ascii standard format export (header, then per feature a line
+    ``type coordinates categories``, its coordinate lines and its
+    ``layer category`` lines)."""
+    lines = text.splitlines()
+    i = next((k for k, ln in enumerate(lines) if ln.strip() == "VERTI:"), len(lines)) + 1
+    xy, cats = [], []
+    while i < len(lines):
+        head = lines[i].split()
+        i += 1
+        if not head:
+            continue
+        ncoor, ncats = int(head[1]), int(head[2]) if len(head) > 2 else 0
+        xy.append(lines[i].split()[:2])
+        found = []
+        for ln in lines[i + ncoor:i + ncoor + ncats]:
+            lay, cat = ln.split()[:2]
+            if int(lay) == layer:
+                found.append(int(cat))
+        cats.append(found)
+        i += ncoor + ncats
+    return xy, cats
+
+
 def read_areas(name, layer=1):
     """Read the areas of a vector map fast, with their attribute columns.
 
@@ -433,11 +486,9 @@ def start_read_areas(name, layer=1):
     :func:`finish_read_areas`."""
     commands = {
         "wkt": ("v.out.ascii", dict(input=name, layer=layer, type="area", format="wkt")),
-        # (v.out.ascii warns about every centroid with several categories:
-        # those come from v.category)
-        "xy": ("v.out.ascii", dict(input=name, layer=layer, type="centroid", format="point",
-                                   separator="|")),
-        "cats": ("v.category", dict(input=name, layer=layer, type="centroid", option="print")),
+        # the centroids with all their categories
+        "centroids": ("v.out.ascii", dict(input=name, layer=layer, type="centroid",
+                                          format="standard")),
     }
     outdir = os.path.dirname(temp_file())
     os.makedirs(outdir, exist_ok=True)
@@ -474,10 +525,10 @@ def finish_read_areas(job):
             text[k] = gs.decode(f.read())
     lines = [ln for ln in text["wkt"].splitlines() if ln.strip()]
     polys = shapely.from_wkt(np.array(lines, dtype=object)) if lines else np.array([])
-    xy = [ln.split("|")[:2] for ln in text["xy"].splitlines() if ln.strip()]
-    cats = [[int(c) for c in ln.split("/") if c.strip()] for ln in text["cats"].splitlines()]
-    if len(cats) != len(xy):
-        gs.fatal(_("Cannot match the centroids and categories of vector map <{}>").format(name))
+    try:
+        xy, cats = _standard_points(text["centroids"], int(layer))
+    except (ValueError, IndexError):
+        gs.fatal(_("Cannot read the centroids of vector map <{}>").format(name))
     by_cat = {}
     if len(polys) and xy:
         points = shapely.points(np.array(xy, dtype=float))

@@ -246,6 +246,7 @@ def main():
     grassio.register_cleanup()
     # GRASS exports the footprints while the inputs are checked
     reading = grassio.start_read_areas(options["input"], layer=options["layer"])
+    grassio.prefetch_checks(vector=options["input"])
     import numpy as np
 
     from reconstruction import cityjson, roofs, solids

@@ -97,3 +97,27 @@ def test_table_read_from_sqlite_file_matches_v_db_select(io):
 
     assert values(direct[2]) == values(via_select[2]) == [[3, 1, 6.5, "o'neil"],
                                                           [7, None, None, None]]
+
+
+def test_standard_format_points_with_categories_of_one_layer(io):
+    text = ("ORGANIZATION: \nMAP THRESH:   0.000000\nVERTI:\n"
+            "C  1 1\n 84001.5 446002.5\n 1     7         \n"
+            "C  1 3\n 84010 446020\n 1     8\n 2     99\n 1     9\n"
+            "C  1 0\n 84030 446030\n")
+    xy, cats = io._standard_points(text, 1)
+    assert xy == [["84001.5", "446002.5"], ["84010", "446020"], ["84030", "446030"]]
+    assert cats == [[7], [8, 9], []]
+    assert io._standard_points(text, 2)[1] == [[], [99], []]
+    assert io._standard_points("", 1) == ([], [])
+
+
+def test_checks_take_the_answers_of_queries_started_ahead(io):
+    io.write_features("ahead", [box(84000, 446000, 84010, 446010)])
+    io.prefetch_checks(vector="ahead")
+    io.require_projected()
+    io.require_vector("ahead")
+    assert io.location_epsg() == 28992
+    assert not io._QUERIES
+    io.prefetch_checks(vector="not_there")
+    with pytest.raises(SystemExit):
+        io.require_vector("not_there")
