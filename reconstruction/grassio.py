@@ -15,6 +15,7 @@ import math
 import os
 import shutil
 import tempfile
+import threading
 
 import numpy as np
 
@@ -492,8 +493,26 @@ def start_read_areas(name, layer=1):
     }
     outdir = os.path.dirname(temp_file())
     os.makedirs(outdir, exist_ok=True)
-    return {"name": name, "layer": layer, "outdir": outdir, "commands": commands,
-            "procs": _start_tools(commands, outdir)}
+    job = {"name": name, "layer": layer, "outdir": outdir, "commands": commands,
+           "procs": _start_tools(commands, outdir), "table": []}
+    # meanwhile a thread finds the attribute table and reads it if it is SQLite
+    job["table_reader"] = threading.Thread(target=_find_table, args=(job,), daemon=True)
+    job["table_reader"].start()
+    return job
+
+
+def _find_table(job):
+    """The attribute table link of a :func:`start_read_areas` job, and the
+    table itself when it is a SQLite file (into ``job["table"]``: link,
+    table or None, error or None)."""
+    try:
+        link = gs.vector_db(job["name"]).get(int(job["layer"]))
+        table = None
+        if link is not None and link["driver"] == "sqlite" and os.path.isfile(link["database"]):
+            table = _table_sqlite(link["database"], link["table"])
+        job["table"][:] = [link, table, None]
+    except Exception as error:  # reported by finish_read_areas
+        job["table"][:] = [None, None, error]
 
 
 def finish_read_areas(job):
@@ -503,16 +522,15 @@ def finish_read_areas(job):
     name, layer, outdir = job["name"], job["layer"], job["outdir"]
     commands, procs = dict(job["commands"]), dict(job["procs"])
     sep, null = "\x1f", "\x1e"
-    link = gs.vector_db(name).get(int(layer))
-    direct = link is not None and link["driver"] == "sqlite" and os.path.isfile(link["database"])
+    job["table_reader"].join()
+    link, table, error = job["table"]
+    direct = table is not None
     if link is not None and not direct:
         table_commands = {
             "table": ("v.db.select", dict(map=name, layer=layer, separator=sep, null_value=null)),
             "types": ("v.info", dict(map=name, layer=layer, flags="c"))}
         commands.update(table_commands)
         procs.update(_start_tools(table_commands, outdir))
-    if direct:
-        table = _table_sqlite(link["database"], link["table"])
     text = {}
     for k, proc in procs.items():
         proc.wait()
@@ -523,6 +541,8 @@ def finish_read_areas(job):
                 name, commands[k][0], gs.decode(err).strip()))
         with open(os.path.join(outdir, k + ".out"), "rb") as f:
             text[k] = gs.decode(f.read())
+    if error is not None:
+        raise error
     lines = [ln for ln in text["wkt"].splitlines() if ln.strip()]
     polys = shapely.from_wkt(np.array(lines, dtype=object)) if lines else np.array([])
     try:
