@@ -911,12 +911,14 @@ def build_solids_parallel(footprints, ground, eaves, attic, roof_types, uniforms
     """:func:`build_solids` over ``nprocs`` processes (chunks of footprints).
 
     The result is the same as with one process: every building depends only
-    on its own footprint, heights, type and uniform numbers. The calling
+    on its own footprint, heights, type and uniform numbers. Every chunk has
+    at least 1,000 footprints (fewer processes otherwise). The calling
     process builds the first chunk itself; forked processes build the others
     from the input they inherit (only their results are sent back).
     """
     B = len(footprints)
-    if nprocs <= 1 or B < 2000:
+    nprocs = min(int(nprocs), B // 1000)          # chunks of at least 1,000 footprints
+    if nprocs <= 1:
         return build_solids(footprints, ground, eaves, attic, roof_types, uniforms, **kwargs)
     import multiprocessing
 
