@@ -85,17 +85,13 @@ _PROJECTION = []
 _QUERIES = {}
 
 
-def prefetch_checks(vector=None):
-    """Start the GRASS queries behind :func:`require_projected` (and
-    :func:`require_vector` of ``vector``) now, so that they run while the
-    caller imports and parses; the checks then take their answers."""
+def prefetch_checks():
+    """Start the GRASS query behind :func:`require_projected` (and
+    :func:`location_epsg`) now, so that it runs while the caller imports and
+    parses; the checks then take its answer."""
     if not _PROJECTION and "proj" not in _QUERIES:
         _QUERIES["proj"] = gs.start_command("g.proj", flags="g", stdout=gs.PIPE,
                                             stderr=gs.PIPE)
-    if vector:
-        _QUERIES[("vector", vector)] = gs.start_command(
-            "g.findfile", flags="n", element="vector", file=vector, stdout=gs.PIPE,
-            stderr=gs.PIPE)
 
 
 def _answer(key):
@@ -146,10 +142,7 @@ def require_raster(name):
 
 
 def require_vector(name):
-    found = _answer(("vector", name))
-    if found is None:
-        found = gs.find_file(name, element="vector")
-    if not found.get("fullname"):
+    if not gs.find_file(name, element="vector")["fullname"]:
         gs.fatal(_("Vector map <{}> not found").format(name))
 
 
@@ -483,8 +476,8 @@ def start_read_areas(name, layer=1):
     """Start reading the areas of a vector map (see :func:`read_areas`): the
     GRASS tools export the geometry in the background while the caller does
     other work (e.g. checks its inputs); :func:`finish_read_areas` waits for
-    them and returns the result. Errors (e.g. no such map) are reported by
-    :func:`finish_read_areas`."""
+    them and returns the result. Errors (e.g. no such map, then as
+    :func:`require_vector`) are reported by :func:`finish_read_areas`."""
     commands = {
         "wkt": ("v.out.ascii", dict(input=name, layer=layer, type="area", format="wkt")),
         # the centroids with all their categories
@@ -506,7 +499,7 @@ def _find_table(job):
     table itself when it is a SQLite file (into ``job["table"]``: link,
     table or None, error or None)."""
     try:
-        link = gs.vector_db(job["name"]).get(int(job["layer"]))
+        link = gs.vector_db(job["name"], stderr=gs.PIPE).get(int(job["layer"]))
         table = None
         if link is not None and link["driver"] == "sqlite" and os.path.isfile(link["database"]):
             table = _table_sqlite(link["database"], link["table"])
@@ -535,6 +528,7 @@ def finish_read_areas(job):
     for k, proc in procs.items():
         proc.wait()
         if proc.returncode != 0:
+            require_vector(name)
             with open(os.path.join(outdir, k + ".err"), "rb") as f:
                 err = f.read()
             gs.fatal(_("Cannot read vector map <{}> ({}): {}").format(

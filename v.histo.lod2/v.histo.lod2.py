@@ -246,13 +246,12 @@ def main():
     grassio.register_cleanup()
     # GRASS exports the footprints while the inputs are checked
     reading = grassio.start_read_areas(options["input"], layer=options["layer"])
-    grassio.prefetch_checks(vector=options["input"])
+    grassio.prefetch_checks()
     import numpy as np
 
     from reconstruction import cityjson, roofs, solids
 
-    grassio.require_projected()
-    grassio.require_vector(options["input"])
+    grassio.require_projected()      # (a missing input map: when reading it)
     output = options["output"]
     grassio.require_new_file(output, "output")
     outdir = os.path.dirname(os.path.abspath(output))

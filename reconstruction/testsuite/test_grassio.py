@@ -112,12 +112,13 @@ def test_standard_format_points_with_categories_of_one_layer(io):
 
 
 def test_checks_take_the_answers_of_queries_started_ahead(io):
-    io.write_features("ahead", [box(84000, 446000, 84010, 446010)])
-    io.prefetch_checks(vector="ahead")
+    io.prefetch_checks()
     io.require_projected()
-    io.require_vector("ahead")
     assert io.location_epsg() == 28992
     assert not io._QUERIES
-    io.prefetch_checks(vector="not_there")
+
+
+def test_reading_a_missing_map_fails_as_require_vector(io):
+    job = io.start_read_areas("not_there")
     with pytest.raises(SystemExit):
-        io.require_vector("not_there")
+        io.finish_read_areas(job)
