@@ -8,6 +8,7 @@ flat arrays of a :class:`reconstruction.solids.SolidSet` in bulk.
 
 import itertools
 import json
+import math
 
 import numpy as np
 
@@ -110,38 +111,109 @@ def citymodel(ss, semantics, ids, attributes=None, reference_system=None, title=
     }
 
 
-def _split_by_solid(values, starts, S, face_level):
-    """JSON text of ``values`` (one int per entry) cut into one piece per solid.
+def _int_text(values, prefix, table):
+    """Decimal text of non-negative integers, each after its separator
+    ``table[prefix[i]]``, built in numpy (as ``json.dumps`` writes ints).
 
-    ``starts``: offset of each solid's first entry (and, with
-    ``face_level``, of every face: (face_start, solid_start) pair). Sentinels
-    -1 (new face) and -2 (new solid) ride in the list through the C JSON
-    encoder, then become brackets and cut points.
+    Every value gets a row of characters (separator, then its digits right
+    aligned); the text is the row-major selection of the characters in use.
+    Returns the text and the offset in it of each value's separator.
     """
+    values = np.asarray(values, dtype=np.int64)
+    if len(values) == 0:
+        return "", np.zeros(0, dtype=np.int64)
+    if values.min() < 0:
+        raise ValueError("negative value")
+    top = int(values.max())
+    seps = [t.encode("ascii") for t in table]
+    sep_len = np.array([len(t) for t in seps], dtype=np.int64)
+    S, W = int(sep_len.max()), len(str(top))
+    chars = np.zeros((len(values), S + W), dtype=np.uint8)
+    sep_chars = np.zeros((len(seps), S), dtype=np.uint8)
+    for code, sep in enumerate(seps):
+        sep_chars[code, :len(sep)] = np.frombuffer(sep, dtype=np.uint8)
+    chars[:, :S] = sep_chars[prefix]
+    rest = values.astype(np.int32 if top < 2 ** 31 else np.int64)
+    for j in range(S + W - 1, S - 1, -1):
+        rest, chars[:, j] = np.divmod(rest, 10)
+    chars[:, S:] += 48
+    digits = np.ones(len(values), dtype=np.int64)
+    k = 10
+    while k <= top:
+        digits += values >= k
+        k *= 10
+    lead = sep_len[prefix]
+    col = np.arange(S + W)[None, :]
+    used = (col < lead[:, None]) | (col >= S + W - digits[:, None])
+    size = lead + digits
+    return chars[used].tobytes().decode("ascii"), np.cumsum(size) - size
+
+
+def _pieces(text, offsets, first):
+    """``text`` cut at the ``offsets`` of the entries ``first`` (one piece each)."""
+    cuts = offsets[first].tolist() + [len(text)]
+    return [text[a:b] for a, b in zip(cuts[:-1], cuts[1:])]
+
+
+def _split_by_solid(values, starts, S, face_level):
+    """JSON text of ``values`` (one non-negative int per entry) cut into one
+    piece per solid: ``a,b,c`` per solid, or with ``face_level`` the rings
+    of its faces ``a,b,c]],[[d,e,f``.
+
+    ``starts``: offset of each solid's first entry, or with ``face_level``
+    the pair (offset of every face's first entry, first face of each solid).
+    """
+    values = np.asarray(values, dtype=np.int64)
+    prefix = np.full(len(values), 2, dtype=np.int64)
     if face_level:
         face_start, solid_first_face = starts
-        F = len(face_start) - 1
-        marks = np.full(F, -1, dtype=np.int64)
-        marks[solid_first_face] = -2
-        pos = face_start[1:-1]
-        arr = np.insert(values, pos, marks[1:])
+        prefix[face_start[:-1]] = 1
+        first = face_start[solid_first_face]
     else:
-        arr = np.insert(values, starts[1:-1], -2)
-    text = json.dumps(arr.tolist(), separators=(",", ":"))[1:-1]
-    if face_level:
-        text = text.replace(",-1,", "]],[[")
-    pieces = text.split(",-2,")
+        first = np.asarray(starts[:-1], dtype=np.int64)
+    prefix[first] = 0
+    text, offsets = _int_text(values, prefix, ["", "]],[[", ","])
+    pieces = _pieces(text, offsets, first)
     if len(pieces) != S:
         raise ValueError("cannot split the boundaries by solid")
     return pieces
 
 
+def _vertices_text(vertices):
+    """JSON text of an (n, 3) array of non-negative integers ``[[x,y,z],...]``."""
+    if len(vertices) == 0:
+        return "[]"
+    prefix = np.full(vertices.shape, 2, dtype=np.int64)
+    prefix[:, 0] = 1
+    prefix[0, 0] = 0
+    text, _ = _int_text(vertices.ravel(), prefix.ravel(), ["[", "],[", ","])
+    return "[" + text + "]]"
+
+
+def _member_texts(name, values):
+    """JSON text ``"name":value,`` of one attribute per object ('' where the
+    value is None), as ``json.dumps`` writes it, in bulk."""
+    key = json.encoder.encode_basestring_ascii(name) + ":"
+    out = []
+    for v in values:
+        if v is None:
+            out.append("")
+        elif type(v) is str:
+            out.append(key + json.encoder.encode_basestring_ascii(v) + ",")
+        elif type(v) is float and math.isfinite(v) or type(v) is int:
+            out.append(key + repr(v) + ",")
+        else:
+            out.append(key + json.dumps(v, separators=(",", ":")) + ",")
+    return out
+
+
 def citymodel_text(ss, semantics, ids, attributes=None, reference_system=None, title=None):
     """The CityJSON document of a set of solids as compact JSON text.
 
-    Same document as ``json.dumps(citymodel(...))`` (see :func:`citymodel`),
-    written in bulk: the rings of all buildings go through the C JSON
-    encoder in one list.
+    Same document as ``json.dumps(citymodel(...))`` (see :func:`citymodel`;
+    attributes come before the geometry), written in bulk: the rings of all buildings go
+    through the C JSON encoder in one list, attributes column by column, and
+    the city objects are joined from columns of text.
     """
     attributes = attributes or {}
     S = len(ss)
@@ -159,30 +231,31 @@ def citymodel_text(ss, semantics, ids, attributes=None, reference_system=None, t
     counts = np.bincount(face_solid * 3 + sem, minlength=3 * S).reshape(S, 3)
     all_used = np.all(counts > 0, axis=1)
     values = _split_by_solid(sem, ss.solid_start, S, False)
-    sem_list = None
     surfaces_all = [{"type": name} for name in SEMANTIC_NAMES]
-    surf_all_text = json.dumps(surfaces_all, separators=(",", ":"))
-    attr_lists = {k: _attr_list(vals) for k, vals in attributes.items()}
-    names = list(attr_lists)
-    columns = [attr_lists[k] for k in names]
     dumps = json.JSONEncoder(separators=(",", ":")).encode
-    pieces = []
-    for s in range(S):
-        if all_used[s]:
-            surf, vals = surf_all_text, "[[" + values[s] + "]]"
-        else:
-            if sem_list is None:
-                sem_list = sem.tolist()
+    surf_all_text = dumps(surfaces_all)
+    surf = [surf_all_text] * S
+    vals = ["[[" + v + "]]" for v in values]
+    if not all_used.all():
+        sem_list = sem.tolist()
+        for s in np.nonzero(~all_used)[0].tolist():
             v = sem_list[ss.solid_start[s]:ss.solid_start[s + 1]]
             used = sorted(set(v))
             remap = {u: k for k, u in enumerate(used)}
-            surf = dumps([surfaces_all[u] for u in used])
-            vals = dumps([[remap[x] for x in v]])
-        attrs = {k: c[s] for k, c in zip(names, columns) if c[s] is not None}
-        pieces.append('{}:{{"type":"Building",{}"geometry":[{{"type":"Solid","lod":"{}",'
-                      '"boundaries":[[[[{}]]]],"semantics":{{"surfaces":{},"values":{}}}}}]}}'.format(
-                          dumps(str(ids[s])), '"attributes":' + dumps(attrs) + "," if attrs else "",
-                          LOD, shells[s], surf, vals))
+            surf[s] = dumps([surfaces_all[u] for u in used])
+            vals[s] = dumps([[remap[x] for x in v]])
+    members = [_member_texts(k, _attr_list(v)) for k, v in attributes.items()]
+    if members:
+        attrs = ['"attributes":{' + m[:-1] + "}," if m else ""
+                 for m in map("".join, zip(*members))]
+    else:
+        attrs = [""] * S
+    keys = [json.encoder.encode_basestring_ascii(str(i)) for i in ids]
+    geometry = '"geometry":[{"type":"Solid","lod":"' + LOD + '","boundaries":[[[['
+    pieces = map("".join, zip(keys, itertools.repeat(':{"type":"Building",'), attrs,
+                              itertools.repeat(geometry), shells,
+                              itertools.repeat(']]]],"semantics":{"surfaces":'), surf,
+                              itertools.repeat(',"values":'), vals, itertools.repeat("}}]}")))
     metadata = {"geographicalExtent": (np.concatenate([lo, hi]) / 1000.0).tolist()}
     if reference_system is not None:
         metadata["referenceSystem"] = crs_url(reference_system)
@@ -193,7 +266,7 @@ def citymodel_text(ss, semantics, ids, attributes=None, reference_system=None, t
                                 "translate": (lo / 1000.0).tolist()},
                   "metadata": metadata})
     return "".join([head[:-1], ',"CityObjects":{', ",".join(pieces), '},"vertices":',
-                    dumps((uniq - lo).tolist()), "}"])
+                    _vertices_text(uniq - lo), "}"])
 
 
 def write_text(path, text):

@@ -15,6 +15,7 @@ import math
 import os
 import shutil
 import tempfile
+import threading
 
 import numpy as np
 
@@ -79,9 +80,51 @@ def forget_temp_map(kind, name):
 # Checks
 # ---------------------------------------------------------------------------
 
+_PROJECTION = []
+#: GRASS queries of the checks started ahead (see prefetch_checks).
+_QUERIES = {}
+
+
+def prefetch_checks():
+    """Start the GRASS query behind :func:`require_projected` (and
+    :func:`location_epsg`) now, so that it runs while the caller imports and
+    parses; the checks then take its answer."""
+    if not _PROJECTION and "proj" not in _QUERIES:
+        _QUERIES["proj"] = gs.start_command("g.proj", flags="g", stdout=gs.PIPE,
+                                            stderr=gs.PIPE)
+
+
+def _answer(key):
+    """The parsed output of a query started by :func:`prefetch_checks`, or None."""
+    proc = _QUERIES.pop(key, None)
+    if proc is None:
+        return None
+    return gs.parse_key_val(gs.decode(proc.communicate()[0]))
+
+
+def projection():
+    """The current location's projection (g.proj -g) as a dict (asked once)."""
+    if not _PROJECTION:
+        answer = _answer("proj")
+        _PROJECTION.append(answer if answer is not None else
+                           gs.parse_command("g.proj", flags="g"))
+    return _PROJECTION[0]
+
+
+def location_epsg():
+    """The current location's EPSG code, or None."""
+    proj = projection()
+    srid = proj.get("srid", "") or proj.get("epsg", "")
+    if srid:
+        code = srid.split(":")[-1]
+        if code.isdigit():
+            return int(code)
+    return None
+
+
 def require_projected():
     """Fail unless the current location has a projected CRS in metres."""
-    proj = gs.parse_command("g.proj", flags="g")
+    proj = projection()
     name = proj.get("name", "")
     if proj.get("proj", "") in ("ll", "") or "lat" in name.lower() and "long" in name.lower():
         gs.fatal(
@@ -435,6 +478,87 @@ def column_names(name, layer=1):
         return []
 
 
+def _column_kind(sql_type):
+    """int, float or str: how values of a column of SQL type ``sql_type`` are read."""
+    t = (sql_type or "").upper()
+    if "INT" in t:
+        return int
+    if any(k in t for k in ("DOUBLE", "REAL", "FLOA", "NUMERIC", "DECIMAL")):
+        return float
+    return str
+
+
+def _column_value(value, kind):
+    """A table value as ``kind`` (int, float or str); None when NULL or not convertible."""
+    if value is None:
+        return None
+    if kind is str:
+        return value if isinstance(value, str) else str(value)
+    try:
+        return kind(value)
+    except (TypeError, ValueError):
+        return None
+
+
+def _table_sqlite(database, table):
+    """Column names, SQL types and rows of a table of a SQLite database, read
+    directly (the GRASS database driver hands over rows one by one, which is
+    slow for large tables)."""
+    import sqlite3
+
+    connection = sqlite3.connect(database)
+    try:
+        quoted = '"{}"'.format(table.replace('"', '""'))
+        info = connection.execute("PRAGMA table_info({})".format(quoted)).fetchall()
+        rows = connection.execute("SELECT * FROM {}".format(quoted)).fetchall()
+    finally:
+        connection.close()
+    return [c[1] for c in info], [c[2] for c in info], rows
+
+
+def _table_text(table_text, types_text, sep, null):
+    """Column names, SQL types and rows of a table from v.db.select text
+    (``sep`` between values, ``null`` for NULL) and v.info -c text."""
+    types = {}
+    for ln in types_text.splitlines():
+        if "|" in ln:
+            t, col = ln.split("|", 1)
+            types[col.strip()] = t.strip().upper()
+    lines = table_text.split("\n")      # not splitlines(): it splits at \x1e
+    names = lines[0].rstrip("\r").split(sep) if lines else []
+    rows = []
+    for ln in lines[1:]:
+        vals = ln.rstrip("\r").split(sep)
+        if len(vals) == len(names):
+            rows.append([None if v == null else v for v in vals])
+    return names, [types.get(n, "TEXT") for n in names], rows
+
+
+def _standard_points(text, layer):
+    """Coordinates (x, y) and categories in ``layer`` of the points of a
+    v.out.ascii standard format export (header, then per feature a line
+    ``type coordinates categories``, its coordinate lines and its
+    ``layer category`` lines)."""
+    lines = text.splitlines()
+    i = next((k for k, ln in enumerate(lines) if ln.strip() == "VERTI:"), len(lines)) + 1
+    xy, cats = [], []
+    while i < len(lines):
+        head = lines[i].split()
+        i += 1
+        if not head:
+            continue
+        ncoor, ncats = int(head[1]), int(head[2]) if len(head) > 2 else 0
+        xy.append(lines[i].split()[:2])
+        found = []
+        for ln in lines[i + ncoor:i + ncoor + ncats]:
+            lay, cat = ln.split()[:2]
+            if int(lay) == layer:
+                found.append(int(cat))
+        cats.append(found)
+        i += ncoor + ncats
+    return xy, cats
+
+
 def read_areas(name, layer=1):
     """Read the areas of a vector map fast, with their attribute columns.
 
@@ -442,41 +566,95 @@ def read_areas(name, layer=1):
     geometry per category, areas of one category merged; a dict column ->
     list of values with ``cat``), but without the per-feature cost of OGR:
     the areas come as WKT from v.out.ascii, each one gets the categories of
-    its centroid, and the table comes in one query; the GRASS tools run side
-    by side. Areas shared by several categories (overlapping input polygons)
-    belong to each of them.
+    its centroid, and the table comes in one query (straight from the file
+    of a SQLite database, else from v.db.select); the GRASS tools run side
+    by side, writing to files. Areas shared by several categories
+    (overlapping input polygons) belong to each of them.
     """
-    import shapely
+    return finish_read_areas(start_read_areas(name, layer))
 
-    sep, null = "\x1f", "\x1e"
-    has_table = int(layer) in gs.vector_db(name)
+
+def _start_tools(commands, outdir):
+    """Start GRASS tools ``{key: (module, options)}`` writing to files in ``outdir``."""
+    procs = {}
+    for k, (cmd, kw) in commands.items():
+        with open(os.path.join(outdir, k + ".out"), "wb") as out, \
+                open(os.path.join(outdir, k + ".err"), "wb") as err:
+            procs[k] = gs.start_command(cmd, quiet=True, stdout=out, stderr=err, **kw)
+    return procs
+
+
+def start_read_areas(name, layer=1):
+    """Start reading the areas of a vector map (see :func:`read_areas`): the
+    GRASS tools export the geometry in the background while the caller does
+    other work (e.g. checks its inputs); :func:`finish_read_areas` waits for
+    them and returns the result. Errors (e.g. no such map, then as
+    :func:`require_vector`) are reported by :func:`finish_read_areas`."""
     commands = {
         "wkt": ("v.out.ascii", dict(input=name, layer=layer, type="area", format="wkt")),
-        # (v.out.ascii warns about every centroid with several categories:
-        # those come from v.category)
-        "xy": ("v.out.ascii", dict(input=name, layer=layer, type="centroid", format="point",
-                                   separator="|")),
-        "cats": ("v.category", dict(input=name, layer=layer, type="centroid", option="print")),
+        # the centroids with all their categories
+        "centroids": ("v.out.ascii", dict(input=name, layer=layer, type="centroid",
+                                          format="standard")),
     }
-    if has_table:
-        commands["table"] = ("v.db.select", dict(map=name, layer=layer, separator=sep,
-                                                 null_value=null))
-        commands["types"] = ("v.info", dict(map=name, layer=layer, flags="c"))
-    procs = {k: gs.start_command(cmd, quiet=True, stdout=gs.PIPE, stderr=gs.PIPE, **kw)
-             for k, (cmd, kw) in commands.items()}
+    outdir = os.path.dirname(temp_file())
+    os.makedirs(outdir, exist_ok=True)
+    job = {"name": name, "layer": layer, "outdir": outdir, "commands": commands,
+           "procs": _start_tools(commands, outdir), "table": []}
+    # meanwhile a thread finds the attribute table and reads it if it is SQLite
+    job["table_reader"] = threading.Thread(target=_find_table, args=(job,), daemon=True)
+    job["table_reader"].start()
+    return job
+
+
+def _find_table(job):
+    """The attribute table link of a :func:`start_read_areas` job, and the
+    table itself when it is a SQLite file (into ``job["table"]``: link,
+    table or None, error or None)."""
+    try:
+        link = gs.vector_db(job["name"], stderr=gs.PIPE).get(int(job["layer"]))
+        table = None
+        if link is not None and link["driver"] == "sqlite" and os.path.isfile(link["database"]):
+            table = _table_sqlite(link["database"], link["table"])
+        job["table"][:] = [link, table, None]
+    except Exception as error:  # reported by finish_read_areas
+        job["table"][:] = [None, None, error]
+
+
+def finish_read_areas(job):
+    """The areas and attribute columns of a :func:`start_read_areas` job."""
+    import shapely
+
+    name, layer, outdir = job["name"], job["layer"], job["outdir"]
+    commands, procs = dict(job["commands"]), dict(job["procs"])
+    sep, null = "\x1f", "\x1e"
+    job["table_reader"].join()
+    link, table, error = job["table"]
+    direct = table is not None
+    if link is not None and not direct:
+        table_commands = {
+            "table": ("v.db.select", dict(map=name, layer=layer, separator=sep, null_value=null)),
+            "types": ("v.info", dict(map=name, layer=layer, flags="c"))}
+        commands.update(table_commands)
+        procs.update(_start_tools(table_commands, outdir))
     text = {}
     for k, proc in procs.items():
-        out, err = proc.communicate()
+        proc.wait()
         if proc.returncode != 0:
+            require_vector(name)
+            with open(os.path.join(outdir, k + ".err"), "rb") as f:
+                err = f.read()
             gs.fatal(_("Cannot read vector map <{}> ({}): {}").format(
                 name, commands[k][0], gs.decode(err).strip()))
-        text[k] = gs.decode(out)
+        with open(os.path.join(outdir, k + ".out"), "rb") as f:
+            text[k] = gs.decode(f.read())
+    if error is not None:
+        raise error
     lines = [ln for ln in text["wkt"].splitlines() if ln.strip()]
     polys = shapely.from_wkt(np.array(lines, dtype=object)) if lines else np.array([])
-    xy = [ln.split("|")[:2] for ln in text["xy"].splitlines() if ln.strip()]
-    cats = [[int(c) for c in ln.split("/") if c.strip()] for ln in text["cats"].splitlines()]
-    if len(cats) != len(xy):
-        gs.fatal(_("Cannot match the centroids and categories of vector map <{}>").format(name))
+    try:
+        xy, cats = _standard_points(text["centroids"], int(layer))
+    except (ValueError, IndexError):
+        gs.fatal(_("Cannot read the centroids of vector map <{}>").format(name))
     by_cat = {}
     if len(polys) and xy:
         points = shapely.points(np.array(xy, dtype=float))
@@ -490,41 +668,21 @@ def read_areas(name, layer=1):
         parts = by_cat[c]
         geoms.append(parts[0] if len(parts) == 1 else shapely.union_all(parts))
     columns = {"cat": list(order)}
-    if has_table:
-        types = {}
-        for ln in text["types"].splitlines():
-            if "|" in ln:
-                t, col = ln.split("|", 1)
-                types[col.strip()] = t.strip().upper()
-        rows_text = text["table"].split("\n")      # not splitlines(): it splits at \x1e
-        names = rows_text[0].rstrip("\r").split(sep) if rows_text else []
-        key = gs.vector_db(name)[int(layer)]["key"]
+    if link is not None:
+        if direct:
+            names, sql_types, rows = table
+        else:
+            names, sql_types, rows = _table_text(text["table"], text["types"], sep, null)
+        key = link["key"]
         kpos = names.index(key) if key in names else None
-        rows = {}
-        for ln in rows_text[1:]:
-            vals = ln.rstrip("\r").split(sep)
-            if kpos is None or len(vals) != len(names) or vals[kpos] == null:
-                continue
-            rows[int(vals[kpos])] = vals
-
-        def convert(value, sql_type):
-            if value == null:
-                return None
-            if sql_type in ("INTEGER", "INT", "SMALLINT", "BIGINT"):
-                try:
-                    return int(value)
-                except ValueError:
-                    return None
-            if sql_type in ("DOUBLE PRECISION", "REAL", "FLOAT", "DOUBLE", "NUMERIC"):
-                try:
-                    return float(value)
-                except ValueError:
-                    return None
-            return value
-
+        by_key = {}
+        for vals in rows:
+            if kpos is not None and vals[kpos] is not None:
+                by_key[int(vals[kpos])] = vals
         for j, n in enumerate(names):
             if n == key:
                 continue
-            t = types.get(n, "TEXT")
-            columns[n] = [convert(rows[c][j], t) if c in rows else None for c in order]
+            kind = _column_kind(sql_types[j])
+            columns[n] = [_column_value(by_key[c][j], kind) if c in by_key else None
+                          for c in order]
     return geoms, columns

@@ -108,27 +108,45 @@ def edge_lengths(xy):
     return np.hypot(*(_nxt(xy) - xy).T)
 
 
+def _edge_vectors(xy):
+    """Edge vectors ``xy[i] -> xy[i+1]`` and lengths of rings (G, n, 2)."""
+    d = np.roll(xy, -1, axis=1) - xy
+    return d, np.hypot(d[..., 0], d[..., 1])
+
+
+def convex_rings(xy, tol=1e-9):
+    """(G,) True for counter-clockwise rings (G, n, 2) without a reflex vertex."""
+    d2, l2 = _edge_vectors(xy)
+    d1, l1 = np.roll(d2, 1, axis=1), np.roll(l2, 1, axis=1)
+    cross = d1[..., 0] * d2[..., 1] - d1[..., 1] * d2[..., 0]
+    return np.all(cross > -tol * l1 * l2, axis=1)
+
+
+def opposite_edges(xy, ends):
+    """(G,) for rings (G, n, 2): the edge most anti-parallel to edge
+    ``ends[g]`` (more than 135 degrees) and not next to it, or -1."""
+    G, n, _ = xy.shape
+    ends = np.asarray(ends, dtype=np.int64)
+    d, ln = _edge_vectors(xy)
+    d = d / np.maximum(ln, 1e-300)[..., None]
+    rows = np.arange(G)
+    c = np.einsum("gjx,gx->gj", d, d[rows, ends])
+    j = np.arange(n)[None, :]
+    e = ends[:, None]
+    c = np.where((j == e) | (j == (e - 1) % n) | (j == (e + 1) % n), np.inf, c)
+    best = np.argmin(c, axis=1)
+    return np.where(c[rows, best] < -math.cos(math.radians(45)), best, -1)
+
+
 def is_convex(xy, tol=1e-9):
     """True when a counter-clockwise ring has no reflex vertex."""
-    d1 = xy - _prv(xy)
-    d2 = _nxt(xy) - xy
-    cross = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
-    return bool(np.all(cross > -tol * np.hypot(*d1.T) * np.hypot(*d2.T)))
+    return bool(convex_rings(np.asarray(xy, dtype=float)[None], tol)[0])
 
 
 def opposite_edge(xy, i):
     """The edge most anti-parallel to edge ``i`` and not adjacent to it, or None."""
-    n = len(xy)
-    d = _nxt(xy) - xy
-    d = d / np.maximum(np.hypot(*d.T), 1e-300)[:, None]
-    best, best_cos = None, -math.cos(math.radians(45))
-    for j in range(n):
-        if j in (i, (i - 1) % n, (i + 1) % n):
-            continue
-        c = float(d[i] @ d[j])
-        if c < best_cos:
-            best, best_cos = j, c
-    return best
+    best = int(opposite_edges(np.asarray(xy, dtype=float)[None], [i])[0])
+    return None if best < 0 else best
 
 
 def end_edges(xy):
@@ -469,160 +487,224 @@ def flat_roof(xy):
 # Crow-stepped gable
 # ---------------------------------------------------------------------------
 
-def _clip_strip(xy, e, thickness):
-    """Split a convex footprint at distance ``thickness`` from edge ``e``.
+def clip_strips(xy, ends, thickness):
+    """Split convex footprints (G, n, 2) at distance ``thickness`` from their
+    edge ``ends``.
 
-    Returns ``(body, qa, qb)``: the main body ring starting with the inner
-    edge ``qa -> qb`` (parallel to edge e), or None when the strip would cut
-    more than the two edges next to ``e``.
+    Returns ``(body, ok)``: the main body rings (G, n, 2), each starting
+    with its inner edge (parallel to the end edge) and going on with the
+    footprint's vertices after the end edge, and False where the strip would
+    cut more than the two edges next to the end edge.
     """
-    n = len(xy)
-    a, b = xy[e], xy[(e + 1) % n]
-    t = (b - a) / np.hypot(*(b - a))
-    nrm = np.array([-t[1], t[0]])
-    d = (xy - a) @ nrm
-    others = [k for k in range(n) if k not in (e, (e + 1) % n)]
-    if min(d[k] for k in others) <= thickness + 0.05:
-        return None
-    prev_v = xy[(e - 1) % n]
-    next_v = xy[(e + 2) % n]
-    qa = a + (prev_v - a) * (thickness / d[(e - 1) % n])
-    qb = b + (next_v - b) * (thickness / d[(e + 2) % n])
-    body = [qa, qb] + [xy[(e + 2 + k) % n] for k in range(n - 2)]
-    return np.array(body), qa, qb
+    G, n, _ = xy.shape
+    ends = np.asarray(ends, dtype=np.int64)
+    ring = xy[np.arange(G)[:, None], (ends[:, None] + np.arange(n)) % n]   # end edge first
+    a, b = ring[:, 0], ring[:, 1]
+    t = (b - a) / np.hypot(*(b - a).T)[:, None]
+    nrm = np.stack([-t[:, 1], t[:, 0]], axis=1)
+    d = np.einsum("gkx,gx->gk", ring - a[:, None], nrm)
+    ok = d[:, 2:].min(axis=1) > thickness + 0.05
+    dd = np.where(ok[:, None], d, 1.0)
+    body = ring.copy()
+    body[:, 0] = a + (ring[:, -1] - a) * (thickness / dd[:, -1])[:, None]
+    body[:, 1] = b + (ring[:, 2] - b) * (thickness / dd[:, 2])[:, None]
+    return body, ok
 
 
-def add_stepped_facade(xy, end, body_roof, body, thickness, step):
-    """Assemble a crow-stepped gable roof over footprint ``xy``.
+def _interp_rows(x, xp, fp):
+    """``np.interp`` row by row: ``x`` (G, Q) at the points ``xp`` (G, K)
+    (non-decreasing in every row) with values ``fp`` (G, K), in one call
+    (rows are shifted apart along the axis, so ``x`` must lie within its
+    row's range)."""
+    G = len(xp)
+    if G == 0 or x.shape[1] == 0:
+        return np.zeros(x.shape)
+    span = float(max(np.abs(xp).max(), np.abs(x).max())) * 2.0 + 1.0
+    off = (np.arange(G, dtype=float) * (2.0 * span))[:, None]
+    return np.interp(x + off, (xp + off).ravel(), fp.ravel())
 
-    ``body``: main body ring from :func:`_clip_strip` (inner edge first),
-    ``body_roof``: its gable roof (scaled, vertical face on edge 0). Returns a
-    roof dict over ``xy`` (boundary walked by the solid builder) or None.
+
+def stepped_arrays(xy, ends, body, steps, thickness):
+    """Crow-stepped gable roofs over convex footprints with the same number of
+    vertices, as arrays.
+
+    ``xy``: (G, n, 2) footprints (local coordinates, counter-clockwise);
+    ``ends``: (G,) index of the stepped edge; ``body``: the
+    :func:`envelope_arrays` gable roofs (scaled to the roof height) of the main
+    bodies from :func:`clip_strips` (inner edge first, vertical face on edge
+    0); ``steps``: (G,) step heights; ``thickness`` of the facade. The facade
+    is a slab between the street edge and the inner edge whose profile rises
+    in steps of ``steps`` above the body roof's gable profile.
+
+    Returns a list of groups, one per number of steps, dicts of arrays:
+    ``rows`` (indices into the input), ``roof`` (g, R, 3) roof vertices (the
+    footprint at z = 0 first, then the body roof, then the facade corners),
+    ``ring_idx`` (g, F, K) and ``cnt`` (g, F) the faces (first ``cnt``
+    entries; 0 = no face), ``wall_mid`` (g, n) the roof vertex on the
+    boundary along each footprint edge between its ends (-1 = none: the
+    inner edge's ends on the edges next to the street edge), ``zmax``. Rows
+    whose facade cannot be built (steps too narrow, no gable profile) are in
+    no group.
     """
-    n = len(xy)
-    nb = len(body)
-    bv = body_roof["vertices"]
-    bfaces = body_roof["faces"]
-    a, b = xy[end], xy[(end + 1) % n]
-    L = float(np.hypot(*(b - a)))
-    t = (b - a) / L
-    nrm = np.array([-t[1], t[0]])
-    qa, qb = body[0], body[1]
-    # the profile of the main roof on the inner plane: vertical face of edge 0
-    prof = None
-    for f in bfaces:
-        if 0 in f and 1 in f:
-            if np.all(np.abs((bv[f, :2] - qa) @ nrm) < 1e-6):
-                prof = f
-                break
-    if prof is None:
-        return None
-    top_pts = [k for k in prof if k not in (0, 1)]
-    if not top_pts:
-        return None
-    up = np.array([(bv[k, :2] - a) @ t for k in top_pts])
-    zp = np.array([bv[k, 2] for k in top_pts])
-    o = np.argsort(up)
-    top_pts = [top_pts[i] for i in o]
-    up, zp = up[o], zp[o]
-    ua, ub = float((qa - a) @ t), float((qb - a) @ t)
-    pu = np.concatenate([[ua], up, [ub]])
-    pz = np.concatenate([[0.0], zp, [0.0]])
-    H = float(pz.max())
-    if H <= 1e-3:
-        return None
-    s = float(step)
-    m = min(0.1, s / 4.0)
-    nsteps = int(math.ceil((H + m) / s))
-    iapex = int(np.argmax(pz))
-
-    def left(zl):
-        return float(np.interp(zl, pz[:iapex + 1], pu[:iapex + 1]))
-
-    def right(zl):
-        return float(np.interp(zl, pz[iapex:][::-1], pu[iapex:][::-1]))
-
-    uL = [left(k * s - m) for k in range(1, nsteps)]
-    uR = [right(k * s - m) for k in range(1, nsteps)]
-    lo, hi = max(0.0, ua), min(L, ub)
-    seq = [lo] + uL + uR[::-1] + [hi]
-    if any(q - p < 0.02 for p, q in zip(seq[:-1], seq[1:])):
-        return None
-    zs = [k * s for k in range(1, nsteps + 1)]
-
-    # vertex table: footprint (n, z=0) first, then the body roof, then the slab
-    off_body = n
-    # map body base vertices: body[0]=qa, body[1]=qb, body[k>=2] = xy[(end+2+k-2)%n]
-    body_to_fp = {k: (end + k) % n for k in range(2, nb)}
-
-    def bidx(k):
-        return body_to_fp.get(k, off_body + k)
-
-    ia, ib = end, (end + 1) % n
-    i_qa0, i_qb0 = off_body + 0, off_body + 1          # qa, qb at eaves (body vertices)
-    # outline of the stepped profile, left to right: (u, z) corners
-    nst = nsteps - 1
-    cu = np.empty(4 + 4 * nst)
-    cz = np.empty(4 + 4 * nst)
-    cu[0], cz[0], cu[1], cz[1] = seq[0], 0.0, seq[0], zs[0]
-    ul, ur = np.asarray(uL), np.asarray(uR)
-    zarr = np.asarray(zs)
-    cu[2:2 + 2 * nst:2] = ul
-    cu[3:3 + 2 * nst:2] = ul
-    cz[2:2 + 2 * nst:2] = zarr[:nst]
-    cz[3:3 + 2 * nst:2] = zarr[1:nst + 1]
-    k0 = 2 + 2 * nst
-    cu[k0:k0 + 2 * nst:2] = ur[::-1]
-    cu[k0 + 1:k0 + 2 * nst:2] = ur[::-1]
-    cz[k0:k0 + 2 * nst:2] = zarr[nst:0:-1]
-    cz[k0 + 1:k0 + 2 * nst:2] = zarr[nst - 1::-1] if nst else zarr[:0]
-    cu[-2], cz[-2], cu[-1], cz[-1] = seq[-1], zs[0], seq[-1], 0.0
-    nc = len(cu)
-    # inner corners (1 .. nc-2) on the front (edge `end`) and the back (inner edge)
-    inner_u = cu[1:-1]
-    fxy = a + np.outer(inner_u, t)
-    bxy = fxy + nrm * thickness
-    fxy[0], fxy[-1] = a, b
-    bxy[0], bxy[-1] = qa, qb
-    m = nc - 2
-    base = off_body + len(bv)
-    extra = np.empty((2 * m, 3))
-    extra[:m, :2] = fxy
-    extra[m:, :2] = bxy
-    extra[:m, 2] = cz[1:-1]
-    extra[m:, 2] = cz[1:-1]
-    front = [ia] + list(range(base, base + m)) + [ib]
-    back = [i_qa0] + list(range(base + m, base + 2 * m)) + [i_qb0]
-    allv = np.concatenate([np.concatenate([xy, np.zeros((n, 1))], axis=1), bv, extra], axis=0)
-    corners = range(nc)
-    faces = []
-
-    # orientation by construction (seen from outside, counter-clockwise): the
-    # outline runs up the left side, over the steps and down the right side
-    # ((u, z) clockwise), so the front facade is its reverse, the back face
-    # (facing the ridge) the outline then the roof profile back; the side
-    # faces run like the walls below them
-    faces.append(front[::-1])
-    profile = [bidx(k) for k in top_pts]
-    faces.append((back[::-1] + profile)[::-1])
-    faces.append([ia, front[1], back[1], i_qa0])
-    faces.append([ib, i_qb0, back[-2], front[-2]])
-    # treads and risers: [front i, front i+1, back i+1, back i] is outward by
-    # construction (u grows along the outline: treads face up, risers face
-    # away from the ridge)
-    for i in range(1, len(corners) - 2):
-        faces.append([front[i], front[i + 1], back[i + 1], back[i]])
-    # main body roof faces except its vertical face on the inner edge
-    for f in bfaces:
-        if f is prof:
+    xy = np.asarray(xy, dtype=float)
+    G, n, _ = xy.shape
+    ends = np.asarray(ends, dtype=np.int64)
+    steps = np.asarray(steps, dtype=float)
+    rows = np.arange(G)
+    bxy, nodes, ring_idx, cnt = body["xy"], body["nodes"], body["ring_idx"], body["cnt"]
+    C = nodes.shape[1]
+    a = xy[rows, ends]
+    b = xy[rows, (ends + 1) % n]
+    L = np.hypot(*(b - a).T)
+    t = (b - a) / L[:, None]
+    nrm = np.stack([-t[:, 1], t[:, 0]], axis=1)
+    qa, qb = bxy[:, 0], bxy[:, 1]
+    # the gable profile on the inner edge: the face of the body's plane 0,
+    # its nodes (roof vertices n + k) sorted along the edge
+    prof = ring_idx[:, 0]
+    K = prof.shape[1]
+    is_top = (np.arange(K) < cnt[:, 0, None]) & (prof >= n)
+    T = is_top.sum(axis=1)
+    node_of = np.where(is_top, prof - n, 0)
+    pts = nodes[rows[:, None], node_of]                             # (G, K, 3)
+    up = np.where(is_top, np.einsum("gkx,gx->gk", pts[..., :2] - a[:, None], t), np.inf)
+    order = np.argsort(up, axis=1, kind="stable")
+    top_k = np.take_along_axis(node_of, order, axis=1)             # body node numbers
+    up = np.take_along_axis(up, order, axis=1)
+    zp = np.take_along_axis(pts[..., 2], order, axis=1)
+    ua = np.einsum("gx,gx->g", qa - a, t)
+    ub = np.einsum("gx,gx->g", qb - a, t)
+    # profile (u, z), padded at the end with its last point
+    col = np.arange(K + 2)
+    inside = (col >= 1) & (col[None, :] <= T[:, None])
+    src = np.clip(col - 1, 0, K - 1)
+    pu = np.where(inside, up[:, src], ub[:, None])
+    pz = np.where(inside, zp[:, src], 0.0)
+    pu[:, 0], pz[:, 0] = ua, 0.0
+    H = pz.max(axis=1)
+    s = steps
+    margin = np.minimum(0.1, s / 4.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        nsteps = np.ceil((H + margin) / s)
+    ok = body["ok"] & (T > 0) & (H > 1e-3) & np.isfinite(nsteps)
+    nsteps = np.where(ok, nsteps, 1).astype(np.int64)
+    iapex = np.argmax(pz, axis=1)
+    last = T + 1
+    rising = np.minimum(col[None, :], iapex[:, None])
+    falling = np.maximum(last[:, None] - col[None, :], iapex[:, None])
+    lo, hi = np.maximum(0.0, ua), np.minimum(L, ub)
+    out = []
+    for q in np.unique(nsteps[ok]):
+        sel = np.nonzero(ok & (nsteps == q))[0]
+        g = len(sel)
+        Q = int(q) - 1
+        zq = np.arange(1, Q + 1, dtype=float)[None, :] * s[sel, None] - margin[sel, None]
+        uL = _interp_rows(zq, np.take_along_axis(pz[sel], rising[sel], axis=1),
+                          np.take_along_axis(pu[sel], rising[sel], axis=1))
+        uR = _interp_rows(zq, np.take_along_axis(pz[sel], falling[sel], axis=1),
+                          np.take_along_axis(pu[sel], falling[sel], axis=1))
+        seq = np.concatenate([lo[sel, None], uL, uR[:, ::-1], hi[sel, None]], axis=1)
+        wide = np.all(np.diff(seq, axis=1) >= 0.02, axis=1)
+        sel, uL, uR = sel[wide], uL[wide], uR[wide]
+        g = len(sel)
+        if g == 0:
             continue
-        faces.append([bidx(k) for k in f])
-    # the roof's boundary along each footprint edge (for the walls)
-    chains = [[k, (k + 1) % n] for k in range(n)]
-    chains[(end - 1) % n] = [(end - 1) % n, i_qa0, ia]
-    chains[(end + 1) % n] = [ib, i_qb0, (end + 2) % n]
-    return {"vertices": allv, "faces": faces, "boundary": False, "chains": chains,
-            "zmax": float(allv[:, 2].max())}
+        zs = np.arange(1, Q + 2, dtype=float)[None, :] * s[sel, None]
+        # outline of the stepped profile, left to right: (u, z) corners
+        nc = 4 + 4 * Q
+        cu = np.empty((g, nc))
+        cz = np.empty((g, nc))
+        cu[:, 0] = cu[:, 1] = lo[sel]
+        cz[:, 0], cz[:, 1] = 0.0, zs[:, 0]
+        cu[:, 2:2 + 2 * Q:2] = uL
+        cu[:, 3:3 + 2 * Q:2] = uL
+        cz[:, 2:2 + 2 * Q:2] = zs[:, :Q]
+        cz[:, 3:3 + 2 * Q:2] = zs[:, 1:Q + 1]
+        k0 = 2 + 2 * Q
+        cu[:, k0:k0 + 2 * Q:2] = uR[:, ::-1]
+        cu[:, k0 + 1:k0 + 2 * Q:2] = uR[:, ::-1]
+        cz[:, k0:k0 + 2 * Q:2] = zs[:, Q:0:-1]
+        cz[:, k0 + 1:k0 + 2 * Q:2] = zs[:, Q - 1::-1] if Q else zs[:, :0]
+        cu[:, -2] = cu[:, -1] = hi[sel]
+        cz[:, -2], cz[:, -1] = zs[:, 0], 0.0
+        # inner corners on the front (the street edge) and the back (inner edge)
+        m = nc - 2
+        fxy = a[sel, None] + cu[:, 1:-1, None] * t[sel, None]
+        bk = fxy + (nrm[sel] * thickness)[:, None]
+        fxy[:, 0], fxy[:, -1] = a[sel], b[sel]
+        bk[:, 0], bk[:, -1] = qa[sel], qb[sel]
+        # roof vertices: footprint, body roof (its base, then its nodes), facade
+        R = 2 * n + C + 2 * m
+        roof = np.zeros((g, R, 3))
+        roof[:, :n, :2] = xy[sel]
+        roof[:, n:2 * n, :2] = bxy[sel]
+        roof[:, 2 * n:2 * n + C] = nodes[sel]
+        base = 2 * n + C
+        roof[:, base:base + m, :2] = fxy
+        roof[:, base + m:, :2] = bk
+        roof[:, base:base + m, 2] = cz[:, 1:-1]
+        roof[:, base + m:, 2] = cz[:, 1:-1]
+        e = ends[sel]
+        ia, ib = e, (e + 1) % n
+        i_qa, i_qb = n, n + 1
+        front = np.empty((g, m + 2), dtype=np.int64)
+        front[:, 0], front[:, -1] = ia, ib
+        front[:, 1:-1] = base + np.arange(m)
+        back = np.empty((g, m + 2), dtype=np.int64)
+        back[:, 0], back[:, -1] = i_qa, i_qb
+        back[:, 1:-1] = base + m + np.arange(m)
+        P = ring_idx.shape[1]
+        Kb = ring_idx.shape[2]
+        F = 4 + (m - 1) + (P - 1)
+        Kf = max(m + 2 + K, Kb, 4)
+        faces = np.zeros((g, F, Kf), dtype=np.int64)
+        fcnt = np.zeros((g, F), dtype=np.int64)
+        # front facade, seen from the street
+        faces[:, 0, :m + 2] = front[:, ::-1]
+        fcnt[:, 0] = m + 2
+        # back face (towards the ridge): the gable profile (right to left), then the outline
+        Tg = T[sel]
+        prof_rev = np.where(np.arange(K)[None, :] < Tg[:, None],
+                            np.take_along_axis(top_k[sel], np.clip(Tg[:, None] - 1 - np.arange(K), 0,
+                                                                   K - 1), axis=1), 0) + 2 * n
+        pos = np.arange(Kf)[None, :]
+        faces[:, 1] = np.where(pos < Tg[:, None], prof_rev[:, np.minimum(np.arange(Kf), K - 1)],
+                               back[np.arange(g)[:, None], np.clip(pos - Tg[:, None], 0, m + 1)])
+        fcnt[:, 1] = Tg + m + 2
+        # side faces of the slab
+        faces[:, 2, :4] = np.stack([ia, front[:, 1], back[:, 1], np.full(g, i_qa)], axis=1)
+        faces[:, 3, :4] = np.stack([ib, np.full(g, i_qb), back[:, -2], front[:, -2]], axis=1)
+        fcnt[:, 2:4] = 4
+        # treads and risers
+        i = np.arange(1, m)
+        faces[:, 4:4 + m - 1, :4] = np.stack([front[:, i], front[:, i + 1], back[:, i + 1],
+                                              back[:, i]], axis=2)
+        fcnt[:, 4:4 + m - 1] = 4
+        # the body roof but its vertical face on the inner edge; its base vertices
+        # beyond the inner edge are the footprint's
+        k = ring_idx[sel, 1:]
+        mapped = np.where((k >= 2) & (k < n), (e[:, None, None] + k) % n, n + k)
+        faces[:, 4 + m - 1:, :Kb] = mapped
+        bc = cnt[sel, 1:]
+        fcnt[:, 4 + m - 1:] = np.where(bc >= 3, bc, 0)
+        wall_mid = np.full((g, n), -1, dtype=np.int64)
+        wall_mid[np.arange(g), (e - 1) % n] = i_qa
+        wall_mid[np.arange(g), ib] = i_qb
+        out.append({"rows": sel, "roof": roof, "ring_idx": faces, "cnt": fcnt,
+                    "wall_mid": wall_mid, "zmax": roof[..., 2].max(axis=1)})
+    return out
+
+
+def _walked_roof_dict(group, j):
+    """The roof dict (with boundary ``chains``) of row ``j`` of a
+    :func:`stepped_arrays` group."""
+    roof = group["roof"][j]
+    n = group["wall_mid"].shape[1]
+    faces = [r[:c] for r, c in zip(group["ring_idx"][j].tolist(), group["cnt"][j].tolist()) if c]
+    chains = [[k, (k + 1) % n] if mid < 0 else [k, mid, (k + 1) % n]
+              for k, mid in enumerate(group["wall_mid"][j].tolist())]
+    return {"vertices": roof, "faces": faces, "boundary": False, "chains": chains,
+            "zmax": float(group["zmax"][j])}
 
 
 # ---------------------------------------------------------------------------
@@ -634,6 +716,34 @@ def street_end(xy, street=None):
     if street is not None and 0 <= int(street) < len(xy):
         return int(street)
     return int(np.argmin(edge_lengths(xy)))
+
+
+def outline_facts(footprints, street=None):
+    """What the roofs need to know of each footprint's outline, in bulk
+    (one numpy pass per vertex count): a dict of arrays ``convex``, ``end``
+    (see :func:`street_end`), ``shortest`` (edge length), ``end_length`` and
+    ``opposite`` (see :func:`opposite_edge`; -1 = none)."""
+    B = len(footprints)
+    out = {"convex": np.zeros(B, dtype=bool), "end": np.zeros(B, dtype=np.int64),
+           "shortest": np.zeros(B), "end_length": np.zeros(B),
+           "opposite": np.full(B, -1, dtype=np.int64)}
+    by_n = {}
+    for i, xy in enumerate(footprints):
+        by_n.setdefault(len(xy), []).append(i)
+    for n, idx in by_n.items():
+        idx = np.array(idx, dtype=np.int64)
+        xy = np.stack([footprints[i] for i in idx]).astype(float)
+        _, ln = _edge_vectors(xy)
+        end = np.argmin(ln, axis=1)
+        if street is not None:
+            given = np.array([-1 if street[i] is None else int(street[i]) for i in idx])
+            end = np.where((given >= 0) & (given < n), given, end)
+        out["convex"][idx] = convex_rings(xy)
+        out["end"][idx] = end
+        out["shortest"][idx] = ln.min(axis=1)
+        out["end_length"][idx] = ln[np.arange(len(idx)), end]
+        out["opposite"][idx] = opposite_edges(xy, end) if n > 3 else -1
+    return out
 
 
 def _batch_envelope(jobs):
@@ -668,66 +778,77 @@ def make_roofs(footprints, roof_types, attic, uniforms, street=None, pitch_min=6
     gable). With ``bulk=True`` flat roofs and the roofs of convex footprints
     come as a third result instead, groups of arrays (``index``, ``xy`` and,
     but for flat roofs, the :func:`envelope_arrays` ``nodes``, ``ring_idx``,
-    ``cnt``) for :func:`reconstruction.solids.build_solids`.
+    ``cnt``, or for crow-stepped gables the :func:`stepped_arrays` ``roof``,
+    ``ring_idx``, ``cnt``, ``wall_mid``) for
+    :func:`reconstruction.solids.build_solids`.
     """
     B = len(footprints)
     roofs = [None] * B
     kinds = list(roof_types)
     uniforms = np.asarray(uniforms, dtype=float).reshape(B, 3)
     env_jobs, cgal_jobs, stepped, flat_jobs = [], [], {}, {}
+    facts = outline_facts(footprints, street)
+    convex_all, end_all, opp_all = (facts[k].tolist() for k in ("convex", "end", "opposite"))
+    attic = np.asarray(attic, dtype=float)
+    # crow-stepped gables on convex footprints: the main body behind the facade
+    flat = np.array([k == "flat" for k in roof_types], dtype=bool) | (attic <= 1e-3)
+    want = np.array([k == "stepped" for k in roof_types], dtype=bool) & ~flat & facts["convex"]
+    want &= np.array([len(xy) >= 4 for xy in footprints], dtype=bool)
+    bodies = {}
+    for n in sorted({len(footprints[i]) for i in np.nonzero(want)[0]}):
+        idx = np.array([i for i in np.nonzero(want)[0] if len(footprints[i]) == n])
+        body, ok = clip_strips(np.stack([footprints[i] for i in idx]), facts["end"][idx], thickness)
+        opp = opposite_edges(body, np.zeros(len(idx), dtype=np.int64))
+        for k in np.nonzero(ok)[0]:
+            bodies[int(idx[k])] = (body[k], int(opp[k]))
     for i, (xy, kind) in enumerate(zip(footprints, roof_types)):
         h = float(attic[i])
         n = len(xy)
-        if kind == "flat" or h <= 1e-3:
+        if flat[i]:
             if bulk:
                 flat_jobs.setdefault(n, []).append(i)
             else:
                 roofs[i] = flat_roof(xy)
             continue
-        end = street_end(xy, None if street is None else street[i])
-        convex = is_convex(xy)
+        end = end_all[i]
+        convex = convex_all[i]
         if kind == "mansard":
             lo, hi = inset
-            cap = 0.45 * float(edge_lengths(xy).min())
+            cap = 0.45 * float(facts["shortest"][i])
             ins = max(min(lo + (hi - lo) * uniforms[i, 1], cap), 1e-3)
             if convex:
                 env_jobs.append((i, xy, np.full(n, h / ins), h))
             else:
                 cgal_jobs.append((i, xy, np.full(n, math.degrees(math.atan2(h, ins))), h))
             continue
-        if kind == "stepped" and convex and n >= 4:
-            res = _clip_strip(xy, end, thickness)
-            if res is not None:
-                body = res[0]
-                slopes = np.ones(len(body))
-                slopes[0] = np.inf
-                opp = opposite_edge(body, 0)
-                if opp is not None:
-                    slopes[opp] = np.inf
-                s_lo, s_hi = step
-                stepped[i] = (end, body, s_lo + (s_hi - s_lo) * uniforms[i, 2])
-                env_jobs.append((("body", i), body, slopes, None))
-                continue
-            kind = "gable"
-        elif kind == "stepped":
+        if kind == "stepped" and i in bodies:
+            body, opp = bodies[i]
+            slopes = np.ones(len(body))
+            slopes[0] = np.inf
+            if opp >= 0:
+                slopes[opp] = np.inf
+            s_lo, s_hi = step
+            stepped[i] = (end, s_lo + (s_hi - s_lo) * uniforms[i, 2])
+            env_jobs.append((("body", i), body, slopes, None))
+            continue
+        if kind == "stepped":
             kind = "gable"
         kinds[i] = kind
         if convex:
             slopes = np.ones(n)
+            opp = opp_all[i]
             if kind == "hip" and n == 4:
-                base = float(edge_lengths(xy)[end])
+                base = float(facts["end_length"][i])
                 p_long = math.degrees(math.atan2(h, base / 2.0))
                 low = min(max(pitch_min, p_long), 89.0)
                 p_end = low + (89.0 - low) * uniforms[i, 0]
                 ratio = math.tan(math.radians(p_end)) / math.tan(math.radians(p_long))
                 slopes[end] = ratio
-                opp = opposite_edge(xy, end)
-                if opp is not None:
+                if opp >= 0:
                     slopes[opp] = ratio
             elif kind == "gable":
                 slopes[end] = np.inf
-                opp = opposite_edge(xy, end)
-                if opp is not None:
+                if opp >= 0:
                     slopes[opp] = np.inf
             env_jobs.append((i, xy, slopes, None))
         else:
@@ -737,7 +858,6 @@ def make_roofs(footprints, roof_types, attic, uniforms, street=None, pitch_min=6
                 pitch[ends] = 90.0
             cgal_jobs.append((i, xy, pitch, None))
     bulk_groups = []
-    body_roofs = {}
     for g in _batch_envelope(env_jobs):
         keys = g["keys"]
         if not g["top"]:                  # hip, gable, stepped bodies: ridge at the roof height
@@ -747,12 +867,21 @@ def make_roofs(footprints, roof_types, attic, uniforms, street=None, pitch_min=6
             g["nodes"] = g["nodes"].copy()
             g["nodes"][..., 2] *= factor[:, None]
             g["zmax"] = np.where(g["ok"], h, 0.0)
-        plain = []
-        for j, k in enumerate(keys):
-            if isinstance(k, tuple):
-                body_roofs[k[1]] = _roof_dict(g, j) if g["ok"][j] else None
-            else:
-                plain.append(j)
+        plain = [j for j, k in enumerate(keys) if not isinstance(k, tuple)]
+        bodies = np.array([j for j, k in enumerate(keys) if isinstance(k, tuple)], dtype=int)
+        if len(bodies):
+            owner = np.array([keys[j][1] for j in bodies], dtype=int)
+            facades = stepped_arrays(
+                np.stack([footprints[i] for i in owner]), [stepped[i][0] for i in owner],
+                {k: g[k][bodies] for k in ("xy", "nodes", "ring_idx", "cnt", "ok")},
+                [stepped[i][1] for i in owner], thickness)
+            for sg in facades:
+                idx = owner[sg["rows"]]
+                if bulk:
+                    bulk_groups.append(dict(sg, index=idx, xy=np.stack([footprints[i] for i in idx])))
+                else:
+                    for j, i in enumerate(idx):
+                        roofs[i] = _walked_roof_dict(sg, j)
         if bulk:
             sel = np.array(plain, dtype=int)
             sel = sel[g["ok"][sel]]
@@ -766,13 +895,6 @@ def make_roofs(footprints, roof_types, attic, uniforms, street=None, pitch_min=6
     for n, idx in flat_jobs.items():
         bulk_groups.append({"index": np.array(idx, dtype=int),
                             "xy": np.stack([footprints[i] for i in idx])})
-    for i, (end, body, s) in stepped.items():
-        body_roof = body_roofs.get(i)
-        if body_roof is not None:
-            try:
-                roofs[i] = add_stepped_facade(footprints[i], end, body_roof, body, thickness, s)
-            except (ValueError, IndexError, ZeroDivisionError):
-                roofs[i] = None
     if cgal_jobs:
         res = cgal_roofs([j[1] for j in cgal_jobs], [j[2] for j in cgal_jobs],
                          [j[3] for j in cgal_jobs])

@@ -39,6 +39,40 @@ SEMANTIC_ANGLE = 5.0
 # Footprints
 # ---------------------------------------------------------------------------
 
+def footprint_polygons(geometries, skip=None):
+    """The polygons to build on: every polygon of every footprint geometry
+    (shapely Polygon or MultiPolygon; None, empty and other geometries are
+    left out, as are footprints where ``skip`` is True), in bulk.
+
+    Returns ``(polygons, source, part, holes, empty)``: the polygons, the
+    index of the footprint of each, its part number in a MultiPolygon of
+    several parts (-1 for a single polygon), the number of holes of all
+    polygons and the number of missing or empty footprints.
+    """
+    import shapely
+
+    geoms = np.empty(len(geometries), dtype=object)
+    geoms[:] = list(geometries)
+    empty = shapely.is_missing(geoms) | shapely.is_empty(geoms)
+    use = ~empty
+    if skip is not None:
+        use &= ~np.asarray(skip, dtype=bool)
+    idx = np.nonzero(use)[0]
+    kind = shapely.get_type_id(geoms[idx])
+    single = idx[kind == 3]
+    multi = idx[kind == 6]
+    parts, owner = shapely.get_parts(geoms[multi], return_index=True)
+    count = shapely.get_num_geometries(geoms[multi])
+    number = np.arange(len(parts)) - np.repeat(np.cumsum(count) - count, count)
+    polygons = np.concatenate([geoms[single], parts])
+    source = np.concatenate([single, multi[owner]])
+    part = np.concatenate([np.full(len(single), -1), np.where(count[owner] > 1, number, -1)])
+    order = np.argsort(source, kind="stable")
+    polygons, source, part = polygons[order], source[order], part[order].astype(np.int64)
+    holes = int(shapely.get_num_interior_rings(polygons).sum()) if len(polygons) else 0
+    return polygons, source, part, holes, int(empty.sum())
+
+
 def clean_ring(coords, tol=0.001):
     """A footprint ring ready for extrusion, or ``(None, reason)``.
 
@@ -161,10 +195,13 @@ def rings_are_simple(rings):
     """For each ring (n, 2): True when it does not self-intersect (in bulk)."""
     import shapely
 
-    if not rings:
+    if not len(rings):
         return np.zeros(0, dtype=bool)
-    closed = np.concatenate([np.vstack([xy, xy[:1]]) for xy in rings])
-    ids = np.repeat(np.arange(len(rings)), [len(xy) + 1 for xy in rings])
+    counts = np.array([len(xy) for xy in rings])
+    ends = np.cumsum(counts)
+    flat = np.concatenate(rings)
+    closed = np.insert(flat, ends, flat[ends - counts], axis=0)
+    ids = np.repeat(np.arange(len(rings)), counts + 1)
     return shapely.is_simple(shapely.linearrings(closed, indices=ids))
 
 
@@ -229,16 +266,20 @@ class SolidSet:
     - ``rings``: (K,) vertex indices of all rings, one after the other;
     - ``face_start``: (F + 1,) offsets of the rings in ``rings``;
     - ``solid_start``: (S + 1,) offsets of each solid's faces;
-    - ``bad``: (S,) reason why a solid could not even be stored (or None).
+    - ``bad``: (S,) reason why a solid could not even be stored (or None);
+    - ``face_normal``: (F, 3) Newell normals of the faces once
+      :func:`validate` has computed them (kept by :func:`take` and
+      :func:`concat`, used by :func:`semantics`), else None.
     """
 
-    def __init__(self, vertices, rings, face_start, solid_start, bad=None):
+    def __init__(self, vertices, rings, face_start, solid_start, bad=None, face_normal=None):
         self.vertices = vertices
         self.rings = rings
         self.face_start = face_start
         self.solid_start = solid_start
         S = len(solid_start) - 1
         self.bad = bad if bad is not None else [None] * S
+        self.face_normal = face_normal
 
     def __len__(self):
         return len(self.solid_start) - 1
@@ -343,12 +384,20 @@ def _shell_parts(shells, origins, owners):
 def _group_parts(group, origins, ground, eaves):
     """Flat arrays ``(vertices, rings, face sizes, face owners)`` of the
     solids of one bulk roof group (see :func:`reconstruction.roofs.make_roofs`):
-    ground, walls and roof of every footprint in one numpy pass."""
+    ground, walls and roof of every footprint in one numpy pass. The walls
+    are quads, or pentagons along the footprint edges whose roof boundary
+    has a vertex between the edge's ends (``wall_mid``)."""
     idx = group["index"]
     xy = group["xy"]
     G, n, _ = xy.shape
-    flat = "nodes" not in group
-    C = 0 if flat else group["nodes"].shape[1]
+    flat = "ring_idx" not in group
+    if "roof" in group:
+        extra = group["roof"][:, n:]          # roof vertices past the footprint
+    elif not flat:
+        extra = group["nodes"]
+    else:
+        extra = np.zeros((G, 0, 3))
+    C = extra.shape[1]
     Vb = 2 * n + C
     org = origins[idx]
     z0 = np.asarray(ground, dtype=float)[idx]
@@ -358,13 +407,24 @@ def _group_parts(group, origins, ground, eaves):
     v[:, :n, 2] = z0[:, None]
     v[:, n:2 * n, :2] = v[:, :n, :2]
     v[:, n:2 * n, 2] = z1[:, None]
-    if not flat:
-        v[:, 2 * n:, :2] = group["nodes"][..., :2] + org[:, None, :]
-        v[:, 2 * n:, 2] = group["nodes"][..., 2] + z1[:, None]
+    v[:, 2 * n:, :2] = extra[..., :2] + org[:, None, :]
+    v[:, 2 * n:, 2] = extra[..., 2] + z1[:, None]
     base = (np.arange(G) * Vb)[:, None]
     j = np.arange(n)
     ground_r = (base + j[::-1]).ravel()
-    walls_r = (base[:, :, None] + np.stack([j, (j + 1) % n, n + (j + 1) % n, n + j], axis=1)).ravel()
+    mid = group.get("wall_mid")
+    if mid is None:
+        walls_r = (base[:, :, None] + np.stack([j, (j + 1) % n, n + (j + 1) % n, n + j],
+                                               axis=1)).ravel()
+        wall_sizes = np.full(G * n, 4)
+    else:
+        w = np.empty((G, n, 5), dtype=np.int64)
+        w[..., 0], w[..., 1], w[..., 2] = j, (j + 1) % n, n + (j + 1) % n
+        w[..., 3] = np.where(mid >= 0, n + mid, n + j)
+        w[..., 4] = n + j
+        walls_r = (base[:, :, None] + w)[np.broadcast_to(
+            (np.arange(5) < 4) | (mid >= 0)[..., None], w.shape)]
+        wall_sizes = np.where(mid >= 0, 5, 4).ravel()
     if flat:
         roof_r = (base + n + j).ravel()
         roof_sizes = np.full(G, n)
@@ -378,7 +438,7 @@ def _group_parts(group, origins, ground, eaves):
         roof_sizes = cnt[use]
         roof_owner = np.broadcast_to(idx[:, None], cnt.shape)[use]
     rings = np.concatenate([ground_r, walls_r, roof_r])
-    sizes = np.concatenate([np.full(G, n), np.full(G * n, 4), roof_sizes])
+    sizes = np.concatenate([np.full(G, n), wall_sizes, roof_sizes])
     owner = np.concatenate([idx, np.repeat(idx, n), roof_owner])
     return v.reshape(-1, 3), rings, sizes, owner
 
@@ -458,11 +518,16 @@ def take(ss, idx):
     sizes = ss.face_start[faces + 1] - ss.face_start[faces]
     e0 = ss.face_start[faces]
     entries = np.repeat(e0 - np.concatenate([[0], np.cumsum(sizes)[:-1]]), sizes) + np.arange(int(sizes.sum()))
-    used, inv = np.unique(ss.rings[entries], return_inverse=True)
-    return SolidSet(ss.vertices[used], inv.reshape(-1).astype(np.int64),
+    taken = ss.rings[entries]
+    # the vertices used, in their order (as np.unique, without sorting)
+    used = np.zeros(len(ss.vertices), dtype=bool)
+    used[taken] = True
+    remap = np.cumsum(used) - 1
+    return SolidSet(ss.vertices[used], remap[taken].astype(np.int64),
                     np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64),
                     np.concatenate([[0], np.cumsum(nf)]).astype(np.int64),
-                    [ss.bad[i] for i in idx])
+                    [ss.bad[i] for i in idx],
+                    None if ss.face_normal is None else ss.face_normal[faces])
 
 
 def concat(sets):
@@ -478,9 +543,12 @@ def concat(sets):
         voff += len(s.vertices)
         eoff += int(s.face_start[-1])
         foff += int(s.solid_start[-1])
+    normals = [s.face_normal for s in sets]
+    known = bool(sets) and all(n is not None for n in normals)
     return SolidSet(np.concatenate(v) if v else np.zeros((0, 3), np.int64),
                     np.concatenate(r) if r else np.zeros(0, np.int64),
-                    np.concatenate(fs), np.concatenate(ss_), bad)
+                    np.concatenate(fs), np.concatenate(ss_), bad,
+                    np.concatenate(normals) if known else None)
 
 
 def _face_geometry(ss):
@@ -490,20 +558,23 @@ def _face_geometry(ss):
     F = len(face_start) - 1
     sizes = np.diff(face_start)
     entry_face = np.repeat(np.arange(F), sizes)
-    face_solid = ss.face_solid
     # reference point per solid: its first ring vertex
+    first = face_start[ss.solid_start]
     ref_idx = np.zeros(len(ss), dtype=np.int64)
-    has = np.diff(ss.solid_start) > 0
-    ref_idx[has] = ss.rings[face_start[ss.solid_start[:-1][has]]]
-    ref = ss.vertices[ref_idx]
-    p = (ss.vertices[ss.rings] - ref[face_solid[entry_face]]) / 1000.0
+    has = np.diff(first) > 0
+    ref_idx[has] = ss.rings[first[:-1][has]]
+    p = ss.vertices[ss.rings] - np.repeat(ss.vertices[ref_idx], np.diff(first), axis=0)
+    p = p / 1000.0
     nxt = np.arange(len(ss.rings)) + 1
     if F:
         nxt[face_start[1:] - 1] = face_start[:-1]
     q = p[nxt]
-    cr = np.column_stack([(p[:, 1] - q[:, 1]) * (p[:, 2] + q[:, 2]),
-                          (p[:, 2] - q[:, 2]) * (p[:, 0] + q[:, 0]),
-                          (p[:, 0] - q[:, 0]) * (p[:, 1] + q[:, 1])])
+    d = p - q
+    t = p + q
+    cr = np.empty_like(p)
+    np.multiply(d[:, 1], t[:, 2], out=cr[:, 0])
+    np.multiply(d[:, 2], t[:, 0], out=cr[:, 1])
+    np.multiply(d[:, 0], t[:, 1], out=cr[:, 2])
     if F:
         normal = np.add.reduceat(cr, face_start[:-1], axis=0)
         centroid = np.add.reduceat(p, face_start[:-1], axis=0) / sizes[:, None]
@@ -517,7 +588,9 @@ def semantics(ss):
     """Semantic surface per face (GROUND, WALL, ROOF) from its normal:
     ground when pointing down within 5 degrees, wall when horizontal within
     5 degrees, roof otherwise."""
-    _, _, _, normal, _, _ = _face_geometry(ss)
+    normal = ss.face_normal
+    if normal is None:
+        normal = _face_geometry(ss)[3]
     ln = np.linalg.norm(normal, axis=1)
     nz = normal[:, 2] / np.maximum(ln, 1e-300)
     out = np.full(len(nz), ROOF, dtype=np.int8)
@@ -563,20 +636,34 @@ def validate(ss, tol=PLANARITY_TOL):
     if F == 0:
         return reasons
     p, nxt, entry_face, normal, centroid, sizes = _face_geometry(ss)
+    ss.face_normal = normal
     face_solid = ss.face_solid
     area2 = np.linalg.norm(normal, axis=1)
     # degenerate rings: zero area
     degenerate = area2 < 2e-7
     flag(face_solid[degenerate], "degenerate ring (zero area)")
     unit = normal / np.maximum(area2, 1e-300)[:, None]
-    # planarity: distance of each vertex to the least-squares plane (as val3dity)
+    # planarity: distance of each vertex to the least-squares plane (as
+    # val3dity). The plane through the centroid normal to the Newell normal
+    # bounds it: the least-squares plane's largest distance is at most the
+    # root of its sum of squares, at most that of any other plane through
+    # the centroid, at most sqrt(k) times that plane's largest distance; only
+    # faces this bound does not clear need the least-squares fit
     rel = p - centroid[entry_face]
-    cov = np.add.reduceat(rel[:, :, None] * rel[:, None, :], ss.face_start[:-1], axis=0)
-    _, vecs = np.linalg.eigh(cov)
-    fit = vecs[:, :, 0]
-    dist = np.abs(np.einsum("ij,ij->i", rel, fit[entry_face]))
+    dist = np.abs(np.einsum("ij,ij->i", rel, unit[entry_face]))
     maxdist = np.maximum.reduceat(dist, ss.face_start[:-1])
-    flag(face_solid[(maxdist > tol) & ~degenerate], "non-planar face (> 1 mm)")
+    fit_faces = np.nonzero((maxdist * np.sqrt(sizes) > tol) & ~degenerate)[0]
+    if len(fit_faces):
+        e0 = ss.face_start[fit_faces]
+        k = sizes[fit_faces]
+        entries = np.repeat(e0 - np.concatenate([[0], np.cumsum(k)[:-1]]), k) + np.arange(int(k.sum()))
+        r = rel[entries]
+        starts = np.concatenate([[0], np.cumsum(k)[:-1]])
+        cov = np.add.reduceat(r[:, :, None] * r[:, None, :], starts, axis=0)
+        _, vecs = np.linalg.eigh(cov)
+        fit = np.repeat(vecs[:, :, 0], k, axis=0)
+        far = np.maximum.reduceat(np.abs(np.einsum("ij,ij->i", r, fit)), starts) > tol
+        flag(face_solid[fit_faces[far]], "non-planar face (> 1 mm)")
     # self-intersection: quads by segment tests in numpy, larger rings with
     # shapely, all projected on their plane
     quads = np.nonzero((sizes == 4) & ~degenerate)[0]
@@ -618,7 +705,7 @@ def validate(ss, tol=PLANARITY_TOL):
     N = max(len(ss.vertices), 1)
     ukey = np.minimum(a, b) * N + np.maximum(a, b)
     forward = a < b
-    order = np.argsort(ukey, kind="stable")
+    order = np.argsort(ukey, kind="stable")      # (timsort: faster on these runs)
     sk = ukey[order]
     E = len(sk)
     start = np.ones(E, dtype=bool)
@@ -685,8 +772,72 @@ def build_solids(footprints, ground, eaves, attic, roof_types, uniforms, street=
     Returns ``(solidset, kept, types, log)``: the valid solids of the
     footprints ``kept`` (indices into the input), the roof type each one got
     after any fallback, and a log of ``(footprint index, roof type, reason)``
-    for every roof that failed and fell back.
+    for every roof that failed and fell back (by footprint).
+
+    The pitched roofs of concave footprints (CGAL's straight skeleton, which
+    releases the interpreter while it runs) are built in a thread beside the
+    others; the result does not depend on it.
     """
+    import threading
+
+    args = [list(footprints), np.asarray(ground, dtype=float),
+            np.asarray(eaves, dtype=float), np.asarray(attic, dtype=float),
+            np.array(roof_types, dtype=object),
+            np.asarray(uniforms, dtype=float).reshape(len(footprints), 3),
+            None if street is None else list(street)]
+    kwargs = dict(pitch_min=pitch_min, inset=inset, step=step, thickness=thickness)
+    concave = ~_roofs.outline_facts(footprints)["convex"] if len(footprints) else np.zeros(0, bool)
+    skeleton = concave & (args[4] != "flat") & (args[3] > 1e-3)
+    if not skeleton.any() or skeleton.all():
+        return _build_solids(*args, **kwargs)
+    parts = [np.nonzero(skeleton)[0], np.nonzero(~skeleton)[0]]
+    results = [None, None]
+
+    def run(k):
+        try:
+            results[k] = _build_solids(*[_subset(a, parts[k]) for a in args], **kwargs)
+        except BaseException as error:  # re-raised below
+            results[k] = error
+
+    worker = threading.Thread(target=run, args=(0,))
+    worker.start()
+    run(1)
+    worker.join()
+    for r in results:
+        if isinstance(r, BaseException):
+            raise r
+    return _merge(list(zip(parts, results)))
+
+
+def _subset(values, idx):
+    """The elements ``idx`` of a list or array (None stays None)."""
+    if values is None or isinstance(values, np.ndarray):
+        return None if values is None else values[idx]
+    return [values[i] for i in idx]
+
+
+def _merge(parts):
+    """One :func:`build_solids` result from results on subsets of the
+    footprints, ``[(footprint indices, result), ...]``: solids in footprint
+    order, the log by footprint."""
+    sets, kept, types, log = [], [], [], []
+    for idx, (ss, k, t, lg) in parts:
+        sets.append(ss)
+        kept.append(idx[k])
+        types.append(t)
+        log.extend((int(idx[i]), kind, why) for i, kind, why in lg)
+    kept = np.concatenate(kept)
+    types = np.concatenate(types)
+    perm = np.argsort(kept, kind="stable")
+    merged = concat(sets)
+    if np.any(perm != np.arange(len(perm))):
+        merged, kept, types = take(merged, perm), kept[perm], types[perm]
+    return merged, kept, types, sorted(log, key=lambda entry: entry[0])
+
+
+def _build_solids(footprints, ground, eaves, attic, roof_types, uniforms, street=None,
+                  pitch_min=60.0, inset=(1.0, 2.0), step=(0.4, 0.7), thickness=0.5):
+    """:func:`build_solids` in one thread."""
     B = len(footprints)
     origins = np.array([xy[0] for xy in footprints], dtype=float).reshape(B, 2)
     local = [xy - o for xy, o in zip(footprints, origins)]
@@ -743,9 +894,16 @@ def build_solids(footprints, ground, eaves, attic, roof_types, uniforms, street=
     return take(merged, perm), kept[perm], types[kept[perm]], log
 
 
-def _build_chunk(args):
-    footprints, ground, eaves, attic, roof_types, uniforms, kwargs = args
-    return build_solids(footprints, ground, eaves, attic, roof_types, uniforms, **kwargs)
+#: The work of build_solids_parallel, inherited by its forked processes.
+_CHUNKS = []
+
+
+def _build_chunk(k):
+    """Build chunk ``k`` of the work in :data:`_CHUNKS`."""
+    bounds, (footprints, ground, eaves, attic, roof_types, uniforms), kwargs = _CHUNKS[0]
+    a, b = bounds[k], bounds[k + 1]
+    return build_solids(footprints[a:b], ground[a:b], eaves[a:b], attic[a:b], roof_types[a:b],
+                        uniforms[a:b], **kwargs)
 
 
 def build_solids_parallel(footprints, ground, eaves, attic, roof_types, uniforms, nprocs=1,
@@ -753,25 +911,26 @@ def build_solids_parallel(footprints, ground, eaves, attic, roof_types, uniforms
     """:func:`build_solids` over ``nprocs`` processes (chunks of footprints).
 
     The result is the same as with one process: every building depends only
-    on its own footprint, heights, type and uniform numbers.
+    on its own footprint, heights, type and uniform numbers. Every chunk has
+    at least 1,000 footprints (fewer processes otherwise). The calling
+    process builds the first chunk itself; forked processes build the others
+    from the input they inherit (only their results are sent back).
     """
     B = len(footprints)
-    if nprocs <= 1 or B < 2000:
+    nprocs = min(int(nprocs), B // 1000)          # chunks of at least 1,000 footprints
+    if nprocs <= 1:
         return build_solids(footprints, ground, eaves, attic, roof_types, uniforms, **kwargs)
     import multiprocessing
 
     bounds = np.linspace(0, B, nprocs + 1).astype(int)
-    ground, eaves, attic = (np.asarray(x, dtype=float) for x in (ground, eaves, attic))
-    roof_types = np.asarray(roof_types, dtype=object)
-    uniforms = np.asarray(uniforms, dtype=float)
-    jobs = [(footprints[a:b], ground[a:b], eaves[a:b], attic[a:b], roof_types[a:b],
-             uniforms[a:b], kwargs) for a, b in zip(bounds[:-1], bounds[1:])]
-    with multiprocessing.get_context("fork").Pool(nprocs) as pool:
-        results = pool.map(_build_chunk, jobs)
-    sets, kept, types, log = [], [], [], []
-    for a, (ss, k, t, lg) in zip(bounds[:-1], results):
-        sets.append(ss)
-        kept.append(k + a)
-        types.append(t)
-        log.extend((i + a, kind, why) for i, kind, why in lg)
-    return concat(sets), np.concatenate(kept), np.concatenate(types), log
+    work = (list(footprints), np.asarray(ground, dtype=float), np.asarray(eaves, dtype=float),
+            np.asarray(attic, dtype=float), np.array(roof_types, dtype=object),
+            np.asarray(uniforms, dtype=float).reshape(B, 3))
+    _CHUNKS[:] = [(bounds, work, kwargs)]
+    try:
+        with multiprocessing.get_context("fork").Pool(nprocs - 1) as pool:
+            others = pool.map_async(_build_chunk, range(1, nprocs))
+            results = [_build_chunk(0)] + others.get()
+    finally:
+        _CHUNKS[:] = []
+    return _merge([(np.arange(a, b), r) for a, b, r in zip(bounds[:-1], bounds[1:], results)])

@@ -179,7 +179,8 @@
 # %end
 
 # %option G_OPT_M_NPROCS
-# % description: Number of processes building the solids (the result does not depend on it)
+# % description: Number of processes building the solids: 0 = one per core, negative = all cores but that many (the result does not depend on it)
+# % answer: 0
 # %end
 
 # %flag
@@ -219,17 +220,6 @@ def parse_range(text, key, positive=True):
     return values
 
 
-def location_epsg():
-    """The location's EPSG code, or None."""
-    proj = gs.parse_command("g.proj", flags="g")
-    srid = proj.get("srid", "") or proj.get("epsg", "")
-    if srid:
-        code = srid.split(":")[-1]
-        if code.isdigit():
-            return int(code)
-    return None
-
-
 def numeric_column(columns, name, label):
     """Values of a numeric column as floats (None -> nan); fatal if missing or not numeric."""
     import numpy as np
@@ -251,13 +241,17 @@ def numeric_column(columns, name, label):
 
 def main():
     options, flags = OPTIONS, FLAGS
-    import numpy as np
-
-    from reconstruction import cityjson, grassio, roofs, solids
+    from reconstruction import grassio
 
     grassio.register_cleanup()
-    grassio.require_projected()
-    grassio.require_vector(options["input"])
+    # GRASS exports the footprints while the inputs are checked
+    reading = grassio.start_read_areas(options["input"], layer=options["layer"])
+    grassio.prefetch_checks()
+    import numpy as np
+
+    from reconstruction import cityjson, roofs, solids
+
+    grassio.require_projected()      # (a missing input map: when reading it)
     output = options["output"]
     grassio.require_new_file(output, "output")
     outdir = os.path.dirname(os.path.abspath(output))
@@ -276,10 +270,10 @@ def main():
     pitch_min = float(options["pitch_min"])
     seed = int(options["seed"])
     nprocs = int(options["nprocs"])
-    if nprocs < 1:
-        gs.fatal(_("Option nprocs= must be at least 1"))
+    if nprocs <= 0:
+        nprocs = max(1, (os.cpu_count() or 1) + nprocs)
     map_year = int(options["year"]) if options["year"] else None
-    crs = options["crs"] or location_epsg()
+    crs = options["crs"] or grassio.location_epsg()
     if crs is None:
         gs.warning(_("The location has no EPSG code and crs= is not given: the CityJSON "
                      "file has no reference system"))
@@ -290,7 +284,7 @@ def main():
             gs.fatal(_("Option crs= must be an EPSG code (e.g. 7415, EPSG:7415) or an OGC URL, "
                        "not <{}>").format(options["crs"]))
 
-    geoms, columns = grassio.read_areas(options["input"], layer=options["layer"])
+    geoms, columns = grassio.finish_read_areas(reading)
     if not geoms:
         gs.fatal(_("Vector map <{}> has no areas").format(options["input"]))
     n_feat = len(geoms)
@@ -351,38 +345,22 @@ def main():
         ground = np.where(bad_ground, float(options["ground"]), ground)
 
     # footprints: one ring per polygon part -------------------------------
-    polys, src, part = [], [], []
-    n_holes = n_bad = 0
+    polys, src, part, n_holes, n_bad = solids.footprint_polygons(geoms, skip=bad_eaves)
     reasons = {}
-    for i, g in enumerate(geoms):
-        if g is None or g.is_empty or bad_eaves[i]:
-            if g is None or g.is_empty:
-                n_bad += 1
-            continue
-        parts = list(g.geoms) if g.geom_type == "MultiPolygon" else [g]
-        for k, poly in enumerate(parts):
-            if poly.geom_type != "Polygon":
-                continue
-            n_holes += len(poly.interiors)
-            polys.append(poly)
-            src.append(i)
-            part.append(k if len(parts) > 1 else None)
     cleaned, why = solids.clean_rings(polys)
-    ok = [r is not None for r in cleaned]
+    ok = np.array([r is not None for r in cleaned], dtype=bool)
     for w in why:
         if w is not None:
             n_bad += 1
             reasons[w] = reasons.get(w, 0) + 1
     rings = [r for r, good in zip(cleaned, ok) if good]
-    src = [i for i, good in zip(src, ok) if good]
-    part = [k for k, good in zip(part, ok) if good]
+    src, part = src[ok], part[ok]
     simple = solids.rings_are_simple(rings)
     if not simple.all():
         n_bad += int((~simple).sum())
         reasons["self-intersecting outline"] = int((~simple).sum())
-        rings = [r for r, ok in zip(rings, simple) if ok]
-        src = [i for i, ok in zip(src, simple) if ok]
-        part = [k for k, ok in zip(part, simple) if ok]
+        rings = [r for r, good in zip(rings, simple) if good]
+        src, part = src[simple], part[simple]
     if n_holes:
         gs.warning(_("{} holes (inner courtyards) in footprints are filled").format(n_holes))
     if n_bad:
@@ -390,7 +368,6 @@ def main():
             n_bad, ", ".join("{} {}".format(v, k) for k, v in reasons.items()) or "no geometry"))
     if not rings:
         gs.fatal(_("No footprint left to build"))
-    src = np.asarray(src, dtype=int)
 
     # roof types ------------------------------------------------------------
     nverts = np.array([len(r) for r in rings])
@@ -415,7 +392,7 @@ def main():
     ids = []
     for j, i in zip(kept, fsrc):
         base = "building_{}".format(cats[i])
-        ids.append(base if part[j] is None else "{}_{}".format(base, part[j] + 1))
+        ids.append(base if part[j] < 0 else "{}_{}".format(base, part[j] + 1))
 
     def column_or_none(name):
         if name and name in columns:

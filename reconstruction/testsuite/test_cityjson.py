@@ -130,3 +130,48 @@ def test_consistency_checks_find_defects():
     assert "orphan" in errors
     assert "duplicate consecutive" in errors
     assert "semantic values do not match" in errors
+
+
+def test_text_writer_attributes_as_json_dumps():
+    """Attribute values of every kind (text with quotes, commas and accents,
+    booleans, big integers, infinity, NULL) and identifiers are written as
+    json.dumps writes them."""
+    ss, _ = model_of(["flat", "hip", "gable", "stepped"])
+    sem = solids.semantics(ss)
+    attrs = {"name": ['Rue "Haute", 12', None, "caf\u00e9 \\ \n", ""],
+             "flag": [True, False, None, np.True_], "big": [2 ** 62, -1, 0, None],
+             "height": np.array([1.25, np.nan, np.inf, 1e-7]), "empty": [None] * 4,
+             "year": np.array([1924, 1930, 1900, 2000])}
+    ids = ["b,1", 'b"2', "b\u00e93", 4]
+    text = cityjson.citymodel_text(ss, sem, ids, attrs, 28992)
+    assert json.loads(text) == json.loads(json.dumps(cityjson.citymodel(ss, sem, ids, attrs, 28992)))
+    assert json.loads(text)["CityObjects"]["b,1"]["attributes"]["name"] == 'Rue "Haute", 12'
+    no_attrs = cityjson.citymodel_text(ss, sem, ids, {"empty": [None] * 4}, 28992)
+    assert "attributes" not in no_attrs
+
+
+def test_integer_text_as_json_dumps():
+    """The numpy writer of integers gives json.dumps's text: vertices, rings
+    cut per solid with face brackets, semantic values per solid."""
+    rng = np.random.default_rng(4)
+    v = np.concatenate([np.array([[0, 9, 10], [99, 100, 999], [1000, 10 ** 9, 10 ** 12 - 1]]),
+                        rng.integers(0, 10 ** 8, (500, 3))])
+    assert cityjson._vertices_text(v) == json.dumps(v.tolist(), separators=(",", ":"))
+    assert cityjson._vertices_text(v[:1]) == "[[0,9,10]]"
+    assert cityjson._vertices_text(np.zeros((0, 3), dtype=np.int64)) == "[]"
+    sizes = rng.integers(3, 9, 60)
+    face_start = np.concatenate([[0], np.cumsum(sizes)])
+    solid_first_face = np.array([0, 1, 7, 20, 21, 59])
+    values = rng.integers(0, 100000, int(sizes.sum()))
+    pieces = cityjson._split_by_solid(values, (face_start, solid_first_face), 6, True)
+    bounds = list(solid_first_face) + [60]
+    for s in range(6):
+        rings = [values[face_start[f]:face_start[f + 1]].tolist()
+                 for f in range(bounds[s], bounds[s + 1])]
+        assert "[[[" + pieces[s] + "]]]" == json.dumps([[r] for r in rings], separators=(",", ":"))
+    sem = rng.integers(0, 3, 60)
+    pieces = cityjson._split_by_solid(sem, np.array(bounds), 6, False)
+    assert ["[" + p + "]" for p in pieces] == [
+        json.dumps(sem[a:b].tolist(), separators=(",", ":")) for a, b in zip(bounds[:-1], bounds[1:])]
+    with pytest.raises(ValueError):
+        cityjson._int_text(np.array([1, -1]), np.zeros(2, dtype=np.int64), [","])

@@ -122,3 +122,52 @@ def test_region_check_and_projection(io):
     io.require_projected()  # EPSG:28992: passes
     io.write_raster("a", np.zeros((100, 100), dtype=np.int32))
     assert io.raster_region_matches(["a", "a"])
+
+
+def test_table_read_from_sqlite_file_matches_v_db_select(io):
+    import grass.script as gs
+
+    io.write_features("tab", [box(84000, 446000, 84010, 446010), box(84010, 446000, 84020, 446010)],
+                      {"case": [1, None], "eaves": [6.5, None], "source": ["o'neil", None]},
+                      cats=[3, 7])
+    link = gs.vector_db("tab")[1]
+    assert link["driver"] == "sqlite"
+    direct = io._table_sqlite(link["database"], link["table"])
+    sep, null = "\x1f", "\x1e"
+    table = gs.read_command("v.db.select", map="tab", separator=sep, null_value=null)
+    types = gs.read_command("v.info", map="tab", flags="c")
+    via_select = io._table_text(table, types, sep, null)
+    assert direct[0] == via_select[0] == ["cat", "case", "eaves", "source"]
+    kinds = [io._column_kind(t) for t in direct[1]]
+    assert kinds == [io._column_kind(t) for t in via_select[1]] == [int, int, float, str]
+
+    def values(rows):
+        return sorted([io._column_value(v, k) for v, k in zip(row, kinds)] for row in rows)
+
+    assert values(direct[2]) == values(via_select[2]) == [[3, 1, 6.5, "o'neil"],
+                                                          [7, None, None, None]]
+
+
+def test_standard_format_points_with_categories_of_one_layer(io):
+    text = ("ORGANIZATION: \nMAP THRESH:   0.000000\nVERTI:\n"
+            "C  1 1\n 84001.5 446002.5\n 1     7         \n"
+            "C  1 3\n 84010 446020\n 1     8\n 2     99\n 1     9\n"
+            "C  1 0\n 84030 446030\n")
+    xy, cats = io._standard_points(text, 1)
+    assert xy == [["84001.5", "446002.5"], ["84010", "446020"], ["84030", "446030"]]
+    assert cats == [[7], [8, 9], []]
+    assert io._standard_points(text, 2)[1] == [[], [99], []]
+    assert io._standard_points("", 1) == ([], [])
+
+
+def test_checks_take_the_answers_of_queries_started_ahead(io):
+    io.prefetch_checks()
+    io.require_projected()
+    assert io.location_epsg() == 28992
+    assert not io._QUERIES
+
+
+def test_reading_a_missing_map_fails_as_require_vector(io):
+    job = io.start_read_areas("not_there")
+    with pytest.raises(SystemExit):
+        io.finish_read_areas(job)

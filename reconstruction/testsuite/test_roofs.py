@@ -159,3 +159,69 @@ def test_helpers():
     assert roofs.street_end(RECT) in (1, 3)
     assert roofs.street_end(RECT, 0) == 0
     assert math.isclose(roofs.edge_lengths(RECT).sum(), 36.0)
+
+
+def test_interp_rows_is_np_interp_per_row():
+    rng = np.random.default_rng(2)
+    xp = np.sort(rng.uniform(0, 20, (7, 5)), axis=1)
+    fp = rng.uniform(-5, 5, (7, 5))
+    xp[:, -1], fp[:, -1] = xp[:, -2], fp[:, -2]      # padding repeats the last point
+    x = xp[:, :1] + rng.random((7, 3)) * (xp[:, -1:] - xp[:, :1])
+    got = roofs._interp_rows(x, xp, fp)
+    for r in range(7):
+        assert np.allclose(got[r], np.interp(x[r], xp[r], fp[r]), atol=1e-9)
+
+
+@pytest.mark.parametrize("xy", [
+    RECT,
+    np.array([[0.0, 0.0], [7.0, 0.4], [6.5, 15.0], [0.0, 14.0]]),          # trapezoid
+    np.array([[0.0, 0.0], [6.0, 0.0], [8.0, 7.0], [6.0, 14.0], [0.0, 14.0]]),  # pentagon
+])
+@pytest.mark.parametrize("attic,step", [(3.0, 0.5), (2.6, 0.4), (6.0, 0.7), (1.2, 0.65)])
+def test_stepped_facades_in_bulk_have_the_right_steps(xy, attic, step):
+    """The facades of many footprints at once (one pass per step count):
+    each rises in steps of the step height (on a rectangle ceil((h + margin) /
+    step) of them, above the ridge), inside the footprint, with the street
+    edge as its front."""
+    roof, kind = one(xy, "stepped", attic=attic, u=0.0, step=(step, step), thickness=0.5)
+    assert kind == "stepped" and roof is not None
+    v = roof["vertices"]
+    facade = v[roof["faces"][0]]
+    nsteps = int(round(facade[:, 2].max() / step))
+    assert facade[:, 2].max() == pytest.approx(nsteps * step)
+    assert nsteps >= 1 and nsteps * step <= attic + step + min(0.1, step / 4.0) + 1e-9
+    if len(xy) == 4 and xy is RECT:      # gable profile as high as the ridge
+        assert nsteps == math.ceil((attic + min(0.1, step / 4.0)) / step)
+    levels = np.unique(np.round(facade[:, 2], 9))
+    assert np.allclose(levels, step * np.arange(0, nsteps + 1))
+    fp = Polygon(xy).buffer(1e-6)
+    assert all(fp.contains(Point(p)) for p in v[:, :2])
+    # the front facade: 4 + 4 (nsteps - 1) corners on the street (shortest) edge
+    end = roofs.street_end(xy)
+    assert len(roof["faces"][0]) == 4 + 4 * (nsteps - 1)
+    a, b = xy[end], xy[(end + 1) % len(xy)]
+    t = (b - a) / np.hypot(*(b - a))
+    assert np.allclose((v[roof["faces"][0], :2] - a) @ np.array([-t[1], t[0]]), 0, atol=1e-9)
+
+
+def test_stepped_facades_in_bulk_match_one_by_one():
+    """A batch of footprints with different step counts gives, per footprint,
+    the roof it gets alone."""
+    rng = np.random.default_rng(5)
+    fps, hs, us = [], [], []
+    for k in range(30):
+        w, d = rng.uniform(5, 9), rng.uniform(10, 18)
+        fps.append(np.array([[0, 0], [w, rng.uniform(-0.5, 0.5)], [w, d], [0, d]]))
+        hs.append(rng.uniform(1.5, 6.0))
+        us.append(rng.random(3))
+    together, kinds = roofs.make_roofs(fps, ["stepped"] * 30, hs, np.array(us))
+    assert set(kinds) == {"stepped"}
+    assert sum(r is not None for r in together) >= 25
+    for k in range(30):
+        alone, _ = roofs.make_roofs([fps[k]], ["stepped"], [hs[k]], np.array([us[k]]))
+        assert (together[k] is None) == (alone[0] is None)
+        if together[k] is None:
+            continue
+        assert together[k]["faces"] == alone[0]["faces"]
+        assert together[k]["chains"] == alone[0]["chains"]
+        assert np.allclose(together[k]["vertices"], alone[0]["vertices"], atol=1e-9)

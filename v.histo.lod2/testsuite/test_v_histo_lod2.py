@@ -146,6 +146,17 @@ def test_seed_makes_runs_identical(footprints, tmp_path):
     assert ta != tc
 
 
+def test_nprocs_default_and_negative_give_the_same_file(footprints, tmp_path):
+    texts = []
+    for k, extra in enumerate(({}, {"nprocs": 1}, {"nprocs": -1}, {"nprocs": 3})):
+        path = str(tmp_path / "n{}.json".format(k))
+        rc, _, err = run(input=footprints, output=path, seed=4, **extra)
+        assert rc == 0, err
+        with open(path) as f:
+            texts.append(f.read())
+    assert all(t == texts[0] for t in texts)
+
+
 def test_ranges_take_precedence_over_columns(footprints, tmp_path):
     out = str(tmp_path / "r.json")
     rc, _, err = run(input=footprints, output=out, height="6.7,17", attic="2.6,6",
