@@ -550,7 +550,6 @@ def remove_overlaps(polygons):
                 break
     if cleaned is None:
         return _plain_differences(polygons, pairs)
-    swallowed = []
     for k, geom in zip(involved, cleaned):
         poly = _clean(largest_polygon(geom))
         if poly is None:
@@ -558,16 +557,8 @@ def remove_overlaps(polygons):
             poly = _clean(largest_polygon(shapely.difference(polygons[k], others)))
         if poly is not None:
             polygons[k] = poly
-        else:
-            swallowed.append(k)
-    # a plot lying wholly inside a neighbour's generalisation keeps its own
-    # shape and is cut out of the neighbour (which may get a hole)
-    for k in swallowed:
-        for j in involved:
-            if j != k and shapely.intersection(polygons[j], polygons[k]).area > 0:
-                cut = _clean(largest_polygon(shapely.difference(polygons[j], polygons[k])))
-                if cut is not None:
-                    polygons[j] = cut
+    # what is left: a plot lying wholly inside a neighbour's generalisation
+    # keeps its own shape and is cut out of the neighbour (which may get a hole)
     return _plain_differences(polygons, overlapping_pairs(polygons))
 
 
