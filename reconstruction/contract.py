@@ -1,0 +1,23 @@
+"""The data-flow contract between the modules, in code.
+
+Column names and values that pass from one module to the next
+(``../shared/docs/data-flow.md``). Every module and test uses these names
+instead of string literals.
+"""
+
+#: category of a plot in the plots map; later maps refer to it in a PLOT column
+PLOT = "plot"
+#: how a footprint was made: SOURCE_PROCEDURAL or SOURCE_ALIGNED
+SOURCE = "source"
+SOURCE_PROCEDURAL = "2pm"
+SOURCE_ALIGNED = "aligned"
+#: procedural case (0-5) of v.histo.subdivide
+CASE = "case"
+#: footprint area (m2)
+AREA = "area"
+#: matching similarity of an aligned footprint (v.histo.align)
+SIMILARITY = "similarity"
+#: heights: terrain elevation, wall height above ground, roof height above the eaves
+GROUND = "ground"
+EAVES = "eaves"
+ATTIC = "attic"
