@@ -21,6 +21,8 @@ import numpy as np
 
 import grass.script as gs
 
+from .errors import InputError
+
 _TEMP_MAPS = {"raster": set(), "vector": set()}
 _TEMP_FILES = set()
 _CLEANUP_REGISTERED = []
@@ -53,6 +55,76 @@ def register_cleanup():
     failure alike.
     """
     _ensure_cleanup()
+
+
+_DOING = []
+
+
+class doing:
+    """Context manager naming what the module is doing, for the ``ERROR:`` line of a failure.
+
+    ``with grassio.doing("reading the footprints <fp>"): ...`` -- a GRASS tool
+    that fails inside ends the module with "ERROR: ... failed while reading
+    the footprints <fp>" (see :func:`run_main`).
+    """
+
+    def __init__(self, what):
+        self.what = what
+
+    def __enter__(self):
+        _DOING.append(self.what)
+        return self
+
+    def __exit__(self, *exc):
+        if not exc[0]:
+            _DOING.pop()
+        return False
+
+
+def failure_message(error):
+    """One line for an exception that ends a module: what failed, and while doing what."""
+    from grass.exceptions import CalledModuleError
+
+    while_doing = " while {}".format(_DOING[-1]) if _DOING else ""
+    if isinstance(error, InputError):
+        return str(error)
+    if isinstance(error, CalledModuleError):
+        tool = error.cmd if isinstance(error.cmd, str) else "a GRASS tool"
+        detail = ""
+        errors = getattr(error, "msg", "")
+        if "See the following errors:" in errors:
+            detail = ": " + " ".join(errors.split("See the following errors:", 1)[1].split())
+        return "GRASS tool {} failed (return code {}){}{}".format(
+            tool, error.returncode, while_doing, detail)
+    if isinstance(error, KeyboardInterrupt):
+        return "Interrupted{}".format(while_doing)
+    if isinstance(error, MemoryError):
+        return "Out of memory{}".format(while_doing)
+    if isinstance(error, OSError):
+        return "{}{}".format(error, while_doing)
+    return None
+
+
+def run_main(main):
+    """Run a module's ``main()``: the one place where library errors become ``gs.fatal``.
+
+    :class:`~reconstruction.errors.InputError` (bad input), a failing child
+    GRASS tool (``CalledModuleError``), an interruption and running out of
+    memory end in one ``ERROR:`` line and exit code 1, never a traceback;
+    temporary maps and files are removed (atexit). Any other exception is a
+    bug and keeps its traceback.
+    """
+    try:
+        return main()
+    except (InputError, KeyboardInterrupt, MemoryError, OSError) as error:
+        message = failure_message(error)
+    except Exception as error:  # noqa: BLE001 - CalledModuleError only; others re-raised
+        from grass.exceptions import CalledModuleError
+
+        if not isinstance(error, CalledModuleError):
+            raise
+        message = failure_message(error)
+    gs.fatal(message)
 
 
 def temp_map(kind, prefix):
