@@ -43,33 +43,43 @@ endif
 # ---------------------------------------------------------------------------
 # Project commands
 # ---------------------------------------------------------------------------
-HISTO_PYTHON ?= python3
+# Python: a virtual environment (VENV) holding the pinned packages of
+# requirements.txt (their dependencies pinned by constraints.txt), made from
+# Debian's python3, the interpreter GRASS itself runs with, by tools/venv.sh.
+# It lives outside the checkout because g.extension copies the whole checkout
+# it installs from (and reads every .py file in it). GRASS's Python library
+# (grass.script) is not in it: a GRASS session puts it on PYTHONPATH. The
+# suite's modules start with `#!/usr/bin/env python3`, so every project
+# command runs with $(VENV)/bin first on the PATH; a user's own GRASS session
+# does the same through ~/.grass8/bashrc (README, "Install in GRASS GIS").
+SYSTEM_PYTHON ?= $(firstword $(wildcard /usr/bin/python3) python3)
+VENV ?= $(HOME)/.local/share/histo/venv
+HISTO_PYTHON := $(VENV)/bin/python3
+VENV_ENV := PATH="$(VENV)/bin:$$PATH"
 DIST ?= $(CURDIR)/dist
-STAMPS := $(CURDIR)/.stamps
 DEMO_DIR ?= $(CURDIR)/demo-output
 PYTEST_ARGS ?=
+# GRASS 8.2 (core + Make system), what g.extension wants (make, gcc, svn),
+# venv for Debian's python3 and man for `g.manual -m`.
+DEBIAN_PACKAGES := grass-core grass-dev subversion make gcc python3-venv man-db
 
-.PHONY: deps build test demo bench user-install clean-dist
+.PHONY: deps debian-packages venv build test demo bench user-install clean-dist
 
-# Debian packages: GRASS 8.2 (core + Make system) and what g.extension wants.
-$(STAMPS)/apt:
-	@mkdir -p $(STAMPS)
-	@if command -v grass >/dev/null 2>&1 && [ -f "$$(grass --config path)/include/Make/Dir.make" ] \
-	    && command -v svn >/dev/null 2>&1; then \
-	  echo "GRASS GIS and its Make system are installed"; \
-	else \
-	  apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q \
-	    grass-core grass-dev subversion make gcc python3-pip; \
+# Installs only what is missing (apt needs root; on a machine that has it all
+# nothing is asked for).
+debian-packages:
+	@missing=$$(for p in $(DEBIAN_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed$$' || echo $$p; \
+	done); \
+	if [ -n "$$missing" ]; then \
+	  echo "installing Debian packages:" $$missing; \
+	  apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q $$missing; \
 	fi
-	@touch $@
 
-# Python packages, pinned, into the python3 that GRASS scripts run with
-# (#!/usr/bin/env python3). Debian's own python3 is "externally managed".
-$(STAMPS)/pip: requirements.txt | $(STAMPS)/apt
-	PIP_BREAK_SYSTEM_PACKAGES=1 $(HISTO_PYTHON) -m pip install -q --disable-pip-version-check -r requirements.txt
-	@touch $@
+venv: debian-packages
+	@bash tools/venv.sh "$(VENV)" "$(SYSTEM_PYTHON)"
 
-deps: $(STAMPS)/apt $(STAMPS)/pip
+deps: debian-packages venv
 
 # Stage the built suite in dist/ (never the system tree); fail on any error
 # that GRASS's Dir.make would only log.
@@ -84,24 +94,26 @@ build: deps
 	  test -x $(DIST)/scripts/$$m || { echo "module $$m was not built"; exit 1; }; \
 	  test -s $(DIST)/docs/html/$$m.html || { echo "man page of $$m was not built"; exit 1; }; \
 	  GISRC=$$(grass --config path)/demolocation/.grassrc82 GISBASE=$$(grass --config path) \
-	  PATH=$$(grass --config path)/bin:$$PATH PYTHONPATH=$$(grass --config python_path) $(DIST)/scripts/$$m --interface-description \
+	  PATH=$$(grass --config path)/bin:$(VENV)/bin:$$PATH PYTHONPATH=$$(grass --config python_path) \
+	  $(DIST)/scripts/$$m --interface-description \
 	    > /dev/null || { echo "module $$m does not answer --interface-description"; exit 1; }; \
 	done
 	@echo "histo built into $(DIST)"
 
 test: build
-	$(HISTO_PYTHON) -m pytest $(PYTEST_ARGS)
+	$(VENV_ENV) HISTO_DIST=$(DIST) $(HISTO_PYTHON) -m pytest $(PYTEST_ARGS)
 
 demo: build
-	HISTO_DIST=$(DIST) bash demo/run_demo.sh "$(DEMO_DIR)"
+	$(VENV_ENV) HISTO_DIST=$(DIST) bash demo/run_demo.sh "$(DEMO_DIR)"
 
 bench: build
-	bash testsuite/benchmarks/run_all.sh
+	$(VENV_ENV) HISTO_DIST=$(DIST) bash testsuite/benchmarks/run_all.sh
 
 # Install for the current user, through g.extension from this checkout
-# (offline), into $$GRASS_ADDON_BASE or ~/.grass8/addons.
+# (offline), into $$GRASS_ADDON_BASE or ~/.grass8/addons, and tell GRASS
+# sessions to run the modules with the venv.
 user-install: deps
-	bash tools/g_extension_install.sh "$(CURDIR)"
+	HISTO_VENV=$(VENV) bash tools/g_extension_install.sh "$(CURDIR)"
 
 clean-dist:
-	rm -rf $(DIST) $(STAMPS)
+	rm -rf $(DIST) $(CURDIR)/.stamps

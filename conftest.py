@@ -30,6 +30,14 @@ DIST = os.environ.get("HISTO_DIST", os.path.join(ROOT, "dist"))
 SHARED_DATA = os.path.abspath(os.path.join(ROOT, "..", "shared", "data"))
 SCHEMAS = os.path.abspath(os.path.join(ROOT, "..", "shared", "schemas"))
 
+# Modules run as `#!/usr/bin/env python3`: when the tests run in a virtual
+# environment (`make test`: the checkout's .venv), the modules they start run
+# with it too.
+if sys.prefix != sys.base_prefix:
+    _VENV_BIN = os.path.join(sys.prefix, "bin")
+    if os.environ.get("PATH", "").split(os.pathsep)[0] != _VENV_BIN:
+        os.environ["PATH"] = _VENV_BIN + os.pathsep + os.environ.get("PATH", "")
+
 if ROOT not in sys.path:
     sys.path.insert(0, ROOT)
 TESTSUITE = os.path.join(ROOT, "testsuite")
@@ -45,7 +53,8 @@ def pytest_configure(config):
 def _need(path, what):
     if not os.path.exists(path):
         pytest.skip("{} not found at '{}': reference data is only beside the project "
-                    "checkout (see ../shared/data/README.md)".format(what, path))
+                    "checkout (README.md, \"The two commands\", says how to lay it out)"
+                    .format(what, path))
     return path
 
 

@@ -1,7 +1,9 @@
-"""`make demo` end to end: bash demo/run_demo.sh DIR in a fresh directory.
+"""`make demo` end to end: bash demo/run_demo.sh DIR, twice in the same DIR.
 
 Runs the real demo (location, synthetic map, chain of the implemented
-modules, pictures) once, then checks what it left behind.
+modules, pictures) twice in a row in one folder, as a user who types
+`make demo` again would, then checks what it left behind; and a third run
+that fails, which must leave the outputs of the second as they were.
 """
 
 import os
@@ -15,16 +17,24 @@ import synthetic_map as sm
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DIST = os.environ.get("HISTO_DIST", os.path.join(ROOT, "dist"))
+RUN_DEMO = os.path.join(ROOT, "demo", "run_demo.sh")
+OUTPUT_FILES = ("generalize.json", "generalize_metrics.csv", "model.city.json",
+                "map.png", "classes.png", "plots.png")
 
 pytestmark = pytest.mark.grass
 
 
-def _clean_env():
+def _clean_env(dist=DIST):
     """The caller's environment without any GRASS session of the test process."""
     env = {k: v for k, v in os.environ.items()
            if not (k.startswith("GRASS_") or k in ("GISRC", "GISBASE", "GIS_LOCK"))}
-    env["HISTO_DIST"] = DIST
+    env["HISTO_DIST"] = dist
     return env
+
+
+def _run_demo(out, dist=DIST):
+    return subprocess.run(["bash", RUN_DEMO, str(out)], cwd=ROOT, env=_clean_env(dist),
+                          capture_output=True, text=True, timeout=900)
 
 
 def _png_size(path):
@@ -38,6 +48,12 @@ def _implemented(module):
     return os.path.exists(script) and "Placeholder" not in open(script).read()
 
 
+def _outputs(out):
+    """inode and bytes of every output file there is in ``out``."""
+    return {f: ((out / f).stat().st_ino, (out / f).read_bytes())
+            for f in OUTPUT_FILES if (out / f).exists()}
+
+
 @pytest.fixture(scope="module")
 def demo(tmp_path_factory):
     if not shutil.which("grass"):
@@ -46,14 +62,51 @@ def demo(tmp_path_factory):
         pytest.skip("the suite is not built in dist/ (run the tests through `make test`)")
     out = tmp_path_factory.mktemp("demo")
     location = out / "grassdata" / "histo_demo"
-    # a stale location from an earlier run must be replaced
-    (location / "PERMANENT").mkdir(parents=True)
+    first = _run_demo(out)
+    assert first.returncode == 0, first.stdout[-3000:] + first.stderr[-3000:]
+    # marks of the first run, which the second must replace
     (location / "PERMANENT" / "stale").write_text("old")
-    run = subprocess.run(["bash", os.path.join(ROOT, "demo", "run_demo.sh"), str(out)],
-                         cwd=ROOT, env=_clean_env(), capture_output=True, text=True,
-                         timeout=600)
-    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
-    return {"out": out, "location": location, "stdout": run.stdout, "env": _clean_env()}
+    before = _outputs(out)
+    second = _run_demo(out)
+    assert second.returncode == 0, second.stdout[-3000:] + second.stderr[-3000:]
+    return {"out": out, "location": location, "stdout": second.stdout, "env": _clean_env(),
+            "first_stdout": first.stdout, "before": before}
+
+
+def test_second_run_replaces_every_output_of_the_first(demo):
+    after = _outputs(demo["out"])
+    assert set(after) == set(demo["before"]) and "map.png" in after
+    for name, (inode, data) in after.items():
+        assert inode != demo["before"][name][0], name  # a new file, not the old one left
+    # the same seed: the same map and the same tables
+    for name in ("generalize_metrics.csv", "map.png"):
+        if name in after:
+            assert after[name][1] == demo["before"][name][1], name
+    assert not (demo["out"] / ".demo-next").exists()
+
+
+def test_a_failing_run_leaves_the_previous_outputs(demo, tmp_path):
+    """A run whose chain fails says so, and the previous outputs are untouched."""
+    broken = tmp_path / "dist"
+    (broken / "scripts").mkdir(parents=True)
+    module = broken / "scripts" / "r.histo.classify"
+    module.write_text("#!/bin/sh\nexit 1\n")
+    module.chmod(0o755)
+    before = _outputs(demo["out"])
+    run = _run_demo(demo["out"], dist=str(broken))
+    assert run.returncode != 0
+    assert "left as they were" in run.stderr
+    assert _outputs(demo["out"]) == before
+    assert (demo["location"] / "PERMANENT").is_dir()
+    assert not (demo["out"] / ".demo-next").exists()
+
+
+def test_printed_outputs_list_every_file(demo):
+    for stdout in (demo["first_stdout"], demo["stdout"]):
+        listed = stdout.split("histo demo done. Outputs:", 1)[1]
+        for name in OUTPUT_FILES:
+            if (demo["out"] / name).exists():
+                assert str(demo["out"] / name) in listed, name
 
 
 def _grass(demo, command):
