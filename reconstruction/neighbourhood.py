@@ -42,10 +42,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .contract import HEIGHTS_MEASURED, HEIGHTS_NEIGHBOURS, HEIGHTS_PLOT
 from .errors import InputError
 from .groupstats import group_median
 
-MEASURED, PLOT, NEIGHBOURS = "measured", "plot", "neighbours"
+MEASURED, PLOT, NEIGHBOURS = HEIGHTS_MEASURED, HEIGHTS_PLOT, HEIGHTS_NEIGHBOURS
 #: MAD of a normal distribution -> its standard deviation
 _MAD_SCALE = 1.4826
 
@@ -138,6 +139,13 @@ def _plot_neighbours(n, geoms, distance, nearest):
     return a, b
 
 
+def _plot_index(plot_ids, plot):
+    """Index in ``plot_ids`` of every value of ``plot`` (-1: None or not a plot)."""
+    lookup = {p: i for i, p in enumerate(plot_ids)}
+    return np.array([lookup.get(p, -1) if p is not None and p == p else -1 for p in plot],
+                    dtype=np.int64)
+
+
 def plot_heights(plot_ids, plot_geoms, known_plot, known_values, distance=20.0, nearest=5):
     """The thesis's plot-level neighbourhood analysis.
 
@@ -148,15 +156,13 @@ def plot_heights(plot_ids, plot_geoms, known_plot, known_values, distance=20.0, 
     neighbouring plots (``neighbours``), revisited until no plot is left
     (NaN and ``""`` only when nothing at all is measured).
     """
-    plot_ids = np.asarray(plot_ids)
+    plot_ids = np.asarray(plot_ids, dtype=object)
     P = len(plot_ids)
     values = np.asarray(known_values, dtype=float).reshape(len(known_plot), -1)
     Q = values.shape[1]
-    order = np.argsort(plot_ids, kind="stable")
-    pos = np.searchsorted(plot_ids[order], np.asarray(known_plot))
-    pos = np.clip(pos, 0, max(P - 1, 0))
-    hit = (P > 0) & (plot_ids[order][pos] == np.asarray(known_plot)) if P else np.zeros(0, bool)
-    which = order[pos[hit]]
+    which = _plot_index(plot_ids, known_plot)
+    hit = which >= 0
+    which = which[hit]
     out = np.full((P, Q), np.nan)
     for q in range(Q):
         good = np.isfinite(values[hit, q])
@@ -304,7 +310,8 @@ def robust_heights(targets, donors, donor_values, rule=None):
 # Every footprint
 # ---------------------------------------------------------------------------
 
-def infer_heights(footprints, eaves, attic, plot=None, plots=None, rule=None):
+def infer_heights(footprints, eaves, attic, plot=None, plots=None, rule=None,
+                  measured_label=MEASURED):
     """Eaves and attic of every footprint: its own where measured, else inferred.
 
     ``footprints`` (F,) polygons; ``eaves``, ``attic`` (F,) measured heights,
@@ -312,11 +319,10 @@ def infer_heights(footprints, eaves, attic, plot=None, plots=None, rule=None):
     are not among those to build, append them and drop their results);
     ``plot`` (F,) plot id of each footprint (None: unknown); ``plots``
     (:class:`Plots`) the plot polygons for the plot rule's neighbours (without
-    them a plot's neighbours are found from its footprints); ``rule``: a
-    :class:`HeightRule`.
+    them a plot's place is the hull of its footprints); ``rule``: a
+    :class:`HeightRule`; ``measured_label``: the source label of the measured
+    footprints (``points`` for heights from building points).
     """
-    import shapely
-
     rule = rule or HeightRule()
     geoms = _geometry_array(footprints)
     F = len(geoms)
@@ -325,7 +331,7 @@ def infer_heights(footprints, eaves, attic, plot=None, plots=None, rule=None):
     known = np.isfinite(eaves) & np.isfinite(attic) & (eaves > 0)
     values = np.stack([eaves, eaves + np.maximum(attic, 0.0)], axis=1)
     out = np.where(known[:, None], values, np.nan)
-    source = np.where(known, MEASURED, "").astype(object)
+    source = np.where(known, measured_label, "").astype(object)
     todo = np.nonzero(~known)[0]
     if not len(todo) or not known.any():
         return _result(out, source)
@@ -337,19 +343,20 @@ def infer_heights(footprints, eaves, attic, plot=None, plots=None, rule=None):
         todo = todo[~got]
     if len(todo) and plot is not None:
         plot = np.asarray(plot, dtype=object).reshape(F)
-        has = np.array([p is not None and p == p for p in plot], dtype=bool)
-        ids = np.array(sorted({p for p in plot[has]}), dtype=object) if plots is None else \
-            np.asarray(plots.ids, dtype=object)
         if plots is None:
-            # a plot's place: the hull of its footprints
-            pg = _plot_hulls(geoms[has], np.searchsorted(ids, plot[has]), len(ids))
+            ids = np.array(list(dict.fromkeys(p for p in plot if p is not None and p == p)),
+                           dtype=object)
+            index = _plot_index(ids, plot)
+            has = index >= 0
+            pg = _plot_hulls(geoms[has], index[has], len(ids))
         else:
+            ids = np.asarray(plots.ids, dtype=object)
+            index = _plot_index(ids, plot)
             pg = _geometry_array(plots.geometries)
-        pv, ps = plot_heights(ids, pg, plot[known & has], values[known & has],
-                              rule.plot_distance, rule.plot_nearest)
-        lookup = {p: i for i, p in enumerate(ids)}
-        idx = np.array([lookup.get(p, -1) if h else -1 for p, h in zip(plot[todo], has[todo])],
-                       dtype=np.int64)
+        use = known & (index >= 0)
+        pv, ps = plot_heights(ids, pg, plot[use], values[use], rule.plot_distance,
+                              rule.plot_nearest)
+        idx = index[todo]
         got = idx >= 0
         got[got] &= np.isfinite(pv[idx[got], 0])
         out[todo[got]] = pv[idx[got]]

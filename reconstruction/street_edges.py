@@ -66,8 +66,7 @@ class Edges:
     def of(cls, rings):
         counts = np.array([len(r) for r in rings], dtype=np.int64)
         start = np.concatenate([[0], np.cumsum(counts)])
-        a = np.concatenate([np.asarray(r, dtype=float)[:, :2] for r in rings]) if len(rings) \
-            else np.zeros((0, 2))
+        a = np.concatenate(rings, axis=0)[:, :2].astype(float) if len(rings) else np.zeros((0, 2))
         ring = np.repeat(np.arange(len(rings)), counts)
         index = np.arange(len(a)) - start[ring]
         nxt = np.where(index + 1 < counts[ring], np.arange(len(a)) + 1, start[ring])
@@ -168,8 +167,8 @@ def _candidate_pairs(edges, tol):
     first = edges.start[:-1]
     rx0, ry0 = np.minimum.reduceat(x0, first), np.minimum.reduceat(y0, first)
     rx1, ry1 = np.maximum.reduceat(x1, first), np.maximum.reduceat(y1, first)
-    p, q = shapely.STRtree(shapely.box(rx0, ry0, rx1, ry1)).query(
-        shapely.box(rx0, ry0, rx1, ry1))
+    boxes = shapely.box(rx0, ry0, rx1, ry1)
+    p, q = shapely.STRtree(boxes).query(boxes)
     keep = p != q
     p, q = p[keep], q[keep]
 
@@ -199,6 +198,16 @@ def shared_edges(edges, tol=0.1, share=0.5):
     if E == 0:
         return np.zeros(0, dtype=bool), np.zeros((0, 2), dtype=np.int64)
     i, j = _candidate_pairs(edges, tol)
+    # no part of edge j within tol of the line of edge i (or beyond its ends): no cover
+    ux, uy = edges.unit[i, 0], edges.unit[i, 1]
+    cx, cy = edges.a[j, 0] - edges.a[i, 0], edges.a[j, 1] - edges.a[i, 1]
+    dx, dy = edges.b[j, 0] - edges.a[i, 0], edges.b[j, 1] - edges.a[i, 1]
+    side_c, side_d = ux * cy - uy * cx, ux * dy - uy * dx
+    along_c, along_d = ux * cx + uy * cy, ux * dx + uy * dy
+    li = edges.length[i]
+    near = ~(((side_c > tol) & (side_d > tol)) | ((side_c < -tol) & (side_d < -tol))
+             | ((along_c < -tol) & (along_d < -tol)) | ((along_c > li + tol) & (along_d > li + tol)))
+    i, j = i[near], j[near]
     lo, hi = covered_intervals(edges.a[i], edges.b[i], edges.a[j], edges.b[j], tol)
     good = hi > lo
     i, j, lo, hi = i[good], j[good], lo[good], hi[good]
@@ -230,7 +239,7 @@ def strip_fractions(edges, which, grid, classes, depth=3.0):
     which = np.asarray(which, dtype=np.int64)
     if not len(which):
         return np.zeros(0)
-    step = 0.5 * min(grid.nsres, grid.ewres)
+    step = min(grid.nsres, grid.ewres)          # about one sample a cell
     a, v = edges.a[which], edges.vector[which]
     ln = np.hypot(v[:, 0], v[:, 1])
     out = np.stack([v[:, 1], -v[:, 0]], axis=1) / np.maximum(ln, 1e-15)[:, None]
@@ -268,29 +277,30 @@ def _neighbour_edges(pairs, edges, rings_sel):
     return p[row, 0], p[row, 1], k
 
 
-def _propagate(edge_k, case, candidate, pairs, edges, cos_par):
-    """Case 2, in waves: unresolved rings next to a resolved one take their
-    candidate edge nearly parallel to the neighbour's street edge with the
-    closest middle."""
-    unit = edges.unit
-    mid = edges.middle
+def _propagate(edge_k, case, rows, edges, cos_par):
+    """Case 2, in waves: unresolved rings next to a ring resolved in the last
+    wave take their candidate edge nearly parallel to that ring's street edge
+    with the closest middle. ``rows`` = (ring r, neighbour s, candidate edge k
+    of r) for every neighbour pair."""
+    rr, rs, rk = rows
+    open_ = (edge_k < 0) & (case != ENCLOSED)
+    new = edge_k >= 0
     while True:
-        open_ = edge_k < 0
-        open_[case == ENCLOSED] = False
-        active = open_[pairs[:, 0]] & (edge_k[pairs[:, 1]] >= 0)
-        if not active.any():
+        idx = np.nonzero(new[rs] & open_[rr])[0]
+        if not len(idx):
             return
-        sel = np.zeros(len(edge_k), dtype=bool)
-        sel[pairs[active, 0]] = True
-        r, s, k = _neighbour_edges(pairs[active], edges, sel)
-        ks = edge_k[s]
-        ok = candidate[k] & (np.einsum("ij,ij->i", unit[k], unit[ks]) >= cos_par)
+        r, k, ks = rr[idx], rk[idx], edge_k[rs[idx]]
+        ok = np.einsum("ij,ij->i", edges.unit[k], edges.unit[ks]) >= cos_par
         if not ok.any():
             return
-        r, k, dist = r[ok], k[ok], np.hypot(*(mid[k[ok]] - mid[ks[ok]]).T)
-        best = _first_per_group(r, dist)
-        edge_k[r[best]] = k[best]
-        case[r[best]] = FROM_NEIGHBOUR
+        r, k, ks = r[ok], k[ok], ks[ok]
+        best = _first_per_group(r, np.hypot(*(edges.middle[k] - edges.middle[ks]).T))
+        done = r[best]
+        edge_k[done] = k[best]
+        case[done] = FROM_NEIGHBOUR
+        new = np.zeros(len(edge_k), dtype=bool)
+        new[done] = True
+        open_[done] = False
 
 
 def _vote(rings_sel, candidate, free, pairs, edges, cos_par, align):
@@ -371,8 +381,10 @@ def street_edges(rings, tol=0.1, share=0.5, parallel=20.0, align=0.5, streets=No
         _street_case(edges, free, n_free, edge_k, case, candidate, streets, classes, depth,
                      majority)
     cos_par = math.cos(math.radians(parallel))
+    r, n, k = _neighbour_edges(pairs, edges, np.ones(R, dtype=bool))
+    rows = (r[candidate[k]], n[candidate[k]], k[candidate[k]])
     while True:
-        _propagate(edge_k, case, candidate, pairs, edges, cos_par)
+        _propagate(edge_k, case, rows, edges, cos_par)
         todo = case < 0
         if not todo.any():
             break

@@ -153,3 +153,19 @@ def test_robust_rule_beats_the_plot_median_on_delft_1880(shared_data):
     print("robust rule:", {k: round(v, 3) for k, v in ours.items()})
     for key in thesis:
         assert ours[key] < thesis[key], key
+
+
+def test_building_points_then_neighbours_for_footprints_without_points():
+    fp = row(0, 0, 6)
+    rng = np.random.default_rng(0)
+    pts = []
+    for g in fp[:4]:                                     # the last two have no points
+        x0, y0, x1, y1 = g.bounds
+        xy = rng.uniform([x0, y0], [x1, y1], (400, 2))
+        z = 1.0 + 9.0 + 3.0 * (1 - np.abs(xy[:, 1] - 6.0) / 6.0)
+        pts.append(np.column_stack([xy, z]))
+    roof = heights.roof_from_points(fp, np.concatenate(pts))
+    m = heights.roof_heights(roof, np.full(6, 1.0))
+    r = nb.infer_heights(fp, m.eaves, m.attic, measured_label="points")
+    assert r.source.tolist() == ["points"] * 4 + ["neighbours"] * 2
+    assert np.allclose(r.eaves[4:], np.median(m.eaves[:4]), atol=0.3)
