@@ -85,20 +85,30 @@ class Edges:
 class StreetEdges:
     """Per ring: ``edge`` the street edge's index in the ring (-1: none) and
     ``case`` the rule that chose it (0-5, see the module doc); per edge (flat,
-    :class:`Edges` order): ``shared``; and the neighbour pairs of rings."""
+    :class:`Edges` order): ``covered`` its length within ``tol`` of other
+    rings' edges and ``shared``; ``neighbours``: the pairs (r, s) of rings
+    that touch (both ways)."""
 
     edge: np.ndarray
     case: np.ndarray
     edges: Edges
+    covered: np.ndarray
     shared: np.ndarray
     neighbours: np.ndarray
 
+    def shared_at(self, index):
+        """Per ring: True when its edge ``index[r]`` (in the ring; -1 = none) is shared,
+        e.g. the edge opposite the street edge, where a gable's other end goes."""
+        index = np.asarray(index, dtype=np.int64)
+        k = self.edges.start[:-1] + np.maximum(index, 0)
+        return (index >= 0) & self.shared[k] if len(index) else np.zeros(0, dtype=bool)
+
     def edge_shared(self):
-        """Per ring: True when its street edge is a shared edge (never, by the rule)."""
-        k = self.edges.start[:-1] + np.maximum(self.edge, 0)
-        return (self.edge >= 0) & self.shared[k] if len(self.edge) else np.zeros(0, bool)
+        """Per ring: True when its street edge is shared (never, by the rule)."""
+        return self.shared_at(self.edge)
 
     def unshared_count(self):
+        """Per ring: how many of its edges are not shared."""
         return np.bincount(self.edges.ring[~self.shared], minlength=len(self.edge))
 
 
@@ -188,15 +198,16 @@ def _candidate_pairs(edges, tol):
     return i[meet], j[meet]
 
 
-def shared_edges(edges, tol=0.1, share=0.5):
-    """Per edge: True when other rings' edges lie within ``tol`` of it over at
-    least ``share`` of its length. Also returns the ring pairs (i, j), i != j,
-    with an edge within ``tol`` of each other over more than a millimetre."""
+def edge_cover(edges, tol=0.1):
+    """Per edge: its length within ``tol`` of other rings' edges; and the ring
+    pairs (r, s), r != s, with edges within ``tol`` of each other over more
+    than a millimetre."""
     import shapely
 
     E = len(edges.a)
     if E == 0:
-        return np.zeros(0, dtype=bool), np.zeros((0, 2), dtype=np.int64)
+        return np.zeros(0), np.zeros((0, 2), dtype=np.int64)
+    tol = tol + 1e-7               # exactly tol away is within tol, whatever the rounding
     i, j = _candidate_pairs(edges, tol)
     # no part of edge j within tol of the line of edge i (or beyond its ends): no cover
     ux, uy = edges.unit[i, 0], edges.unit[i, 1]
@@ -221,11 +232,10 @@ def shared_edges(edges, tol=0.1, share=0.5):
     gain = np.maximum(hi - np.maximum(lo, prev), 0.0)
     length = edges.length
     covered = np.bincount(i, weights=gain, minlength=E) * length
-    shared = (covered >= share * length - 1e-9) & (length > 0)
     touch = (hi - lo) * length[i] > 1e-3
     R = len(edges.start) - 1
     key = np.unique(edges.ring[i[touch]] * R + edges.ring[j[touch]])
-    return shared, np.stack([key // R, key % R], axis=1)
+    return covered, np.stack([key // R, key % R], axis=1)
 
 
 # ---------------------------------------------------------------------------
@@ -365,7 +375,8 @@ def street_edges(rings, tol=0.1, share=0.5, parallel=20.0, align=0.5, streets=No
     """
     edges = Edges.of(rings)
     R = len(rings)
-    shared, pairs = shared_edges(edges, tol, share)
+    covered, pairs = edge_cover(edges, tol)
+    shared = (covered >= share * edges.length - 1e-9) & (edges.length > 0)
     free = ~shared & (edges.length > 0)
     n_free = np.bincount(edges.ring[free], minlength=R)
     edge_k = np.full(R, -1, dtype=np.int64)           # flat index of the street edge
@@ -404,7 +415,7 @@ def street_edges(rings, tol=0.1, share=0.5, parallel=20.0, align=0.5, streets=No
             edge_k[edges.ring[best]] = best
             case[edges.ring[best]] = SHORTEST
     index = np.where(edge_k >= 0, edge_k - edges.start[:-1], -1)
-    return StreetEdges(index, case, edges, shared, pairs)
+    return StreetEdges(index, case, edges, covered, shared, pairs)
 
 
 def _street_case(edges, free, n_free, edge_k, case, candidate, grid, classes, depth, majority):

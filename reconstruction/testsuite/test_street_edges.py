@@ -6,6 +6,8 @@ import os
 import numpy as np
 import pytest
 import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from reconstruction import street_edges as se
 from reconstruction.errors import InputError
@@ -23,14 +25,38 @@ def street_row(n, width=6.0, depth=12.0, x0=0.0, y0=0.0):
 
 def test_an_edge_is_shared_within_a_tenth_of_a_metre_over_half_its_length():
     a = box(0, 0, 6, 12)
-    for gap, expected in ((0.0, True), (0.05, True), (0.09, True), (0.2, False)):
-        b = box(6 + gap, 0, 12, 12)
-        res = se.street_edges([a, b])
+    for gap, expected in ((0.0, True), (0.05, True), (0.1, True), (0.2, False)):
+        b = box(6 + gap, 0, 12, 12) + [100000.0, 400000.0]  # exactly 0.1 m apart counts
+        res = se.street_edges([a + [100000.0, 400000.0], b])
         assert bool(res.shared[1]) is expected, gap          # a's east edge
     # a neighbour along 60 % of the edge: shared; along 40 %: not
     for depth, expected in ((7.2, True), (4.8, False)):
         res = se.street_edges([a, box(6, 0, 12, depth)])
         assert bool(res.shared[1]) is expected, depth
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(st.floats(3, 9), st.floats(0, 0.3), st.floats(6, 14), st.floats(-2, 2),
+                          st.floats(-3, 3)), min_size=2, max_size=6))
+def test_the_cover_of_every_edge_is_what_shapely_measures(houses):
+    """Rows of slightly gapped, shifted, rotated houses: the length of each edge
+    within 0.1 m of the others' edges, against shapely's buffers."""
+    rings, x = [], 0.0
+    for width, gap, depth, shift, angle in houses:
+        ring = box(x + gap, shift, x + gap + width, shift + depth)
+        c = ring.mean(axis=0)
+        t = np.radians(angle)
+        rot = np.array([[np.cos(t), -np.sin(t)], [np.sin(t), np.cos(t)]])
+        rings.append((ring - c) @ rot.T + c)
+        x += gap + width
+    edges = se.Edges.of(rings)
+    covered, _ = se.edge_cover(edges, 0.1)
+    polys = [shapely.Polygon(r) for r in rings]
+    for k in range(len(edges.a)):
+        others = [p.boundary for r, p in enumerate(polys) if r != edges.ring[k]]
+        near = shapely.union_all([shapely.buffer(o, 0.1, quad_segs=64) for o in others])
+        want = shapely.LineString([edges.a[k], edges.b[k]]).intersection(near).length
+        assert covered[k] == pytest.approx(want, abs=2e-3)
 
 
 def test_one_unshared_edge_is_the_street_edge():

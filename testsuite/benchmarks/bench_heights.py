@@ -12,15 +12,14 @@ time (and CPU time) of several runs. Pure library: runs with or without GRASS
 
 import argparse
 import os
-import statistics
 import sys
-import time
 
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path[:0] = [ROOT, os.path.join(ROOT, "testsuite")]
 
+from histo_testing import timed  # noqa: E402
 from reconstruction import heights, neighbourhood  # noqa: E402
 from reconstruction.grid import Grid  # noqa: E402
 
@@ -42,16 +41,6 @@ def site(n_footprints=4000, n_points=1_000_000, seed=0):
     xy = rng.random((n_points, 2)) * extent
     z = 1.0 + 0.005 * xy[:, 0] + 0.002 * xy[:, 1]
     return fps, np.column_stack([xy, z]), extent
-
-
-def timed(runs, fn):
-    wall, cpu = [], []
-    for _ in range(runs):
-        w, c = time.perf_counter(), time.process_time()
-        result = fn()
-        wall.append(time.perf_counter() - w)
-        cpu.append(time.process_time() - c)
-    return statistics.median(wall), statistics.median(cpu), result
 
 
 def main():

@@ -20,15 +20,14 @@ GRASS
 
 import argparse
 import os
-import statistics
 import sys
-import time
 
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path[:0] = [ROOT, os.path.join(ROOT, "testsuite")]
 
+from histo_testing import timed  # noqa: E402
 from reconstruction import solids, street_edges  # noqa: E402
 from reconstruction.grid import Grid  # noqa: E402
 
@@ -63,16 +62,6 @@ def read_ascii_grid(path):
     rows, cols = int(head["rows"]), int(head["cols"])
     return Grid(values.reshape(rows, cols), head["north"], head["west"],
                 (head["north"] - head["south"]) / rows, (head["east"] - head["west"]) / cols)
-
-
-def timed(runs, fn):
-    wall, cpu = [], []
-    for _ in range(runs):
-        w, c = time.perf_counter(), time.process_time()
-        result = fn()
-        wall.append(time.perf_counter() - w)
-        cpu.append(time.process_time() - c)
-    return statistics.median(wall), statistics.median(cpu), result
 
 
 def facing(result, grid, classes, depth=3.0):
