@@ -145,17 +145,24 @@ def test_measured_heights_from_the_thesis_columns_in_either_spelling():
 
 
 def test_measured_heights_from_the_3d_bag():
-    old = {"b3_h_maaiveld": [0.5], "b3_h_dak_50p": [9.5], "b3_h_dak_70p": [10.5],
-           "b3_h_dak_max": [13.5]}
+    # the 3D BAG sample's 1949 house (../shared/data/3dbag_sample)
+    old = {"b3_h_maaiveld": [-0.277], "b3_h_dak_50p": [6.97], "b3_h_dak_70p": [7.8],
+           "b3_h_dak_max": [9.83], "b3_h_dak_min": [-0.07]}
     m = heights.measured_heights(old)
     assert heights.height_columns(old).name == "3dbag-2024"
-    assert (m.eaves[0], m.attic[0]) == (9.0, 4.0)
-    new = {"b3_h_maaiveld": [0.5, 0.5], "b3_h_50p": [9.5, 7.0], "b3_h_max": [13.5, 7.2],
-           "b3_h_nok": [12.5, None]}
+    p25 = 6.97 - 1.25 * (7.8 - 6.97)                  # extrapolated: no 25th percentile
+    assert m.eaves[0] == pytest.approx(p25 + 0.277)
+    assert m.attic[0] == pytest.approx(9.83 - p25)
+    new = {"b3_h_maaiveld": [0.5, 0.5], "b3_h_50p": [9.5, 7.0], "b3_h_70p": [10.5, 7.0],
+           "b3_h_max": [13.5, 7.2], "b3_h_nok": [12.5, None]}
     m = heights.measured_heights(new)
     assert heights.height_columns(new).name == "3dbag"
-    assert m.attic.tolist() == [3.0, pytest.approx(0.2)]     # the ridge, else the maximum
-    assert heights.measured_heights(new, ground=[1.5, np.nan]).eaves[0] == 8.0
+    assert m.eaves.tolist() == [pytest.approx(8.25 - 0.5), pytest.approx(6.5)]
+    assert m.attic.tolist() == [pytest.approx(12.5 - 8.25), pytest.approx(0.2)]  # ridge, else max
+    assert heights.measured_heights(new, ground=[1.5, np.nan]).eaves[0] == pytest.approx(6.75)
+    # a choice of one's own
+    mine = heights.HeightColumns("mine", ("b3_h_maaiveld",), ("b3_h_50p",), ("b3_h_max",))
+    assert heights.measured_heights(new, mine).eaves[0] == 9.0
 
 
 def test_aligned_footprints_without_height_columns_are_refused():
