@@ -10,8 +10,8 @@ the ground and total height = eaves + attic; attic = total - eaves):
   close), revisited until every plot is resolved; its generated footprints
   inherit it. One tall aligned building (a church, a tower) then gives its
   height to every generated footprint of its plot (the thesis's Fig. 5.23).
-- ``robust`` (the default) -- per footprint, from every aligned footprint
-  within ``radius`` (200 m):
+- ``robust`` (the default) -- per footprint, from the aligned footprints
+  within ``radius`` (300 m; the 256 nearest at most):
 
   1. *outliers are no donors*: with the median ``M`` and the MAD (scaled to
      a standard deviation, at least 10 % of ``M``) of the neighbours'
@@ -22,16 +22,21 @@ the ground and total height = eaves + attic; attic = total - eaves):
      ``beta * log(area / its area)``, ``beta`` fitted on the measured
      footprints themselves (leave-one-out against their own neighbours);
   3. *proximity*: the weighted median of those heights, weights
-     ``1 / (distance + offset)`` (boundary distance, 2 m offset), so the
-     houses of the same row count most, the district still a good deal;
+     ``1 / (distance + offset)`` (2 m offset; the distance between the
+     footprints' outlines, between their centres beyond 60 m), so the houses
+     of the same row count most, the district still a good deal;
   4. the result is kept within ``M +- k_mad * MAD`` and within the
      neighbours' range.
 
   A footprint with no aligned footprint within ``radius`` falls back to the
-  plot rule. On Delft 1880 (5-fold cross-validation, see
-  ``reconstruction/testsuite/test_neighbourhood.py``) it beats the plot rule
-  on the mean and the 90th percentile of the error of the eaves and of the
-  total height.
+  plot rule. Chosen and measured on Delft 1880 (674 aligned footprints in
+  184 plots; 5-fold cross-validation, seed 0, in
+  ``reconstruction/testsuite/test_neighbourhood.py``): mean / 90th
+  percentile absolute error of the eaves 1.40 / 2.98 m (plot rule 1.53 /
+  3.22 m), of the total height 1.09 / 2.38 m (plot rule 1.43 / 3.07 m);
+  better on all four figures for every seed tried (0-7). Without the size
+  step the total height's errors are 1.24 / 2.66 m; the radius (200-300 m)
+  and the offset (2 m) were chosen on these folds.
 
 Every footprint gets a source label: ``measured``, ``plot`` (its plot's own
 aligned footprints), ``neighbours`` (aligned footprints around it or
