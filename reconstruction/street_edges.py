@@ -27,12 +27,12 @@ resolved by case 3 or 4 (the one with the clearest vote), and the waves go
 on from there.
 
 Beyond the thesis (its future work): the map knows where the streets are.
-With ``streets`` (a classified :class:`reconstruction.grid.Grid`) and
-``classes`` (its street and water labels), a strip ``depth`` m deep in front
-of each unshared edge is sampled: when one edge has a clear majority of
-street or water in front of it, it is the street edge (case 5); when several
-do (a corner house), cases 2-4 choose among those only; when none does,
-cases 2-4 as before.
+With ``streets`` (a classified :class:`reconstruction.grid.Grid` and
+``classes`` its street and water labels, or street polygons), a strip
+``depth`` (3) m deep in front of each unshared edge is sampled: when one
+edge has a ``majority`` (half) of street or water in front of it, it is the
+street edge (case 5); when several do (a corner house), cases 2-4 choose
+among those only; when none does, cases 2-4 as before.
 """
 
 import math
@@ -242,16 +242,22 @@ def edge_cover(edges, tol=0.1):
 # Streets in front of edges
 # ---------------------------------------------------------------------------
 
-def strip_fractions(edges, which, grid, classes, depth=3.0):
+def strip_fractions(edges, which, streets, classes=None, depth=3.0, step=None):
     """Per edge ``which`` (indices into ``edges``): the share of a strip ``depth``
-    m deep in front of it (outside a counter-clockwise ring) whose cells are of
-    ``classes``; NaN where the strip is outside the raster."""
+    m deep in front of it (outside a counter-clockwise ring) that is street.
+
+    ``streets``: a classified :class:`~reconstruction.grid.Grid` (street =
+    cells of ``classes``; NaN where the strip is outside the raster), or
+    street polygons (shapely). Samples every ``step`` m (default: the cell
+    size, or 1 m)."""
     which = np.asarray(which, dtype=np.int64)
     if not len(which):
         return np.zeros(0)
-    step = min(grid.nsres, grid.ewres)          # about one sample a cell
+    is_grid = isinstance(streets, Grid)
+    if step is None:
+        step = min(streets.nsres, streets.ewres) if is_grid else 1.0   # a sample a cell
     a, v = edges.a[which], edges.vector[which]
-    ln = np.hypot(v[:, 0], v[:, 1])
+    ln = edges.length[which]
     out = np.stack([v[:, 1], -v[:, 0]], axis=1) / np.maximum(ln, 1e-15)[:, None]
     n_along = np.maximum(np.ceil(ln / step).astype(np.int64), 1)
     n_deep = max(int(math.ceil(depth / step)), 1)
@@ -259,9 +265,18 @@ def strip_fractions(edges, which, grid, classes, depth=3.0):
     along = (k // n_deep + 0.5) / n_along[owner]
     deep = (k % n_deep + 0.5) * depth / n_deep
     p = a[owner] + along[:, None] * v[owner] + deep[:, None] * out[owner]
-    value = grid.sample(p[:, 0], p[:, 1])
-    known = np.isfinite(value)
-    hit = known & np.isin(value, np.asarray(classes, dtype=float))
+    if is_grid:
+        value = streets.sample(p[:, 0], p[:, 1])
+        known = np.isfinite(value)
+        hit = known & np.isin(value, np.asarray(classes, dtype=float))
+    else:
+        import shapely
+
+        known = np.ones(len(p), dtype=bool)
+        hit = np.zeros(len(p), dtype=bool)
+        tree = shapely.STRtree(np.asarray(streets, dtype=object))
+        inside, _ = tree.query(shapely.points(p), predicate="intersects")
+        hit[inside] = True
     n_known = np.bincount(owner, weights=known, minlength=len(which))
     n_hit = np.bincount(owner, weights=hit, minlength=len(which))
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -369,9 +384,9 @@ def street_edges(rings, tol=0.1, share=0.5, parallel=20.0, align=0.5, streets=No
     :func:`reconstruction.solids.clean_rings` gives them); see the module doc.
 
     ``streets``: optional classified :class:`~reconstruction.grid.Grid` with
-    ``classes`` its street and water labels; ``depth`` the strip (m) sampled
-    in front of each edge, ``majority`` the share of it that must be street
-    or water. Returns :class:`StreetEdges`.
+    ``classes`` its street and water labels, or street polygons; ``depth``
+    the strip (m) sampled in front of each edge, ``majority`` the share of it
+    that must be street or water. Returns :class:`StreetEdges`.
     """
     edges = Edges.of(rings)
     R = len(rings)
@@ -418,21 +433,28 @@ def street_edges(rings, tol=0.1, share=0.5, parallel=20.0, align=0.5, streets=No
     return StreetEdges(index, case, edges, covered, shared, pairs)
 
 
-def _street_case(edges, free, n_free, edge_k, case, candidate, grid, classes, depth, majority):
-    """Case 5 from a classified raster; narrows ``candidate`` to the edges that
-    face a street where several do."""
-    if not isinstance(grid, Grid):
-        raise InputError("streets must be a Grid (classified raster values placed on the ground)")
-    classes = np.atleast_1d(np.asarray(classes if classes is not None else [], dtype=float))
-    if not len(classes):
-        raise InputError("Give the street and water classes of the streets raster")
-    present = np.isin(np.asarray(grid.values, dtype=float), classes)
-    if not present.any():
-        raise InputError("The streets raster has no cells of the classes {}".format(
-            ", ".join("{:g}".format(c) for c in classes)))
+def _street_case(edges, free, n_free, edge_k, case, candidate, streets, classes, depth,
+                 majority):
+    """Case 5 from a classified raster or street polygons; narrows ``candidate``
+    to the edges that face a street where several do."""
+    if isinstance(streets, Grid):
+        classes = np.atleast_1d(np.asarray(classes if classes is not None else [], dtype=float))
+        if not len(classes):
+            raise InputError("Give the street and water classes of the streets raster")
+        if not np.isin(np.asarray(streets.values, dtype=float), classes).any():
+            raise InputError("The streets raster has no cells of the classes {}".format(
+                ", ".join("{:g}".format(c) for c in classes)))
+    else:
+        import shapely
+
+        streets = np.asarray(streets, dtype=object).ravel()
+        kind = shapely.get_type_id(streets) if len(streets) else np.zeros(0)
+        if not len(streets) or not np.isin(kind, (3, 6)).all():
+            raise InputError("streets must be a classified raster (Grid) or street polygons "
+                             "(buffer street lines first)")
     many = (n_free >= 2)[edges.ring] & free
     k = np.nonzero(many)[0]
-    frac = strip_fractions(edges, k, grid, classes, depth)
+    frac = strip_fractions(edges, k, streets, classes, depth)
     facing = k[np.nan_to_num(frac, nan=0.0) >= majority]
     n_facing = np.bincount(edges.ring[facing], minlength=len(edge_k))
     single = facing[n_facing[edges.ring[facing]] == 1]

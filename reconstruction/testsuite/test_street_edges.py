@@ -137,6 +137,15 @@ def test_the_streets_raster_picks_the_edge_facing_the_street():
     assert res.case[0] == se.SHORTEST and res.edge[0] in (0, 2)
 
 
+def test_street_polygons_work_as_the_raster_does():
+    rings = street_row(5, y0=6.0, x0=10.0)
+    street = shapely.box(0, 0, 60, 6)
+    res = se.street_edges(rings, streets=[street])
+    assert res.case.tolist() == [se.STREETS] * 5 and res.edge.tolist() == [0] * 5
+    with pytest.raises(InputError, match="street polygons"):
+        se.street_edges(rings, streets=[shapely.LineString([(0, 3), (60, 3)])])
+
+
 def test_the_streets_raster_must_hold_the_classes():
     with pytest.raises(InputError, match="no cells of the classes 7"):
         se.street_edges(street_row(2), streets=street_raster(), classes=[7])
