@@ -52,7 +52,11 @@ class PointBuckets:
     """3D points sorted into square buckets: the one spatial index of the points."""
 
     def __init__(self, xyz, size=None):
-        xyz = np.asarray(xyz, dtype=float).reshape(-1, 3)
+        xyz = np.asarray(xyz, dtype=float)
+        if xyz.size and (xyz.ndim != 2 or xyz.shape[1] != 3):
+            raise InputError("Points must have x, y and z (an N x 3 array), not shape {}: "
+                             "a 2D point map has no heights".format(xyz.shape))
+        xyz = xyz.reshape(-1, 3)
         xyz = xyz[np.all(np.isfinite(xyz), axis=1)]
         self.xyz = xyz
         if not len(xyz):

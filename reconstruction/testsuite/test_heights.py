@@ -103,6 +103,8 @@ def test_ground_points_elsewhere_are_refused():
         heights.ground_from_points(fps, moved)
     with pytest.raises(InputError, match="between 0 and 50"):
         heights.ground_from_points(fps, pts, percentile=60)
+    with pytest.raises(InputError, match="no heights"):
+        heights.ground_from_points(fps, pts[:, :2])
 
 
 def test_footprints_far_from_every_point_get_no_ground():
