@@ -21,3 +21,14 @@ SIMILARITY = "similarity"
 GROUND = "ground"
 EAVES = "eaves"
 ATTIC = "attic"
+#: where a footprint's heights come from (v.histo.lod2 writes it as an attribute)
+HEIGHT_SOURCE = "height_source"
+#: its values: measured (aligned footprint), plot (its plot's aligned footprints),
+#: neighbours (aligned footprints around it), points (building points), range
+#: (drawn from height=/attic=), column (eaves_column=/attic_column=)
+HEIGHTS_MEASURED = "measured"
+HEIGHTS_PLOT = "plot"
+HEIGHTS_NEIGHBOURS = "neighbours"
+HEIGHTS_POINTS = "points"
+HEIGHTS_RANGE = "range"
+HEIGHTS_COLUMN = "column"

@@ -34,3 +34,18 @@ def run_in_latlong(dbase, name, *command):
     proc = subprocess.run(["grass", os.path.join(location, "PERMANENT"), "--exec"] + list(command),
                           capture_output=True, text=True, env=env)
     return location, proc
+
+
+def timed(runs, fn):
+    """Run ``fn()`` ``runs`` times: the median wall time, the median CPU time
+    (which a busy shared machine inflates less) and the last result."""
+    import statistics
+    import time
+
+    wall, cpu, result = [], [], None
+    for _ in range(runs):
+        w, c = time.perf_counter(), time.process_time()
+        result = fn()
+        wall.append(time.perf_counter() - w)
+        cpu.append(time.process_time() - c)
+    return statistics.median(wall), statistics.median(cpu), result
