@@ -56,6 +56,8 @@ import numpy as np
 import shapely
 from shapely.geometry import MultiPolygon, Polygon
 
+from .polygons import polygon_parts as _polygons
+
 #: generated footprints narrower than this (map units) are slivers
 MIN_WIDTH = 2.0
 #: generated footprints smaller than this (square map units) are slivers
@@ -684,20 +686,6 @@ def _overlay(operation, a, b):
         return operation(a, b)
     except shapely.errors.GEOSException:
         return operation(a, b, grid_size=CHECK_GRID)
-
-
-def _polygons(geom):
-    """The polygons of any geometry (parts of collections and multipolygons)."""
-    if geom is None or geom.is_empty:
-        return []
-    if geom.geom_type == "Polygon":
-        return [geom]
-    if hasattr(geom, "geoms"):
-        out = []
-        for g in geom.geoms:
-            out.extend(_polygons(g))
-        return out
-    return []
 
 
 def repair(geom):
