@@ -71,13 +71,8 @@ def largest_polygon(geometry):
     return parts[int(np.argmax(shapely.area(parts)))]
 
 
-def explode(geometries):
-    """The valid Polygon parts with area of many geometries, each with the index of its source.
-
-    Invalid geometries are made valid first (``make_valid``). Returns
-    ``(polygons, index)``: a list of Polygons and, for each, the index in
-    ``geometries`` of the geometry it came from.
-    """
+def _made_valid(geometries):
+    """An object array of the geometries, invalid ones made valid, and which ones were."""
     array = np.empty(len(geometries), dtype=object)
     array[:] = list(geometries)
     present = ~shapely.is_missing(array)
@@ -85,6 +80,37 @@ def explode(geometries):
     invalid[present] = ~shapely.is_valid(array[present]) & ~shapely.is_empty(array[present])
     if invalid.any():
         array[invalid] = shapely.make_valid(array[invalid])
+    return array, invalid
+
+
+def explode(geometries):
+    """The valid Polygon parts with area of many geometries, each with the index of its source.
+
+    Invalid geometries are made valid first (``make_valid``). Returns
+    ``(polygons, index)``: a list of Polygons and, for each, the index in
+    ``geometries`` of the geometry it came from.
+    """
+    array, _ = _made_valid(geometries)
     parts, index = _parts(array)
     keep = shapely.area(parts) > 0
     return list(parts[keep]), [int(i) for i in index[keep]]
+
+
+def repair(geometries):
+    """Each geometry as one valid Polygon or MultiPolygon, or None when it has no area.
+
+    Invalid geometries are made valid (``make_valid``); the parts with area
+    of each are kept, several parts merged into one (``union_all``). Returns
+    ``(geometries, repaired)``: a list with one geometry or None per input,
+    and a boolean array telling which inputs were invalid.
+    """
+    array, invalid = _made_valid(geometries)
+    parts, index = _parts(array)
+    keep = shapely.area(parts) > 0
+    groups = {}
+    for part, i in zip(parts[keep], index[keep]):
+        groups.setdefault(int(i), []).append(part)
+    out = [None] * len(array)
+    for i, group in groups.items():
+        out[i] = group[0] if len(group) == 1 else shapely.union_all(group)
+    return out, invalid

@@ -1,6 +1,7 @@
 """The polygons of a geometry: parts, the largest part, many geometries exploded (no GRASS)."""
 
 import numpy as np
+import pytest
 import shapely
 from shapely.geometry import GeometryCollection, LineString, MultiPolygon, Point, Polygon, box
 
@@ -48,3 +49,14 @@ def test_explode_repairs_and_keeps_parts_with_area():
     assert index == [0, 0, 2, 2, 4, 4, 4]
     assert all(p.is_valid and p.geom_type == "Polygon" and p.area > 0 for p in parts)
     assert sum(p.area for p in parts[2:4]) == np.float64(shapely.make_valid(bowtie).area)
+
+
+def test_repair_gives_one_valid_geometry_per_input_and_tells_which_were_invalid():
+    bowtie = Polygon([(0, 0), (2, 2), (2, 0), (0, 2)])
+    two = MultiPolygon([box(0, 0, 1, 1), box(5, 5, 6, 6)])
+    out, repaired = polygons.repair([box(0, 0, 1, 1), None, bowtie, Polygon(), two,
+                                     LineString([(0, 0), (1, 1)])])
+    assert list(repaired) == [False, False, True, False, False, False]
+    assert out[0].equals(box(0, 0, 1, 1)) and out[1] is None and out[3] is None and out[5] is None
+    assert out[2].is_valid and out[2].area == pytest.approx(2)
+    assert out[4].geom_type == "MultiPolygon" and out[4].area == pytest.approx(2)
