@@ -42,6 +42,8 @@ import numpy as np
 import shapely
 from shapely.geometry import LinearRing, Polygon
 
+from .overlaps import OverlapRule, resolve_overlaps
+
 # one home for the polygons of a geometry; both names stay importable from here
 from .polygons import explode as explode_plots, largest_polygon  # noqa: F401
 
@@ -527,20 +529,20 @@ def remove_overlaps(polygons):
     return _plain_differences(polygons, overlapping_pairs(polygons))
 
 
+def _plot_kept(geometry):
+    return _clean(largest_polygon(geometry))
+
+
+#: pair by pair, the later plot loses the shared area, or the earlier one when
+#: the later would vanish (it lies inside the earlier)
+LATER_PLOT_LOSES = OverlapRule(
+    keep=_plot_kept, min_shared=1e-6, merge_winners=False, swap=True,
+    intersection=lambda later, earlier: shapely.intersection(earlier, later))
+
+
 def _plain_differences(polygons, pairs):
-    """Overlaps removed pair by pair: the later plot loses the shared area, or
-    the earlier one when the later would vanish (it lies inside the earlier)."""
-    for a, b in pairs:
-        if shapely.intersection(polygons[a], polygons[b]).area <= 1e-6:
-            continue  # resolved by an earlier pair
-        rest = _clean(largest_polygon(shapely.difference(polygons[b], polygons[a])))
-        if rest is not None:
-            polygons[b] = rest
-            continue
-        rest = _clean(largest_polygon(shapely.difference(polygons[a], polygons[b])))
-        if rest is not None:
-            polygons[a] = rest
-    return polygons
+    """Overlaps removed pair by pair (:data:`LATER_PLOT_LOSES`)."""
+    return resolve_overlaps(polygons, [(b, [a]) for a, b in pairs], LATER_PLOT_LOSES)[0]
 
 
 # ---------------------------------------------------------------------------
