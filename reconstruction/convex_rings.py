@@ -37,17 +37,20 @@ def signed_area(ring):
     return s / 2.0
 
 
-def ccw_ring(coords):
-    """A counter-clockwise ring without the closing vertex, as tuples."""
-    pts = [(float(x), float(y)) for x, y in coords]
-    if len(pts) > 1 and pts[0] == pts[-1]:
-        pts.pop()
+def dedupe_ring(points):
+    """The ring without repeated consecutive vertices, nor a closing one."""
     out = []
-    for p in pts:
+    for p in points:
         if not out or p != out[-1]:
             out.append(p)
-    if len(out) > 1 and out[0] == out[-1]:
+    while len(out) > 1 and out[0] == out[-1]:
         out.pop()
+    return out
+
+
+def ccw_ring(coords):
+    """A counter-clockwise ring without the closing vertex, as tuples."""
+    out = dedupe_ring([(float(x), float(y)) for x, y in coords])
     if signed_area(out) < 0:
         out.reverse()
     return out

@@ -12,7 +12,7 @@ import numpy as np
 import shapely
 from shapely.geometry import Polygon
 
-from .convex_rings import SNAP, ccw_ring, to_polygons
+from .convex_rings import SNAP, ccw_ring, dedupe_ring, to_polygons
 from .plots import OVERLAP_TOLERANCE
 
 
@@ -81,7 +81,7 @@ def node_footprints(geometries, tolerance=SNAP):
                     if 0 < t[j] < 1:
                         ring.append((pts[j, 0], pts[j, 1]))
         f, r = owner[k]
-        changed.setdefault(f, {})[r] = _dedupe(ring)
+        changed.setdefault(f, {})[r] = dedupe_ring(ring)
     out = list(geometries)
     simple = [f for f, rings in changed.items() if not geometries[f].interiors
               and len(rings[0]) >= 3]
@@ -102,15 +102,4 @@ def node_footprints(geometries, tolerance=SNAP):
         for f, poly, good in zip(fs, polys, ok):
             if good:
                 out[f] = poly
-    return out
-
-
-def _dedupe(ring):
-    """The ring without repeated consecutive vertices (nor a closing one)."""
-    out = []
-    for p in ring:
-        if not out or p != out[-1]:
-            out.append(p)
-    while len(out) > 1 and out[0] == out[-1]:
-        out.pop()
     return out
