@@ -47,7 +47,8 @@ def assign_plots(footprints, plots, cats):
 
 
 def _aligned_left(geometry):
-    """What an aligned footprint keeps of its difference with earlier ones: parts above the tolerance."""
+    """What an aligned footprint keeps of its difference with earlier ones: parts above
+    the tolerance."""
     return polygonal([p for p in polygon_parts(geometry) if p.area > OVERLAP_TOLERANCE])
 
 

@@ -131,7 +131,9 @@ def polygon_width(polygon):
     """
     if polygon.is_empty:
         return 0.0
-    return ring_width(ccw_ring(shapely.convex_hull(polygon).exterior.coords)) if polygon.area > 0 else 0.0
+    if polygon.area <= 0:
+        return 0.0
+    return ring_width(ccw_ring(shapely.convex_hull(polygon).exterior.coords))
 
 
 def is_sliver(polygon):

@@ -45,7 +45,8 @@ class OverlapRule:
 
     def __post_init__(self):
         if self.swap and self.merge_winners:
-            raise ValueError("an OverlapRule that swaps has one winner per conflict: merge_winners=False")
+            raise ValueError("an OverlapRule that swaps has one winner per conflict: "
+                             "merge_winners=False")
 
 
 def resolve_overlaps(geometries, conflicts, rule):

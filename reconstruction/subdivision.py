@@ -63,7 +63,8 @@ import numpy as np
 from .aligned_footprints import (AlignedRepairs, assign_plots, attach_to_plots, calibrate,
                                  clip_generated, prepare_aligned)
 from .contract import SOURCE_ALIGNED, SOURCE_PROCEDURAL
-from .convex_rings import MIN_AREA, MIN_WIDTH, SNAP, is_convex, is_sliver, polygon_width, to_polygons
+from .convex_rings import (MIN_AREA, MIN_WIDTH, SNAP, is_convex, is_sliver, polygon_width,
+                           to_polygons)
 from .decomposition import convex_parts
 from .errors import InputError
 from .footprint_invariants import invariant_violations

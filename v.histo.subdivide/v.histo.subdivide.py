@@ -107,7 +107,8 @@ def _aligned_columns(columns, indices, own):
 def read_plots(grassio, name):
     """The plots with a category, and their categories."""
     plots, columns = grassio.read_features(name, "area")
-    keep = [i for i, (g, c) in enumerate(zip(plots, columns["cat"])) if g is not None and c is not None]
+    keep = [i for i, (g, c) in enumerate(zip(plots, columns["cat"]))
+            if g is not None and c is not None]
     return [plots[i] for i in keep], [int(columns["cat"][i]) for i in keep]
 
 
@@ -143,11 +144,12 @@ def report(rep, aligned, calibrating):
         gs.warning(_("{} aligned footprints without a plot left out").format(
             rep.aligned_without_plot))
     if rep.generated_dropped or rep.generated_clipped:
-        gs.message(_("Generated footprints overlapping aligned ones: {} clipped, {} dropped").format(
-            rep.generated_clipped, rep.generated_dropped))
+        gs.message(_("Generated footprints overlapping aligned ones: {} clipped, "
+                     "{} dropped").format(rep.generated_clipped, rep.generated_dropped))
     if calibrating and rep.calibrated:
         gs.message(_("Calibrated from {} aligned footprints: length={:.2f},{:.2f} "
-                     "depth={:.2f},{:.2f}").format(rep.calibration_samples, *(rep.length + rep.depth)))
+                     "depth={:.2f},{:.2f}").format(rep.calibration_samples,
+                                                  *(rep.length + rep.depth)))
     elif calibrating:
         gs.warning(_("Too few aligned footprints on a street ({}) to calibrate: length= and depth= "
                      "kept").format(rep.calibration_samples))
@@ -172,7 +174,8 @@ def main():
         if name:
             grassio.require_vector(name)
             if grassio.vector_counts(name).get("areas", 0) == 0:
-                raise InputError(_("Vector map <{}> has no areas: {} must be areas").format(name, what))
+                raise InputError(_("Vector map <{}> has no areas: {} must be areas").format(
+                    name, what))
 
     start = time.perf_counter()
     with grassio.doing("reading the plots <{}>".format(plots_name)):
