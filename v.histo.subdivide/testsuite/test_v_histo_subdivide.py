@@ -163,6 +163,7 @@ def test_bad_input_fails_clearly_and_leaves_nothing(tools, options, message):
     _, err = proc.communicate()
     assert proc.returncode != 0
     assert message in gs.decode(err)
+    assert "Traceback" not in gs.decode(err)
     assert not gs.find_file("fp", element="vector")["name"]
     assert not gs.list_grouped("vector", pattern="tmp_histo_*")[gs.gisenv()["MAPSET"]]
     with pytest.raises(CalledModuleError):
