@@ -42,6 +42,11 @@ import numpy as np
 import shapely
 from shapely.geometry import LinearRing, Polygon
 
+from .overlaps import OverlapRule, resolve_overlaps
+
+# one home for the polygons of a geometry; both names stay importable from here
+from .polygons import explode as explode_plots, largest_polygon  # noqa: F401
+
 # Tuning (checked on the thesis's Delft 1961 plots): a join moves a corner at
 # most SHIFT x distance; the alpha outline is simplified by ALPHA_TOL x the
 # boundary spacing; the interior is sampled every INNER x alpha (the boundary
@@ -68,44 +73,6 @@ fallbacks: dict step -> number of plots that needed a fallback there.
 # ---------------------------------------------------------------------------
 # Helpers
 # ---------------------------------------------------------------------------
-
-def largest_polygon(geom):
-    """The largest polygon of a geometry (None when it holds none)."""
-    if geom is None or geom.is_empty:
-        return None
-    if geom.geom_type == "Polygon":
-        return geom
-    parts = [g for g in shapely.get_parts(geom) if g.geom_type == "Polygon" and not g.is_empty]
-    if not parts:
-        polys = [largest_polygon(g) for g in shapely.get_parts(geom)
-                 if g.geom_type in ("MultiPolygon", "GeometryCollection")]
-        parts = [p for p in polys if p is not None]
-    return max(parts, key=lambda g: g.area) if parts else None
-
-
-def explode_plots(geometries):
-    """Split (Multi)Polygons into single polygons made valid.
-
-    Returns ``(polygons, source)``: the polygons and, for each, the index of
-    the geometry it came from.
-    """
-    polygons, source = [], []
-    for i, geom in enumerate(geometries):
-        if geom is None or geom.is_empty:
-            continue
-        if not geom.is_valid:
-            geom = shapely.make_valid(geom)
-        for part in shapely.get_parts(geom):
-            if part.geom_type == "Polygon" and part.area > 0:
-                polygons.append(part)
-                source.append(i)
-            elif part.geom_type in ("MultiPolygon", "GeometryCollection"):
-                for sub in shapely.get_parts(part):
-                    if sub.geom_type == "Polygon" and sub.area > 0:
-                        polygons.append(sub)
-                        source.append(i)
-    return polygons, source
-
 
 def _clean(polygon, tolerance=1e-6):
     """Drop repeated and collinear vertices; None when nothing valid remains."""
@@ -562,20 +529,20 @@ def remove_overlaps(polygons):
     return _plain_differences(polygons, overlapping_pairs(polygons))
 
 
+def _plot_kept(geometry):
+    return _clean(largest_polygon(geometry))
+
+
+#: pair by pair, the later plot loses the shared area, or the earlier one when
+#: the later would vanish (it lies inside the earlier)
+LATER_PLOT_LOSES = OverlapRule(
+    keep=_plot_kept, min_shared=1e-6, merge_winners=False, swap=True,
+    intersection=lambda later, earlier: shapely.intersection(earlier, later))
+
+
 def _plain_differences(polygons, pairs):
-    """Overlaps removed pair by pair: the later plot loses the shared area, or
-    the earlier one when the later would vanish (it lies inside the earlier)."""
-    for a, b in pairs:
-        if shapely.intersection(polygons[a], polygons[b]).area <= 1e-6:
-            continue  # resolved by an earlier pair
-        rest = _clean(largest_polygon(shapely.difference(polygons[b], polygons[a])))
-        if rest is not None:
-            polygons[b] = rest
-            continue
-        rest = _clean(largest_polygon(shapely.difference(polygons[a], polygons[b])))
-        if rest is not None:
-            polygons[a] = rest
-    return polygons
+    """Overlaps removed pair by pair (:data:`LATER_PLOT_LOSES`)."""
+    return resolve_overlaps(polygons, [(b, [a]) for a, b in pairs], LATER_PLOT_LOSES)[0]
 
 
 # ---------------------------------------------------------------------------

@@ -35,6 +35,8 @@ import math
 import numpy as np
 import shapely
 
+from .polygons import largest_polygon
+
 METRICS = ("area", "perimeter", "vertices", "holes", "compactness", "elongation",
            "roundness", "convexity", "concavity", "solidity", "rectangularity")
 STATISTICS = ("sum", "mean", "median", "std")
@@ -128,16 +130,6 @@ def summarise_metrics(metrics):
 # Turning function (Arkin et al. 1991)
 # ---------------------------------------------------------------------------
 
-def _main_polygon(geom):
-    if geom is None or geom.is_empty:
-        return None
-    if geom.geom_type == "MultiPolygon":
-        geom = max(geom.geoms, key=lambda g: g.area)
-    if geom.geom_type != "Polygon":
-        return None
-    return geom
-
-
 def turning_function(polygon):
     """Turning function of a polygon's exterior ring (counter-clockwise).
 
@@ -145,7 +137,7 @@ def turning_function(polygon):
     edge starts (``starts[0] == 0``) and the cumulative tangent angle along
     that edge in radians (first edge's direction, then + signed turns).
     """
-    polygon = _main_polygon(polygon)
+    polygon = largest_polygon(polygon)
     if polygon is None:
         raise ValueError("turning function of an empty geometry")
     ring = shapely.orient_polygons(polygon).exterior

@@ -95,129 +95,127 @@ def find_core():
             return
 
 
-OWN_COLUMNS = ("cat", "plot", "case", "source", "area")
-
-
-def _aligned_columns(columns, indices):
+def _aligned_columns(columns, indices, own):
     """The aligned footprints' own columns, one value per output footprint (NULL for 2PM)."""
     out = {}
     for name, values in columns.items():
-        if name.lower() in OWN_COLUMNS:
-            continue
-        out[name] = [values[i] if i >= 0 else None for i in indices]
+        if name.lower() not in own:
+            out[name] = [values[i] if i >= 0 else None for i in indices]
     return out
 
 
+def read_plots(grassio, name):
+    """The plots with a category, and their categories."""
+    plots, columns = grassio.read_features(name, "area")
+    keep = [i for i, (g, c) in enumerate(zip(plots, columns["cat"]))
+            if g is not None and c is not None]
+    return [plots[i] for i in keep], [int(columns["cat"][i]) for i in keep]
+
+
+def read_aligned(grassio, name, plot_column):
+    """Aligned footprints, the plot of each (None without a plot column) and their columns."""
+    aligned, columns = grassio.read_features(name, "area")
+    names = {k.lower(): k for k in columns}
+    if plot_column not in names:
+        gs.message(_("Aligned map <{}> has no {} column: each aligned footprint goes to the plot "
+                     "it overlaps most").format(name, plot_column))
+        return aligned, None, columns
+    return aligned, [None if v is None else int(v) for v in columns[names[plot_column]]], columns
+
+
+def report(rep, aligned, calibrating):
+    """Warnings and messages about what the subdivision repaired, clipped and measured."""
+    if rep.plots.repaired:
+        gs.warning(_("{} invalid plots repaired (make_valid)").format(rep.plots.repaired))
+    if rep.plots.skipped:
+        gs.warning(_("{} plots without area skipped").format(rep.plots.skipped))
+    if rep.plots.overlapping_pairs:
+        gs.warning(_("{} pairs of overlapping plots: the shared area ({:.2f} square map units) "
+                     "went to the larger plot of each pair").format(
+                         rep.plots.overlapping_pairs, rep.plots.overlap_area))
+    if not aligned:
+        return
+    if rep.aligned.repaired:
+        gs.warning(_("{} invalid aligned footprints repaired").format(rep.aligned.repaired))
+    if rep.aligned.clipped:
+        gs.warning(_("{} aligned footprints overlapping earlier ones were clipped").format(
+            rep.aligned.clipped))
+    if rep.aligned_without_plot:
+        gs.warning(_("{} aligned footprints without a plot left out").format(
+            rep.aligned_without_plot))
+    if rep.generated_dropped or rep.generated_clipped:
+        gs.message(_("Generated footprints overlapping aligned ones: {} clipped, "
+                     "{} dropped").format(rep.generated_clipped, rep.generated_dropped))
+    if calibrating and rep.calibrated:
+        gs.message(_("Calibrated from {} aligned footprints: length={:.2f},{:.2f} "
+                     "depth={:.2f},{:.2f}").format(rep.calibration_samples,
+                                                  *(rep.length + rep.depth)))
+    elif calibrating:
+        gs.warning(_("Too few aligned footprints on a street ({}) to calibrate: length= and depth= "
+                     "kept").format(rep.calibration_samples))
+
+
 def main():
-    from reconstruction import grassio, subdivision
+    from reconstruction import contract, grassio, subdivision
+    from reconstruction.errors import InputError
+    from reconstruction.options import parse_number, parse_range
 
     grassio.register_cleanup()
     options, flags = OPTIONS, FLAGS
-    plots_name = options["input"]
-    output = options["output"]
-    aligned_name = options["aligned"]
-
-    try:
-        length = subdivision.check_range(options["length"], "length")
-        depth = subdivision.check_range(options["depth"], "depth")
-    except ValueError as err:
-        gs.fatal(str(err))
+    plots_name, output, aligned_name = options["input"], options["output"], options["aligned"]
+    length = parse_range(options["length"], "length", positive=True, allow_zero=False)
+    depth = parse_range(options["depth"], "depth", positive=True, allow_zero=False)
     area_threshold = None
     if options["area_threshold"]:
-        area_threshold = float(options["area_threshold"])
-        if area_threshold < 0:
-            gs.fatal(_("area_threshold= must not be negative, got {}").format(area_threshold))
-    seed = int(options["seed"]) if options["seed"] else 1
-
+        area_threshold = parse_number(options["area_threshold"], "area_threshold", minimum=0)
+    seed = int(options["seed"] or 1)
     grassio.require_projected()
-    grassio.require_vector(plots_name)
-    if grassio.vector_counts(plots_name).get("areas", 0) == 0:
-        gs.fatal(_("Vector map <{}> has no areas: plots must be areas").format(plots_name))
-    if aligned_name:
-        grassio.require_vector(aligned_name)
-        if grassio.vector_counts(aligned_name).get("areas", 0) == 0:
-            gs.fatal(_("Vector map <{}> has no areas: aligned footprints must be areas").format(
-                aligned_name))
+    for name, what in ((plots_name, "plots"), (aligned_name, "aligned footprints")):
+        if name:
+            grassio.require_vector(name)
+            if grassio.vector_counts(name).get("areas", 0) == 0:
+                raise InputError(_("Vector map <{}> has no areas: {} must be areas").format(
+                    name, what))
 
     start = time.perf_counter()
-    plots, plot_columns = grassio.read_features(plots_name, "area")
-    cats = plot_columns["cat"]
-    keep = [i for i, g in enumerate(plots) if g is not None and cats[i] is not None]
-    plots = [plots[i] for i in keep]
-    cats = [int(cats[i]) for i in keep]
+    with grassio.doing("reading the plots <{}>".format(plots_name)):
+        plots, cats = read_plots(grassio, plots_name)
     if not plots:
-        gs.fatal(_("Vector map <{}> has no areas with a category").format(plots_name))
-
+        raise InputError(_("Vector map <{}> has no areas with a category").format(plots_name))
     aligned, aligned_plots, aligned_columns = None, None, {}
     if aligned_name:
-        aligned, aligned_columns = grassio.read_features(aligned_name, "area")
-        names = {k.lower(): k for k in aligned_columns}
-        if "plot" in names:
-            aligned_plots = [None if v is None else int(v) for v in aligned_columns[names["plot"]]]
-        else:
-            gs.message(_("Aligned map <{}> has no plot column: each aligned footprint goes to "
-                         "the plot it overlaps most").format(aligned_name))
-
+        with grassio.doing("reading the aligned footprints <{}>".format(aligned_name)):
+            aligned, aligned_plots, aligned_columns = read_aligned(grassio, aligned_name,
+                                                                   contract.PLOT)
     read = time.perf_counter()
     gs.message(_("Subdividing {} plots...").format(len(plots)))
     result = subdivision.subdivide(
         plots, cats, length=length, depth=depth, area_threshold=area_threshold, seed=seed,
         decompose=not flags["c"], aligned=aligned, aligned_plots=aligned_plots,
         calibrate_ranges=flags["a"])
-    report = result.report
     core = time.perf_counter()
-
-    if report["repaired"]:
-        gs.warning(_("{} invalid plots repaired (make_valid)").format(report["repaired"]))
-    if report["skipped"]:
-        gs.warning(_("{} plots without area skipped").format(report["skipped"]))
-    if report["overlapping_pairs"]:
-        gs.warning(_("{} pairs of overlapping plots: the shared area ({:.2f} square map units) "
-                     "went to the larger plot of each pair").format(
-                         report["overlapping_pairs"], report["overlap_area"]))
-    if aligned_name:
-        if report.get("aligned_repaired"):
-            gs.warning(_("{} invalid aligned footprints repaired").format(
-                report["aligned_repaired"]))
-        if report.get("aligned_clipped"):
-            gs.warning(_("{} aligned footprints overlapping earlier ones were clipped").format(
-                report["aligned_clipped"]))
-        if report.get("aligned_without_plot"):
-            gs.warning(_("{} aligned footprints without a plot left out").format(
-                report["aligned_without_plot"]))
-        if report["generated_dropped"] or report["generated_clipped"]:
-            gs.message(_("Generated footprints overlapping aligned ones: {} clipped, "
-                         "{} dropped").format(
-                report["generated_clipped"], report["generated_dropped"]))
-        if flags["a"]:
-            if report["calibrated"]:
-                gs.message(_("Calibrated from {} aligned footprints: length={:.2f},{:.2f} "
-                             "depth={:.2f},{:.2f}").format(report["calibration_samples"],
-                                                          *(report["length"] + report["depth"])))
-            else:
-                gs.warning(_("Too few aligned footprints on a street ({}) to calibrate: "
-                             "length= and depth= kept").format(
-                                 report.get("calibration_samples", 0)))
+    report(result.report, bool(aligned_name), flags["a"])
     if not result.geometries:
-        gs.fatal(_("No footprints: every plot was skipped"))
+        raise InputError(_("No footprints: every plot was skipped"))
 
     columns = {
-        "plot": result.plot,
-        "case": result.case,
-        "source": result.source,
-        "area": [round(a, 3) for a in result.area],
+        contract.PLOT: result.plot,
+        contract.CASE: result.case,
+        contract.SOURCE: result.source,
+        contract.AREA: [round(a, 3) for a in result.area],
     }
-    if aligned_name:
-        columns.update(_aligned_columns(aligned_columns, result.aligned))
-    grassio.write_areas(output, result.geometries, columns,
-                        title="Footprints of <{}> (v.histo.subdivide)".format(plots_name))
-    gs.vector_history(output)
+    own = {"cat"} | set(columns)
+    columns.update(_aligned_columns(aligned_columns, result.aligned, own))
+    with grassio.doing("writing the footprints <{}>".format(output)):
+        grassio.write_areas(output, result.geometries, columns,
+                            title="Footprints of <{}> (v.histo.subdivide)".format(plots_name))
+        gs.vector_history(output)
     gs.verbose(_("Timing (s): read {:.2f}, subdivide {:.2f}, write {:.2f}").format(
         read - start, core - read, time.perf_counter() - core))
     counts = {c: result.case.count(c) for c in sorted(set(result.case))}
     gs.message(_("{} footprints written to <{}> ({} generated, {} aligned); by case: {}").format(
-        len(result.geometries), output, report["generated"],
-        len(result.geometries) - report["generated"],
+        len(result.geometries), output, result.report.generated,
+        len(result.geometries) - result.report.generated,
         ", ".join("{}: {}".format(c, n) for c, n in counts.items())))
     return 0
 
@@ -225,4 +223,6 @@ def main():
 if __name__ == "__main__":
     OPTIONS, FLAGS = gs.parser()
     find_core()
-    sys.exit(main())
+    from reconstruction import grassio
+
+    sys.exit(grassio.run_main(main))

@@ -11,6 +11,9 @@ from shapely import affinity
 from shapely.geometry import MultiPolygon, Polygon, box
 
 from reconstruction import subdivision as sd
+from reconstruction.contract import SOURCE_ALIGNED, SOURCE_PROCEDURAL
+from reconstruction.errors import InputError
+from reconstruction.polygons import polygon_parts
 
 LENGTH, DEPTH = (5.0, 8.0), (12.0, 16.0)
 
@@ -32,7 +35,7 @@ def assert_invariants(result, plots, cats=None):
 
 
 def generated(result):
-    return [g for g, s in zip(result.geometries, result.source) if s == "2pm"]
+    return [g for g, s in zip(result.geometries, result.source) if s == SOURCE_PROCEDURAL]
 
 
 # ---------------------------------------------------------------------------
@@ -40,17 +43,19 @@ def generated(result):
 # ---------------------------------------------------------------------------
 
 @pytest.mark.parametrize("text, expected", [("5,8", (5, 8)), ("5", (5, 5)), ([12, 16], (12, 16))])
-def test_check_range_accepts_pairs_and_single_values(text, expected):
-    assert sd.check_range(text, "length") == expected
+def test_ranges_accept_pairs_and_single_values(text, expected):
+    res = run([box(0, 0, 10, 10)], length=text, depth=text)
+    assert res.report.length == expected and res.report.depth == expected
 
 
 @pytest.mark.parametrize("text, message", [
-    ("8,5", "greater than max"), ("0,5", "positive"), ("-3,5", "positive"),
-    ("a,b", "numbers"), ("1,2,3", "two numbers"), ("nan,2", "two numbers"),
+    ("8,5", "above the maximum"), ("0,5", "positive"), ("-3,5", "positive"),
+    ("a,b", "numbers"), ("1,2,3", "two numbers"), ("nan,2", "two numbers"), ("", "two numbers"),
 ])
-def test_check_range_rejects_bad_ranges(text, message):
-    with pytest.raises(ValueError, match=message):
-        sd.check_range(text, "depth")
+def test_bad_ranges_are_input_errors_that_name_the_option(text, message):
+    with pytest.raises(InputError, match=message) as error:
+        sd.subdivide([box(0, 0, 10, 10)], depth=text)
+    assert "depth=" in str(error.value)
 
 
 def test_subdivide_rejects_bad_ranges_before_anything():
@@ -58,6 +63,8 @@ def test_subdivide_rejects_bad_ranges_before_anything():
         sd.subdivide([box(0, 0, 10, 10)], length=(8, 5))
     with pytest.raises(ValueError, match="depth"):
         sd.subdivide([box(0, 0, 10, 10)], depth=(0, 5))
+    with pytest.raises(InputError, match="area_threshold"):
+        sd.subdivide([box(0, 0, 10, 10)], area_threshold=-1)
 
 
 # ---------------------------------------------------------------------------
@@ -197,23 +204,23 @@ def test_same_seed_same_output_other_seed_other_facades_and_plot_order_irrelevan
 def test_self_intersecting_plot_repaired_and_counted():
     bowtie = Polygon([(0, 0), (60, 40), (60, 0), (0, 40)])
     res = run([bowtie, box(100, 0, 110, 10)])
-    assert res.report["repaired"] == 1
-    assert res.report["skipped"] == 0
+    assert res.report.plots.repaired == 1
+    assert res.report.plots.skipped == 0
     assert any(p == 1 for p in res.plot)
     assert_invariants(res, [bowtie, box(100, 0, 110, 10)])
 
 
 def test_empty_and_degenerate_plots_skipped_and_counted():
     res = run([Polygon(), Polygon([(0, 0), (10, 0), (20, 0)]), box(0, 0, 30, 30)])
-    assert res.report["skipped"] == 2
+    assert res.report.plots.skipped == 2
     assert set(res.plot) == {3}
 
 
 def test_overlapping_plots_share_area_with_one_and_footprints_never_overlap():
     plots = [box(0, 0, 60, 40), box(50, 0, 110, 40), box(0, 100, 10, 110)]
     res = run(plots)
-    assert res.report["overlapping_pairs"] == 1
-    assert res.report["overlap_area"] == pytest.approx(400)
+    assert res.report.plots.overlapping_pairs == 1
+    assert res.report.plots.overlap_area == pytest.approx(400)
     assert_invariants(res, plots)
 
 
@@ -242,23 +249,23 @@ def test_aligned_footprints_kept_and_generated_ones_clipped_or_dropped():
     plot = box(0, 0, 100, 14)
     aligned = [box(20, 0, 27, 13), box(60.5, 0, 66, 14)]
     res = run([plot], aligned=aligned, aligned_plots=[1, None])
-    kept = [g for g, s in zip(res.geometries, res.source) if s == "aligned"]
+    kept = [g for g, s in zip(res.geometries, res.source) if s == SOURCE_ALIGNED]
     assert len(kept) == 2 and kept[0].equals(aligned[0])
     assert res.case.count(0) == 2 and res.aligned[:2] == [0, 1]
     assert res.plot[:2] == [1, 1]
     assert_invariants(res, [plot])
-    assert res.report["generated_clipped"] + res.report["generated_dropped"] >= 2
+    assert res.report.generated_clipped + res.report.generated_dropped >= 2
 
 
 def test_area_threshold_defaults_to_mean_aligned_area():
     res = run([box(0, 0, 40, 12)], aligned=[box(0, 0, 10, 10), box(10, 0, 30, 10)],
               area_threshold=None)
-    assert res.report["area_threshold"] == pytest.approx(150)
+    assert res.report.area_threshold == pytest.approx(150)
 
 
 def test_overlapping_aligned_footprints_made_disjoint():
     res = run([box(0, 0, 40, 12)], aligned=[box(0, 0, 10, 10), box(9, 0, 20, 10)])
-    assert res.report["aligned_clipped"] == 1
+    assert res.report.aligned.clipped == 1
     assert_invariants(res, [box(0, 0, 40, 12)])
 
 
@@ -271,10 +278,10 @@ def test_calibration_reads_facade_and_depth_of_street_buildings():
         aligned.append(box(x, 0, x + w, d))
         x += w
     res = run([plot], aligned=aligned, calibrate_ranges=True, length=(20, 30), depth=(2, 3))
-    assert res.report["calibrated"]
-    lo, hi = res.report["length"]
+    assert res.report.calibrated
+    lo, hi = res.report.length
     assert 6 <= lo <= hi <= 9
-    lo, hi = res.report["depth"]
+    lo, hi = res.report.depth
     assert 14 <= lo <= hi <= 18
 
 
@@ -384,7 +391,7 @@ def test_same_seed_same_footprints_on_random_plots(plot, seed):
 @settings(max_examples=40, deadline=None)
 @given(plot=st.one_of(rectilinear(), concave(), holed()))
 def test_convex_parts_cover_the_polygon_exactly(plot):
-    for part in sd._polygons(plot):
+    for part in polygon_parts(plot):
         rings = sd.convex_parts(part)
         polys = [Polygon(r) for r in rings]
         assert all(p.is_valid and sd.is_convex(p, 1e-6) for p in polys)
@@ -403,7 +410,7 @@ def test_invariants_hold_with_random_aligned_footprints(plot, seed, aligned):
     bad = sd.invariant_violations(res.geometries, res.plot, res.source,
                                   dict(zip(cats, prepared)), res.case)
     assert bad == {}
-    assert all(c == 0 for c, s in zip(res.case, res.source) if s == "aligned")
+    assert all(c == 0 for c, s in zip(res.case, res.source) if s == SOURCE_ALIGNED)
 
 
 def test_cut_through_a_vertex_gives_no_self_intersecting_footprint():
