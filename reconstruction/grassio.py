@@ -352,6 +352,10 @@ def write_features(name, geometries, columns=None, snap=-1, feature_type=None,
     columns = dict(columns or {})
     n = len(geometries)
     cats = list(cats) if cats is not None else list(range(1, n + 1))
+    if n == 0:  # v.in.ogr cannot import nothing: an empty map with its (empty) table
+        gs.run_command("v.edit", map=name, tool="create", quiet=True, overwrite=gs.overwrite())
+        _finish_vector(name, cats, columns, title)
+        return name
     features = []
     for i, geom in enumerate(geometries):
         props = {"cat": int(cats[i])}
