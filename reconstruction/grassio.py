@@ -340,12 +340,14 @@ def _json_value(value):
 
 
 def write_features(name, geometries, columns=None, snap=-1, feature_type=None,
-                   title=None, cats=None):
+                   title=None, cats=None, history=False):
     """Write shapely geometries with attribute columns as a new vector map.
 
     ``columns`` is a dict of column name -> sequence of values (int, float,
     str or None); the map gets a ``cat`` column from ``cats`` (default 1..n).
     Polygons become areas with shared boundaries where they touch.
+    ``history``: record the module's command line in the map's history
+    (as ``gs.vector_history``, in the same v.support run as the title).
     """
     from shapely.geometry import mapping
 
@@ -354,7 +356,7 @@ def write_features(name, geometries, columns=None, snap=-1, feature_type=None,
     cats = list(cats) if cats is not None else list(range(1, n + 1))
     if n == 0:  # v.in.ogr cannot import nothing: an empty map with its (empty) table
         gs.run_command("v.edit", map=name, tool="create", quiet=True, overwrite=gs.overwrite())
-        _finish_vector(name, cats, columns, title)
+        _finish_vector(name, cats, columns, title, history)
         return name
     features = []
     for i, geom in enumerate(geometries):
@@ -374,14 +376,17 @@ def write_features(name, geometries, columns=None, snap=-1, feature_type=None,
         "v.in.ogr", input=path, output=name, flags="ot", quiet=True,
         overwrite=gs.overwrite(), **kwargs,
     )
-    _finish_vector(name, cats, columns, title)
+    _finish_vector(name, cats, columns, title, history)
     return name
 
 
-def _finish_vector(name, cats, columns, title):
+def _finish_vector(name, cats, columns, title, history=False):
     _write_table(name, cats, columns)
-    if title:
-        gs.run_command("v.support", map=name, comment=title, quiet=True)
+    support = {"comment": title} if title else {}
+    if history and os.environ.get("CMDLINE"):
+        support["cmdhist"] = os.environ["CMDLINE"]
+    if support:
+        gs.run_command("v.support", map=name, quiet=True, **support)
 
 
 def area_boundaries(polygons):
@@ -416,7 +421,7 @@ def area_boundaries(polygons):
     return lines, shapely.point_on_surface(parts), owner
 
 
-def write_areas(name, polygons, columns=None, cats=None, title=None):
+def write_areas(name, polygons, columns=None, cats=None, title=None, history=False):
     """Write polygons as areas, like :func:`write_features`, but fast when they
     are noded (neighbours share their vertices exactly, no overlaps, as
     v.histo.subdivide's footprints): the boundaries go in as GRASS ASCII
@@ -427,7 +432,7 @@ def write_areas(name, polygons, columns=None, cats=None, title=None):
     cats = list(cats) if cats is not None else list(range(1, len(polygons) + 1))
     found = area_boundaries(polygons) if len(polygons) else None
     if found is None:
-        return write_features(name, polygons, columns, title=title, cats=cats)
+        return write_features(name, polygons, columns, title=title, cats=cats, history=history)
     lines, points, owner = found
     import shapely
 
@@ -446,7 +451,7 @@ def write_areas(name, polygons, columns=None, cats=None, title=None):
         f.write("".join(text))
     gs.run_command("v.in.ascii", input=path, output=name, format="standard", flags="nt",
                    quiet=True, overwrite=gs.overwrite())
-    _finish_vector(name, cats, columns, title)
+    _finish_vector(name, cats, columns, title, history)
     return name
 
 

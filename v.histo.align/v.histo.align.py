@@ -181,13 +181,16 @@ def read_footprints(grassio, name, wanted_column, config):
 
     from reconstruction import alignment
 
-    with grassio.doing("reading the footprints <{}>".format(name)):
+    reading = grassio.doing("reading the footprints <{}>".format(name))
+    with reading:
         columns = grassio.read_table(name)
-        column = year_column(columns, wanted_column, wanted_column != "bouwjaar", name)
-        cats = columns["cat"]
-        years = alignment.construction_years(columns[column], column, ids=cats)
-        candidate = alignment.candidate_mask(years, config)[0]
-        footprints = [None] * len(cats)
+    grassio.require_projected()      # its answer came meanwhile
+    column = year_column(columns, wanted_column, wanted_column != "bouwjaar", name)
+    cats = columns["cat"]
+    years = alignment.construction_years(columns[column], column, ids=cats)
+    candidate = alignment.candidate_mask(years, config)[0]
+    footprints = [None] * len(cats)
+    with reading:
         if candidate.any():
             geoms, found = grassio.read_areas(
                 name, cats=[cats[i] for i in np.flatnonzero(candidate)], table=False)
@@ -210,8 +213,8 @@ def write_footprints(grassio, output, footprints, columns, indices, extra, title
     table.update(extra)
     with grassio.doing("writing <{}>".format(output)):
         grassio.write_areas(output, [footprints[i] for i in indices], table,
-                            cats=[columns["cat"][i] for i in indices], title=title)
-    gs.vector_history(output)
+                            cats=[columns["cat"][i] for i in indices], title=title,
+                            history=True)
 
 
 def main():
@@ -226,7 +229,6 @@ def main():
 
     from reconstruction import alignment, contract
 
-    grassio.require_projected()
     grassio.require_new_file(options["report"], "report")
     config = parse_config(options, flags)
     name = options["footprints"]

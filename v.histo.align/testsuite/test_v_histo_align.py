@@ -244,3 +244,115 @@ def test_unprojected_location_is_refused(grass_session):
     assert proc.returncode != 0
     assert "not projected" in proc.stderr
     assert not os.path.isdir(os.path.join(loc, "PERMANENT", "vector", "al"))
+
+
+# ---------------------------------------------------------------------------
+# Acceptance on the thesis's data: Delft 1961 and Delft 1880
+# ---------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def delft(grass_session, shared_data):
+    """The Delft current footprints with the thesis's years, in a mapset of its own
+    (:func:`histo_testing.import_delft_alignment`)."""
+    import shutil
+    import uuid
+
+    import grass.script as gs
+
+    from histo_testing import import_delft_alignment
+
+    name = "delft_" + uuid.uuid4().hex[:6]
+    gs.run_command("g.mapset", flags="c", mapset=name, quiet=True)
+    found = import_delft_alignment(shared_data)
+    found["mapset"] = name
+    yield found
+    gs.run_command("g.mapset", mapset="PERMANENT", quiet=True)
+    shutil.rmtree(os.path.join(grass_session["dbase"], grass_session["location"], name),
+                  ignore_errors=True)
+
+
+def _align_delft(gs, grassio, delft, year, flags="g", **options):
+    """Run the module on the Delft fixture: its counts, {cat: plot} aligned, {cat: best
+    similarity} unmatched."""
+    if gs.gisenv()["MAPSET"] != delft["mapset"]:
+        gs.run_command("g.mapset", mapset=delft["mapset"], quiet=True)
+    code, out, err = run_module(MODULE, flags=flags, input="plots{}".format(year),
+                                footprints="current", year=year, output="aligned",
+                                unmatched="unmatched", overwrite=True, **options)
+    assert code == 0, err
+    aligned = grassio.read_table("aligned")
+    unmatched = grassio.read_table("unmatched")
+    return (counts(out), dict(zip(aligned["cat"], aligned["plot"])),
+            dict(zip(unmatched["cat"], unmatched["similarity"])))
+
+
+def _why_missed(delft, thesis, aligned, unmatched, year):
+    """Why each of the thesis's aligned footprints is not aligned here: {cat: reason}."""
+    reasons = {}
+    for cat in sorted(thesis - set(aligned)):
+        built = delft["years"][cat]
+        if built >= year:
+            reasons[cat] = "built in {}".format(built)
+        else:
+            reasons[cat] = "similarity {:.3f} below the threshold".format(unmatched[cat])
+    return reasons
+
+
+@pytest.mark.acceptance
+def test_acceptance_delft_1961(delft):
+    import grass.script as gs
+
+    from reconstruction import grassio
+
+    thesis = delft["thesis1961"]
+    n, aligned, unmatched = _align_delft(gs, grassio, delft, 1961, buffer=10, overlap=0.6)
+    found = thesis & set(aligned)
+    missed = _why_missed(delft, thesis, aligned, unmatched, 1961)
+    print("\nDelft 1961: {} aligned, {} of the thesis's {} ({:.1%}), {} more; missed: {}".format(
+        n["aligned"], len(found), len(thesis), len(found) / len(thesis),
+        len(set(aligned) - thesis), missed))
+    assert len(thesis) == 651 and n["footprints"] == 12567
+    assert len(found) >= 0.95 * len(thesis)
+    assert sum("built in 1961" in r for r in missed.values()) == 3
+    n_i, aligned_i, _ = _align_delft(gs, grassio, delft, 1961, flags="gi", buffer=10,
+                                     overlap=0.6)
+    assert len(thesis & set(aligned_i)) == len(found) + 3
+    n_s, aligned_s, _ = _align_delft(gs, grassio, delft, 1961, buffer=10, overlap=0.6,
+                                     shift=10)
+    print("Delft 1961 -i: {} of the thesis's; with shift=10: {} aligned ({:+d}), {} of the "
+          "thesis's, {} plots shifted".format(
+              len(thesis & set(aligned_i)), n_s["aligned"], n_s["aligned"] - n["aligned"],
+              len(thesis & set(aligned_s)), n_s["shifted_plots"]))
+    assert len(thesis & set(aligned_s)) >= len(found) - 5
+
+
+@pytest.mark.acceptance
+def test_acceptance_delft_1880(delft):
+    import grass.script as gs
+
+    from reconstruction import grassio
+
+    thesis = delft["thesis1880"]
+    n, aligned, unmatched = _align_delft(gs, grassio, delft, 1880, buffer=6, overlap=0.9)
+    strict = thesis & set(aligned)
+    missed = _why_missed(delft, thesis, aligned, unmatched, 1880)
+    n_i, aligned_i, unmatched_i = _align_delft(gs, grassio, delft, 1880, flags="gi", buffer=6,
+                                               overlap=0.9)
+    found = thesis & set(aligned_i)
+    missed_i = _why_missed(delft, thesis, aligned_i, unmatched_i, 1881)
+    print("\nDelft 1880: {} of the thesis's {} ({:.1%}) before 1880; with -i (year <= 1880, "
+          "the thesis's rule): {} aligned, {} of the thesis's ({:.1%}), {} more; missed: "
+          "{}".format(len(strict), len(thesis), len(strict) / len(thesis), n_i["aligned"],
+                      len(found), len(found) / len(thesis), len(set(aligned_i) - thesis),
+                      missed_i))
+    assert len(thesis) == 674
+    # strictly before 1880 only the thesis's footprints of 1880 itself are missing
+    assert all(r == "built in 1880" for r in missed.values() if r.startswith("built"))
+    assert sum(r == "built in 1880" for r in missed.values()) == 43
+    assert len(found) >= 0.95 * len(thesis)
+    n_s, aligned_s, _ = _align_delft(gs, grassio, delft, 1880, flags="gi", buffer=6,
+                                     overlap=0.9, shift=10)
+    print("Delft 1880 -i with shift=10: {} aligned ({:+d}), {} of the thesis's, {} plots "
+          "shifted".format(n_s["aligned"], n_s["aligned"] - n_i["aligned"],
+                           len(thesis & set(aligned_s)), n_s["shifted_plots"]))
+    assert len(thesis & set(aligned_s)) >= len(found) - 5
