@@ -23,7 +23,7 @@ fi
 
 LOCATION=$OUT/grassdata/histo_demo
 rm -rf "$LOCATION"
-rm -f "$OUT"/generalize.json "$OUT"/model.city.json "$OUT"/*.png
+rm -f "$OUT"/generalize.json "$OUT"/align.json "$OUT"/model.city.json "$OUT"/*.png
 mkdir -p "$OUT/grassdata"
 grass -c EPSG:28992 "$LOCATION" -e > /dev/null 2>&1 || {
     echo "cannot create the GRASS location '$LOCATION'" >&2
@@ -44,7 +44,7 @@ echo "  GRASS location: $LOCATION (mapset PERMANENT)"
 grass "$LOCATION/PERMANENT" --exec bash -c \
     'echo "    rasters: $(g.list type=raster separator=comma)"; echo "    vectors: $(g.list type=vector separator=comma)"' \
     2> /dev/null
-for f in "$OUT"/generalize.json "$OUT"/model.city.json "$OUT"/*.png; do
+for f in "$OUT"/generalize.json "$OUT"/align.json "$OUT"/model.city.json "$OUT"/*.png; do
     [ -e "$f" ] && echo "  $f"
 done
 echo "  open it with: grass $LOCATION/PERMANENT"

@@ -98,9 +98,19 @@ def test_demo_pictures_and_report_of_outputs(demo):
         assert {1, 4} <= {int(v) for v in stats}
     else:
         assert "skip r.histo.classify" in demo["stdout"]
+    vectors = _grass(demo, ["g.list", "type=vector"]).split()
     if _implemented("v.histo.generalize") and "map_classes" in rasters:
-        assert "plots" in _grass(demo, ["g.list", "type=vector"]).split()
+        assert "plots" in vectors
         assert (out / "generalize.json").is_file()
+    if _implemented("v.histo.align") and "plots" in vectors:
+        import json
+
+        assert {"map_current", "aligned", "unmatched"} <= set(vectors)
+        counts = json.loads((out / "align.json").read_text())["counts"]
+        assert counts["aligned"] > 0.9 * counts["candidates"] > 300
+        if "footprints" in vectors:
+            sources = _grass(demo, ["v.db.select", "-c", "map=footprints", "columns=source"])
+            assert sources.split().count("aligned") == counts["aligned"]
     if _implemented("v.histo.lod2") and (out / "model.city.json").exists():
         import json
 
