@@ -299,60 +299,37 @@ def _why_missed(delft, thesis, aligned, unmatched, year):
 
 
 @pytest.mark.acceptance
-def test_acceptance_delft_1961(delft):
+@pytest.mark.parametrize("year, buffer, overlap, thesis_count, of_the_year", [
+    (1961, 10, 0.6, 651, 3),      # the thesis's Table B.3
+    (1880, 6, 0.9, 674, 43),
+])
+def test_acceptance_delft(delft, year, buffer, overlap, thesis_count, of_the_year):
+    """At least 95 % of the thesis's aligned footprints aligned (with -i, the thesis's rule
+    year <= map year: its own aligned footprints include some of the map's year)."""
     import grass.script as gs
 
     from reconstruction import grassio
 
-    thesis = delft["thesis1961"]
-    n, aligned, unmatched = _align_delft(gs, grassio, delft, 1961, buffer=10, overlap=0.6)
-    found = thesis & set(aligned)
-    missed = _why_missed(delft, thesis, aligned, unmatched, 1961)
-    print("\nDelft 1961: {} aligned, {} of the thesis's {} ({:.1%}), {} more; missed: {}".format(
-        n["aligned"], len(found), len(thesis), len(found) / len(thesis),
-        len(set(aligned) - thesis), missed))
-    assert len(thesis) == 651 and n["footprints"] == 12567
-    assert len(found) >= 0.95 * len(thesis)
-    assert sum("built in 1961" in r for r in missed.values()) == 3
-    n_i, aligned_i, _ = _align_delft(gs, grassio, delft, 1961, flags="gi", buffer=10,
-                                     overlap=0.6)
-    assert len(thesis & set(aligned_i)) == len(found) + 3
-    n_s, aligned_s, _ = _align_delft(gs, grassio, delft, 1961, buffer=10, overlap=0.6,
-                                     shift=10)
-    print("Delft 1961 -i: {} of the thesis's; with shift=10: {} aligned ({:+d}), {} of the "
-          "thesis's, {} plots shifted".format(
-              len(thesis & set(aligned_i)), n_s["aligned"], n_s["aligned"] - n["aligned"],
-              len(thesis & set(aligned_s)), n_s["shifted_plots"]))
-    assert len(thesis & set(aligned_s)) >= len(found) - 5
-
-
-@pytest.mark.acceptance
-def test_acceptance_delft_1880(delft):
-    import grass.script as gs
-
-    from reconstruction import grassio
-
-    thesis = delft["thesis1880"]
-    n, aligned, unmatched = _align_delft(gs, grassio, delft, 1880, buffer=6, overlap=0.9)
-    strict = thesis & set(aligned)
-    missed = _why_missed(delft, thesis, aligned, unmatched, 1880)
-    n_i, aligned_i, unmatched_i = _align_delft(gs, grassio, delft, 1880, flags="gi", buffer=6,
-                                               overlap=0.9)
-    found = thesis & set(aligned_i)
-    missed_i = _why_missed(delft, thesis, aligned_i, unmatched_i, 1881)
-    print("\nDelft 1880: {} of the thesis's {} ({:.1%}) before 1880; with -i (year <= 1880, "
-          "the thesis's rule): {} aligned, {} of the thesis's ({:.1%}), {} more; missed: "
-          "{}".format(len(strict), len(thesis), len(strict) / len(thesis), n_i["aligned"],
-                      len(found), len(found) / len(thesis), len(set(aligned_i) - thesis),
-                      missed_i))
-    assert len(thesis) == 674
-    # strictly before 1880 only the thesis's footprints of 1880 itself are missing
-    assert all(r == "built in 1880" for r in missed.values() if r.startswith("built"))
-    assert sum(r == "built in 1880" for r in missed.values()) == 43
-    assert len(found) >= 0.95 * len(thesis)
-    n_s, aligned_s, _ = _align_delft(gs, grassio, delft, 1880, flags="gi", buffer=6,
-                                     overlap=0.9, shift=10)
-    print("Delft 1880 -i with shift=10: {} aligned ({:+d}), {} of the thesis's, {} plots "
-          "shifted".format(n_s["aligned"], n_s["aligned"] - n_i["aligned"],
-                           len(thesis & set(aligned_s)), n_s["shifted_plots"]))
-    assert len(thesis & set(aligned_s)) >= len(found) - 5
+    thesis = delft["thesis{}".format(year)]
+    assert len(thesis) == thesis_count
+    options = dict(buffer=buffer, overlap=overlap)
+    runs = {}
+    for flags, extra in (("g", {}), ("gi", {}), ("gi", {"shift": 10})):
+        n, aligned, unmatched = _align_delft(gs, grassio, delft, year, flags=flags, **options,
+                                             **extra)
+        found = thesis & set(aligned)
+        missed = _why_missed(delft, thesis, aligned, unmatched, year + ("i" in flags))
+        key = ("-i " if "i" in flags else "") + ("shift=10" if extra else "")
+        runs[key or "strict"] = found
+        print("\nDelft {} {}: {} aligned, {} of the thesis's {} ({:.1%}), {} more, {} plots "
+              "shifted; missed: {}".format(
+                  year, key or "(strictly before)", n["aligned"], len(found), len(thesis),
+                  len(found) / len(thesis), len(set(aligned) - thesis), n["shifted_plots"],
+                  missed))
+        if flags == "g":
+            assert n["footprints"] == 12567
+            # strictly before the map's year: missed first of all those of the year itself
+            assert sum(r == "built in {}".format(year) for r in missed.values()) == of_the_year
+    assert len(runs["-i "]) >= 0.95 * len(thesis)
+    assert runs["strict"] <= runs["-i "]
+    assert len(runs["-i shift=10"]) >= len(runs["-i "]) - 5
