@@ -161,10 +161,11 @@ class AlignmentReport:
 class PlotShifts:
     """Offset of the map against the footprints, per plot (same order as the plots).
 
-    A footprint moved by (``dx``, ``dy``) lies where the map draws it.
-    ``gain``: overlap of plots and footprints at that shift divided by the
-    overlap without it; ``applied``: whether the plot was matched at the
-    shifted place (the gain reached ``min_gain``).
+    A footprint moved by (``dx``, ``dy``) lies where the map draws it (0
+    where no shift is applied). ``gain``: the plot's own estimate, overlap
+    of plots and footprints at the best shift divided by the overlap
+    without it; ``applied``: whether the plot is matched at the shifted
+    place (:func:`estimate_shifts`, then :func:`align`).
     """
 
     dx: np.ndarray
@@ -415,6 +416,11 @@ class _Pairs:
     def matching(self, overlap):
         return self.take(self.similarity >= overlap - SIMILARITY_TOLERANCE)
 
+    def join(self, other):
+        return _Pairs(*(np.concatenate([a, b]) for a, b in zip(
+            (self.plot, self.footprint, self.similarity, self.inside),
+            (other.plot, other.footprint, other.similarity, other.inside))))
+
 
 def _pairs(grown, placed, which, candidates, tree):
     """Similarities of the plots ``which`` (buffered: ``grown``, as drawn: ``placed``)
@@ -432,6 +438,27 @@ def _pairs(grown, placed, which, candidates, tree):
 
 def _match_counts(pairs, overlap, n_plots):
     return np.bincount(pairs.matching(overlap).plot, minlength=n_plots)
+
+
+def _shift_plots(pairs, plots, grown, candidates, tree, config):
+    """The offset correction: the pairs with every plot whose shift is applied at its
+    shifted place, and the :class:`PlotShifts` (see :func:`align`)."""
+    shifts = estimate_shifts(plots, candidates, config.shift, config.shift_window,
+                             config.shift_cell, config.min_gain)
+    trial = np.flatnonzero(shifts.applied)
+    # the plot moves onto the footprints: minus the footprints' shift
+    moved_grown, moved = grown.copy(), plots.copy()
+    if len(trial):
+        moved_grown[trial] = _translate(grown[trial], -shifts.dx[trial], -shifts.dy[trial])
+        moved[trial] = _translate(plots[trial], -shifts.dx[trial], -shifts.dy[trial])
+    shifted = _pairs(moved_grown, moved, trial, candidates, tree)
+    shifts.applied &= (_match_counts(shifted, config.overlap, len(plots)) >
+                       _match_counts(pairs, config.overlap, len(plots)))
+    shifts.dx[~shifts.applied] = 0.0
+    shifts.dy[~shifts.applied] = 0.0
+    pairs = pairs.take(~shifts.applied[pairs.plot]).join(
+        shifted.take(shifts.applied[shifted.plot]))
+    return pairs, shifts
 
 
 def align(plots, cats, footprints, years, config):
@@ -475,27 +502,8 @@ def align(plots, cats, footprints, years, config):
 
     shifts = None
     if config.shift > 0:
-        shifts = estimate_shifts(plots, cand, config.shift, config.shift_window,
-                                 config.shift_cell, config.min_gain)
-        trial = np.flatnonzero(shifts.applied)
-        # the plot moves onto the footprints: minus the footprints' shift
-        moved_grown, moved = grown.copy(), plots.copy()
-        if len(trial):
-            moved_grown[trial] = _translate(grown[trial], -shifts.dx[trial], -shifts.dy[trial])
-            moved[trial] = _translate(plots[trial], -shifts.dx[trial], -shifts.dy[trial])
-        shifted_pairs = _pairs(moved_grown, moved, trial, cand, tree)
-        better = (_match_counts(shifted_pairs, config.overlap, len(plots)) >
-                  _match_counts(pairs, config.overlap, len(plots)))
-        shifts.applied &= better
-        shifts.dx[~shifts.applied] = 0.0
-        shifts.dy[~shifts.applied] = 0.0
+        pairs, shifts = _shift_plots(pairs, plots, grown, cand, tree, config)
         report.shifted_plots = int(shifts.applied.sum())
-        pairs = _Pairs(*(np.concatenate([a[~shifts.applied[pairs.plot]],
-                                         b[shifts.applied[shifted_pairs.plot]]])
-                         for a, b in zip((pairs.plot, pairs.footprint, pairs.similarity,
-                                          pairs.inside),
-                                         (shifted_pairs.plot, shifted_pairs.footprint,
-                                          shifted_pairs.similarity, shifted_pairs.inside))))
 
     best = np.zeros(len(index))
     np.maximum.at(best, pairs.footprint, pairs.similarity)

@@ -6,6 +6,8 @@ import math
 import numpy as np
 import pytest
 import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from shapely import affinity
 from shapely.geometry import Polygon, box
 
@@ -224,3 +226,38 @@ def test_peak_of_a_plateau_is_its_middle():
 
 def test_fast_fft_lengths():
     assert [al._fast_length(n) for n in (1, 7, 97, 437, 1025)] == [1, 8, 100, 450, 1080]
+
+
+# ---------------------------------------------------------------------------
+# Invariants on random cases
+# ---------------------------------------------------------------------------
+
+boxes = st.tuples(st.floats(0, 100), st.floats(0, 100), st.floats(2, 30), st.floats(2, 30)).map(
+    lambda t: box(t[0], t[1], t[0] + t[2], t[1] + t[3]))
+
+
+@settings(max_examples=60, deadline=None)
+@given(plots=st.lists(boxes, min_size=1, max_size=6),
+       footprints=st.lists(st.tuples(boxes, st.sampled_from([1700, 1899, 1900, 1950, None])),
+                           min_size=1, max_size=25),
+       buffer=st.floats(0.5, 12), overlap=st.floats(0.05, 1.0))
+def test_every_candidate_is_aligned_to_its_best_plot_or_unmatched(plots, footprints, buffer,
+                                                                  overlap):
+    geoms = [g for g, _ in footprints]
+    years = [y for _, y in footprints]
+    result = run(plots, geoms, years, buffer=buffer, overlap=overlap)
+    candidates = {i for i, y in enumerate(years) if y is not None and y < YEAR}
+    assert set(result.aligned.tolist()) | set(result.unmatched.tolist()) == candidates
+    assert not set(result.aligned.tolist()) & set(result.unmatched.tolist())
+    grown = [shapely.buffer(p, buffer) for p in plots]   # as align: 8 segments a quarter
+
+    def similarity(b, a):
+        return min(b.intersection(a).area / min(b.area, a.area), 1.0)
+
+    for i, cat, sim in zip(result.aligned, result.plot, result.similarity):
+        sims = [similarity(geoms[i], a) for a in grown]
+        assert sim == pytest.approx(sims[cat - 1], abs=1e-9)
+        assert sim >= overlap - 1e-9 and sim == pytest.approx(max(sims), abs=1e-8)
+    for i, best in zip(result.unmatched, result.best_similarity):
+        sims = [similarity(geoms[i], a) for a in grown]
+        assert max(sims) < overlap + 1e-9 and best == pytest.approx(max(sims), abs=1e-9)

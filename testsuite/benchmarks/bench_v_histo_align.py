@@ -23,8 +23,6 @@ import subprocess
 import sys
 import time
 
-import grass.script as gs
-
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 DATA = os.path.join(ROOT, "..", "shared", "data")
 GOAL = 2.0
@@ -57,7 +55,8 @@ def main():
     print("module: 12,567 footprints vs 33 plots in {:.2f} s median of {} runs (min {:.2f}, "
           "max {:.2f}); goal < {:.0f} s: {}".format(wall, args.runs, min(walls), max(walls),
                                                     GOAL, "met" if wall < GOAL else "NOT met"))
-    print("  its own split, median run: {}".format(splits[walls.index(sorted(walls)[len(walls) // 2])]))
+    middle = walls.index(sorted(walls)[len(walls) // 2])
+    print("  its own split in the median run: {}".format(splits[middle]))
     plots, plot_columns = grassio.read_areas("plots1961")
     geoms, columns = grassio.read_areas("current")
     years = alignment.construction_years(columns["bouwjaar"])
