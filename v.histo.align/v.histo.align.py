@@ -223,7 +223,8 @@ def main():
 
     start = time.perf_counter()
     grassio.register_cleanup()
-    plots_job = grassio.start_read_areas(options["input"])   # exported while we go on
+    # the plots (their categories only) are exported while we go on
+    plots_job = grassio.start_read_areas(options["input"], table=False)
     grassio.prefetch_checks()
     import numpy as np
 

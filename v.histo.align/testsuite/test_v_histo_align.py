@@ -5,7 +5,6 @@ import os
 
 import numpy as np
 import pytest
-import shapely
 from shapely.geometry import Point, box
 
 from histo_testing import key_values, run_in_latlong, run_module
