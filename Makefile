@@ -17,6 +17,7 @@ SUBDIRS = \
 	reconstruction \
 	r.histo.classify \
 	v.histo.generalize \
+	v.histo.align \
 	v.histo.subdivide \
 	v.histo.lod2
 

@@ -6,9 +6,11 @@
 #
 #   grass demo-output/grassdata/histo_demo/PERMANENT --exec bash demo/chain.sh demo-output
 #
-# It uses the project's synthetic historical map (testsuite/synthetic_map.py);
-# for a real map, import its red, green and blue bands and your training
-# points instead of step 1 and keep the rest. A stage whose module is not
+# It uses the project's synthetic historical map (testsuite/synthetic_map.py)
+# and today's building footprints over it (map_current, with construction
+# years); for a real map, import its red, green and blue bands, your training
+# points and current footprints (e.g. the BAG) instead of step 1 and keep the
+# rest. A stage whose module is not
 # implemented yet in this checkout is skipped with a message.
 
 set -e
@@ -25,7 +27,7 @@ REMOVE=2,6              # classes printed over the map (text, symbols): filled f
 MIN_AREA=100            # building plots below this (m²) are specks, not plots
 HEIGHT=6.7,17           # eaves height range (m above ground), the thesis's values
 ATTIC=2.6,6             # roof height range above the eaves (m)
-YEAR=1900               # the map's year: roof types are drawn by the thesis's odds for it
+YEAR=1900               # the map's year: older current buildings may still stand; roof odds
 
 HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 mkdir -p "$OUT"
@@ -51,7 +53,8 @@ have() {  # have raster|vector NAME
 }
 
 # ---------------------------------------------------------------------------
-# 1. The map: RGB rasters, training points, ground-truth points and true plots
+# 1. The map: RGB rasters, training points, ground-truth points, true plots
+#    and today's footprints
 # ---------------------------------------------------------------------------
 echo "--- synthetic historical map (seed $SEED, $SIZE x $SIZE m)"
 python3 "$HERE/../testsuite/synthetic_map.py" --seed $SEED --size $SIZE --prefix $MAP
@@ -78,14 +81,26 @@ if have raster ${MAP}_classes && implemented v.histo.generalize; then
 fi
 
 # ---------------------------------------------------------------------------
-# 4. Building footprints inside the plots (procedural subdivision)
+# 4. Today's footprints that already stood at the map's date, each matched
+#    with its plot
 # ---------------------------------------------------------------------------
-if have vector plots && implemented v.histo.subdivide; then
-    v.histo.subdivide input=plots output=footprints seed=$SEED
+if have vector plots && have vector ${MAP}_current && implemented v.histo.align; then
+    v.histo.align input=plots footprints=${MAP}_current year=$YEAR output=aligned \
+        unmatched=unmatched report="$OUT/align.json"
 fi
 
 # ---------------------------------------------------------------------------
-# 5. LoD2 buildings with roofs, written as CityJSON
+# 5. Building footprints inside the plots: the aligned ones as they are, the
+#    rest by procedural subdivision
+# ---------------------------------------------------------------------------
+if have vector plots && implemented v.histo.subdivide; then
+    ALIGNED=
+    if [ -n "$(g.list type=vector pattern=aligned)" ]; then ALIGNED=aligned=aligned; fi
+    v.histo.subdivide input=plots output=footprints seed=$SEED $ALIGNED
+fi
+
+# ---------------------------------------------------------------------------
+# 6. LoD2 buildings with roofs, written as CityJSON
 # ---------------------------------------------------------------------------
 if have vector footprints && implemented v.histo.lod2; then
     v.histo.lod2 -v input=footprints output="$OUT/model.city.json" height=$HEIGHT \

@@ -340,18 +340,24 @@ def _json_value(value):
 
 
 def write_features(name, geometries, columns=None, snap=-1, feature_type=None,
-                   title=None, cats=None):
+                   title=None, cats=None, history=False):
     """Write shapely geometries with attribute columns as a new vector map.
 
     ``columns`` is a dict of column name -> sequence of values (int, float,
     str or None); the map gets a ``cat`` column from ``cats`` (default 1..n).
     Polygons become areas with shared boundaries where they touch.
+    ``history``: record the module's command line in the map's history
+    (as ``gs.vector_history``, in the same v.support run as the title).
     """
     from shapely.geometry import mapping
 
     columns = dict(columns or {})
     n = len(geometries)
     cats = list(cats) if cats is not None else list(range(1, n + 1))
+    if n == 0:  # v.in.ogr cannot import nothing: an empty map with its (empty) table
+        gs.run_command("v.edit", map=name, tool="create", quiet=True, overwrite=gs.overwrite())
+        _finish_vector(name, cats, columns, title, history)
+        return name
     features = []
     for i, geom in enumerate(geometries):
         props = {"cat": int(cats[i])}
@@ -370,14 +376,17 @@ def write_features(name, geometries, columns=None, snap=-1, feature_type=None,
         "v.in.ogr", input=path, output=name, flags="ot", quiet=True,
         overwrite=gs.overwrite(), **kwargs,
     )
-    _finish_vector(name, cats, columns, title)
+    _finish_vector(name, cats, columns, title, history)
     return name
 
 
-def _finish_vector(name, cats, columns, title):
+def _finish_vector(name, cats, columns, title, history=False):
     _write_table(name, cats, columns)
-    if title:
-        gs.run_command("v.support", map=name, comment=title, quiet=True)
+    support = {"comment": title} if title else {}
+    if history and os.environ.get("CMDLINE"):
+        support["cmdhist"] = os.environ["CMDLINE"]
+    if support:
+        gs.run_command("v.support", map=name, quiet=True, **support)
 
 
 def area_boundaries(polygons):
@@ -412,7 +421,7 @@ def area_boundaries(polygons):
     return lines, shapely.point_on_surface(parts), owner
 
 
-def write_areas(name, polygons, columns=None, cats=None, title=None):
+def write_areas(name, polygons, columns=None, cats=None, title=None, history=False):
     """Write polygons as areas, like :func:`write_features`, but fast when they
     are noded (neighbours share their vertices exactly, no overlaps, as
     v.histo.subdivide's footprints): the boundaries go in as GRASS ASCII
@@ -423,7 +432,7 @@ def write_areas(name, polygons, columns=None, cats=None, title=None):
     cats = list(cats) if cats is not None else list(range(1, len(polygons) + 1))
     found = area_boundaries(polygons) if len(polygons) else None
     if found is None:
-        return write_features(name, polygons, columns, title=title, cats=cats)
+        return write_features(name, polygons, columns, title=title, cats=cats, history=history)
     lines, points, owner = found
     import shapely
 
@@ -442,7 +451,7 @@ def write_areas(name, polygons, columns=None, cats=None, title=None):
         f.write("".join(text))
     gs.run_command("v.in.ascii", input=path, output=name, format="standard", flags="nt",
                    quiet=True, overwrite=gs.overwrite())
-    _finish_vector(name, cats, columns, title)
+    _finish_vector(name, cats, columns, title, history)
     return name
 
 
@@ -631,7 +640,7 @@ def _standard_points(text, layer):
     return xy, cats
 
 
-def read_areas(name, layer=1):
+def read_areas(name, layer=1, cats=None, table=True):
     """Read the areas of a vector map fast, with their attribute columns.
 
     Same result as ``read_features(name, "area", layer)`` (one shapely
@@ -641,9 +650,23 @@ def read_areas(name, layer=1):
     its centroid, and the table comes in one query (straight from the file
     of a SQLite database, else from v.db.select); the GRASS tools run side
     by side, writing to files. Areas shared by several categories
-    (overlapping input polygons) belong to each of them.
+    (overlapping input polygons) belong to each of them. ``cats``: read
+    only the areas of these categories (a sequence of integers);
+    ``table=False``: no attribute columns (only ``cat``).
     """
-    return finish_read_areas(start_read_areas(name, layer))
+    return finish_read_areas(start_read_areas(name, layer, cats, table))
+
+
+def cat_ranges(cats):
+    """Categories as GRASS's cats= text: ``1-3,7,9-10``."""
+    values = sorted({int(c) for c in cats})
+    ranges = []
+    for value in values:
+        if ranges and value == ranges[-1][1] + 1:
+            ranges[-1][1] = value
+        else:
+            ranges.append([value, value])
+    return ",".join(str(a) if a == b else "{}-{}".format(a, b) for a, b in ranges)
 
 
 def _start_tools(commands, outdir):
@@ -656,24 +679,28 @@ def _start_tools(commands, outdir):
     return procs
 
 
-def start_read_areas(name, layer=1):
+def start_read_areas(name, layer=1, cats=None, table=True):
     """Start reading the areas of a vector map (see :func:`read_areas`): the
     GRASS tools export the geometry in the background while the caller does
     other work (e.g. checks its inputs); :func:`finish_read_areas` waits for
     them and returns the result. Errors (e.g. no such map, then as
     :func:`require_vector`) are reported by :func:`finish_read_areas`."""
+    only = {} if cats is None else {"cats": cat_ranges(cats) or "0"}
     commands = {
-        "wkt": ("v.out.ascii", dict(input=name, layer=layer, type="area", format="wkt")),
+        "wkt": ("v.out.ascii", dict(input=name, layer=layer, type="area", format="wkt", **only)),
         # the centroids with all their categories
         "centroids": ("v.out.ascii", dict(input=name, layer=layer, type="centroid",
-                                          format="standard")),
+                                          format="standard", **only)),
     }
     outdir = os.path.dirname(temp_file())
     os.makedirs(outdir, exist_ok=True)
     job = {"name": name, "layer": layer, "outdir": outdir, "commands": commands,
-           "procs": _start_tools(commands, outdir), "table": []}
+           "procs": _start_tools(commands, outdir), "table": [],
+           "cats": None if cats is None else {int(c) for c in cats}}
     # meanwhile a thread finds the attribute table and reads it if it is SQLite
-    job["table_reader"] = threading.Thread(target=_find_table, args=(job,), daemon=True)
+    job["table_reader"] = threading.Thread(
+        target=_find_table if table else lambda job: job["table"].extend([None, None, None]),
+        args=(job,), daemon=True)
     job["table_reader"].start()
     return job
 
@@ -734,27 +761,52 @@ def finish_read_areas(job):
         for p, a in zip(pt.tolist(), poly.tolist()):
             for c in cats[p]:
                 by_cat.setdefault(c, []).append(polys[a])
-    order = sorted(by_cat)
+    wanted = job.get("cats")
+    order = sorted(by_cat if wanted is None else set(by_cat) & wanted)
     geoms = []
     for c in order:
         parts = by_cat[c]
         geoms.append(parts[0] if len(parts) == 1 else shapely.union_all(parts))
+    if link is not None and not direct:
+        table = _table_text(text["table"], text["types"], sep, null)
+    return geoms, _table_columns(link, table, order)
+
+
+def _table_columns(link, table, order=None):
+    """Columns (dict name -> list, ``cat`` first) of a table read by :func:`_table_sqlite`
+    or :func:`_table_text`, for the categories ``order`` (default: every row's, ascending)."""
+    if link is None:
+        return {"cat": list(order or [])}
+    names, sql_types, rows = table
+    key = link["key"]
+    kpos = names.index(key) if key in names else None
+    by_key = {}
+    for vals in rows:
+        if kpos is not None and vals[kpos] is not None:
+            by_key[int(vals[kpos])] = vals
+    order = sorted(by_key) if order is None else order
     columns = {"cat": list(order)}
-    if link is not None:
-        if direct:
-            names, sql_types, rows = table
-        else:
-            names, sql_types, rows = _table_text(text["table"], text["types"], sep, null)
-        key = link["key"]
-        kpos = names.index(key) if key in names else None
-        by_key = {}
-        for vals in rows:
-            if kpos is not None and vals[kpos] is not None:
-                by_key[int(vals[kpos])] = vals
-        for j, n in enumerate(names):
-            if n == key:
-                continue
-            kind = _column_kind(sql_types[j])
-            columns[n] = [_column_value(by_key[c][j], kind) if c in by_key else None
-                          for c in order]
-    return geoms, columns
+    for j, n in enumerate(names):
+        if n == key:
+            continue
+        kind = _column_kind(sql_types[j])
+        columns[n] = [_column_value(by_key[c][j], kind) if c in by_key else None for c in order]
+    return columns
+
+
+def read_table(name, layer=1):
+    """The attribute table of a vector map: a dict column -> list of values, with ``cat``
+    (ascending; empty when the map has no table). Values as in :func:`read_areas`."""
+    job = {"name": name, "layer": layer, "table": []}
+    _find_table(job)
+    link, table, error = job["table"]
+    if error is not None:
+        require_vector(name)
+        raise error
+    if link is not None and table is None:
+        sep, null = "\x1f", "\x1e"
+        table = _table_text(
+            gs.read_command("v.db.select", map=name, layer=layer, separator=sep,
+                            null_value=null),
+            gs.read_command("v.info", map=name, layer=layer, flags="c"), sep, null)
+    return _table_columns(link, table)

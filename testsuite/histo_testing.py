@@ -49,3 +49,64 @@ def timed(runs, fn):
         wall.append(time.perf_counter() - w)
         cpu.append(time.process_time() - c)
     return statistics.median(wall), statistics.median(cpu), result
+
+
+def import_delft_alignment(shared_data):
+    """Import the alignment fixture of Delft into the current mapset; never written elsewhere.
+
+    ``current``: the 12,567 current footprints of Delft, each with the construction year
+    (``bouwjaar``) of the identical footprint among those the thesis aligned for 1961 and
+    for 1880, NULL where there is none (their own table did not survive); ``plots1961``,
+    ``plots1880``: the thesis's plots. Returns the categories in ``current`` of the
+    thesis's aligned footprints (``thesis1961``, ``thesis1880``) and ``years``
+    ({cat: year}).
+    """
+    import os
+
+    import numpy as np
+    import shapely
+
+    import grass.script as gs
+
+    from reconstruction import grassio
+
+    s61 = os.path.join(shared_data, "delft_1961_subset")
+    s80 = os.path.join(shared_data, "delft_1880")
+    for path, output, extra in [
+            (os.path.join(s61, "input", "building_footprints_delft.shp"), "current", {}),
+            (os.path.join(s61, "thesis_output", "aligned_entities_current_dataset.shp"),
+             "thesis61", {}),
+            (os.path.join(s61, "thesis_output", "final_plots_delft_1961.shp"), "plots1961", {}),
+            (os.path.join(s80, "final_plots_delft_1880.shp"), "plots1880", {}),
+            # its table has a column "index", an SQL keyword: renamed
+            (os.path.join(s80, "final_all_footprints.shp"), "final1880", {
+                "columns": "cat,idx,feaid,bouwjaar,pand_id,r025,r075,r099,g00,g01,g02,g03,g04,"
+                           "g05,nrg"})]:
+        gs.run_command("v.in.ogr", input=path, output=output, flags="o", quiet=True,
+                       overwrite=True, **extra)
+    current, columns = grassio.read_areas("current")
+    current = np.array(current, dtype=object)
+    thesis, years = {}, {}
+    for year, name, keep in ((1961, "thesis61", None), (1880, "final1880", "pand_id")):
+        geoms, cols = grassio.read_areas(name)
+        rows = [i for i in range(len(geoms)) if keep is None or cols[keep][i]]
+        ref = np.array([geoms[i] for i in rows], dtype=object)
+        a, b = shapely.STRtree(current).query(ref, predicate="intersects")
+        same = shapely.area(shapely.symmetric_difference(ref[a], current[b])) < \
+            1e-6 * shapely.area(ref[a])
+        # every one of them is there, exactly once
+        assert np.array_equal(np.unique(a[same]), np.arange(len(ref)))
+        assert np.bincount(a[same]).max() == 1
+        thesis[year] = {columns["cat"][j] for j in b[same]}
+        for i, j in zip(a[same], b[same]):
+            value = int(cols["bouwjaar"][rows[i]])
+            assert years.setdefault(columns["cat"][j], value) == value
+    gs.run_command("v.db.addcolumn", map="current", columns="bouwjaar integer", quiet=True)
+    sql = grassio.temp_file(".sql")
+    with open(sql, "w") as f:
+        f.write("BEGIN TRANSACTION;\n")
+        f.writelines("UPDATE current SET bouwjaar = {} WHERE cat = {};\n".format(y, c)
+                     for c, y in sorted(years.items()))
+        f.write("COMMIT;\n")
+    gs.run_command("db.execute", input=sql, quiet=True)
+    return {"thesis1961": thesis[1961], "thesis1880": thesis[1880], "years": years}

@@ -15,7 +15,11 @@ plane misregistered by one pixel (false colour fringes).
 
 Beside the picture it gives what a test needs: the true class of every
 pixel, the true building plots as polygons, one ground-truth point inside
-each plot and a few training points per class, as the thesis's Delft data.
+each plot and a few training points per class, as the thesis's Delft data;
+and today's building footprints over the map (``SyntheticMap.current``:
+row houses with construction years before and after the map's year
+:data:`MAP_YEAR`, a few offset or straddling two plots, modern blocks,
+buildings away from the plots), the fixture of v.histo.align.
 
 Two parts:
 
@@ -23,7 +27,8 @@ Two parts:
   :class:`SyntheticMap`; the same seed gives identical arrays and vectors.
 - :func:`write_to_grass` writes it into the current GRASS mapset (region,
   ``<prefix>.red/.green/.blue`` rasters, ``<prefix>_training``,
-  ``<prefix>_gt_points`` and ``<prefix>_plots`` vectors). From the command line,
+  ``<prefix>_gt_points``, ``<prefix>_plots`` and ``<prefix>_current``
+  vectors). From the command line,
   inside a GRASS session::
 
       python3 testsuite/synthetic_map.py --seed 1 --size 600 --prefix map
@@ -50,6 +55,10 @@ from shapely.ops import unary_union
 CLASSES = {1: "building", 2: "text", 3: "water", 4: "street", 5: "vegetation", 6: "symbol"}
 BUILDING, TEXT, WATER, STREET, VEGETATION, SYMBOL = 1, 2, 3, 4, 5, 6
 PLOT_KINDS = ("single", "row", "double_row", "courtyard", "L", "U")
+#: the year the map shows (the demo chain's YEAR): current buildings older than it may be on it
+MAP_YEAR = 1900
+#: what a current footprint is (see :class:`CurrentFootprints`)
+CURRENT_KINDS = ("standing", "offset", "straddling", "rebuilt", "outside")
 
 # Drawing layers (finer than classes: what colour a sub-pixel gets).
 _PAPER, _FILL, _OUTLINE, _WATER, _BANK, _GREEN, _TREE, _INK, _SYMBOL_INK, _SYMBOL_PAPER = range(10)
@@ -156,10 +165,19 @@ class SyntheticMap:
     classes: dict = field(default_factory=lambda: dict(CLASSES))
     misregistration: dict = field(default_factory=dict)  # {"band": "red", "shift": (rows, cols)}
     ink_cover: np.ndarray = None  # float (rows, cols): share of black ink in each pixel
+    _current: object = field(default=None, repr=False, compare=False)
 
     @property
     def shape(self):
         return self.truth.shape
+
+    @property
+    def current(self):
+        """Today's building footprints over the map (:class:`CurrentFootprints`), made on
+        first use from their own generator (the map itself does not depend on them)."""
+        if self._current is None:
+            self._current = current_footprints(np.random.default_rng([self.seed, 14]), self)
+        return self._current
 
     def region(self):
         """Keyword arguments of g.region for this map."""
@@ -698,6 +716,199 @@ def generate(seed=1, size=600, res=1.0, origin=(84000.0, 446000.0)):
 
 
 # ---------------------------------------------------------------------------
+# Today's building footprints (the fixture of v.histo.align)
+# ---------------------------------------------------------------------------
+
+@dataclass
+class CurrentFootprints:
+    """Today's building footprints over the map, as a register such as the BAG has them.
+
+    ``years`` are construction years (None: unknown; a few 9999
+    placeholders, as the BAG writes); ``plot`` is the 1-based index of the
+    true plot a footprint stands in (0: none; a straddling one: the plot
+    that holds most of it); ``kind`` one of :data:`CURRENT_KINDS`:
+    ``standing`` (a row house along a plot's street edge), ``offset`` (one
+    of those, digitised 1-1.5 m off), ``straddling`` (over two plots and
+    the street between), ``rebuilt`` (a modern block on a plot whose old
+    buildings are gone), ``outside`` (away from every plot).
+    """
+
+    polygons: list
+    years: list
+    plot: list
+    kind: list
+    ids: list
+    map_year: int = MAP_YEAR
+
+    def built_before(self, year=None):
+        """Indices of the footprints with a real construction year before ``year``."""
+        year = self.map_year if year is None else year
+        return [i for i, y in enumerate(self.years) if y is not None and y < min(year, 9999)]
+
+
+def _draw_year(rng, map_year, old_share=0.7):
+    """A construction year: mostly before the map, some after, a few unknown."""
+    u = rng.random()
+    if u < old_share:
+        return int(rng.integers(1550, map_year))
+    if u < 0.93:
+        return int(rng.integers(map_year + 1, 2023))
+    return None if u < 0.965 else 9999
+
+
+def _edge_buildings(rng, plot, taken):
+    """Row houses along the street edges of a plot: [polygon], none overlapping ``taken``."""
+    ring = shapely.geometry.polygon.orient(plot, 1.0).exterior.simplify(0.05)
+    coords = np.asarray(ring.coords)
+    out = []
+    for (ax, ay), (bx, by) in zip(coords[:-1], coords[1:]):
+        length = math.hypot(bx - ax, by - ay)
+        if length < 4:
+            continue
+        ux, uy = (bx - ax) / length, (by - ay) / length
+        nx, ny = -uy, ux  # inward: the exterior runs counter-clockwise
+        t = 0.0
+        while t < length - 2:
+            w = rng.uniform(5, 10)
+            if length - (t + w) < 3:
+                w = length - t
+            d = rng.uniform(9, 15)
+            p0 = (ax + ux * t, ay + uy * t)
+            p1 = (ax + ux * (t + w), ay + uy * (t + w))
+            rect = Polygon([p0, p1, (p1[0] + nx * d, p1[1] + ny * d),
+                            (p0[0] + nx * d, p0[1] + ny * d)])
+            t += w
+            piece = rect.intersection(plot)
+            near = [g for g in taken if g.intersects(piece)]
+            if near:
+                piece = piece.difference(unary_union(near))
+            parts = [g for g in getattr(piece, "geoms", [piece]) if g.geom_type == "Polygon"]
+            if not parts:
+                continue
+            piece = max(parts, key=lambda g: g.area)
+            if piece.area < 20 or piece.area < 0.5 * min(rect.area, plot.area):
+                continue
+            piece = shapely.set_precision(piece, 0.01)
+            if piece.is_empty or piece.geom_type != "Polygon":
+                continue
+            taken.append(piece)
+            out.append(piece)
+    return out
+
+
+def _straddling(rng, plots, chosen, taken):
+    """A few buildings over two close plots and the street between: [(polygon, plot)]."""
+    from shapely.ops import nearest_points
+
+    tree = shapely.STRtree(plots)
+    out, used = [], set()
+    for i in chosen:
+        if len(out) == 3:
+            break
+        for j in tree.query(plots[i].buffer(14)):
+            j = int(j)
+            if j == i or j in used or i in used or j not in chosen:
+                continue
+            gap = plots[i].distance(plots[j])
+            if not 3 <= gap <= 14:
+                continue
+            pa, pb = nearest_points(plots[i], plots[j])
+            vx, vy = (pb.x - pa.x) / gap, (pb.y - pa.y) / gap
+            width = rng.uniform(7, 10) / 2
+            a = (pa.x - vx * 9, pa.y - vy * 9)
+            b = (pb.x + vx * 3, pb.y + vy * 3)
+            rect = Polygon([(a[0] - vy * width, a[1] + vx * width),
+                            (b[0] - vy * width, b[1] + vx * width),
+                            (b[0] + vy * width, b[1] - vx * width),
+                            (a[0] + vy * width, a[1] - vx * width)])
+            others = [plots[k] for k in tree.query(rect) if k not in (i, j)]
+            if any(rect.intersects(o) for o in others) or \
+                    rect.intersection(plots[i]).area < 2 * rect.intersection(plots[j]).area:
+                continue
+            rect = shapely.set_precision(rect, 0.01)
+            out.append((rect, i))
+            taken.append(rect)
+            used.update((i, j))
+            break
+    return out
+
+
+def current_footprints(rng, smap, map_year=MAP_YEAR):
+    """Today's footprints over the map's plots (:class:`CurrentFootprints`).
+
+    About two thirds of the plots keep row houses along their street edges
+    (each with its own construction year, most before ``map_year``, some
+    after, a few unknown; some houses missing); a few are digitised 1-1.5 m
+    off, a few straddle two plots; half of the other plots carry one modern
+    block; and a few buildings stand away from every plot (not on water).
+    """
+    plots = list(smap.plots)
+    n = len(plots)
+    chosen = sorted(int(i) for i in rng.permutation(n)[: int(round(0.7 * n))])
+    polygons, years, owner, kind = [], [], [], []
+    taken = []
+
+    def add(poly, year, plot, what):
+        polygons.append(poly)
+        years.append(year)
+        owner.append(plot)
+        kind.append(what)
+
+    for poly, i in _straddling(rng, plots, set(chosen), taken):
+        add(poly, int(rng.integers(1600, map_year)), i + 1, "straddling")
+    for i in chosen:
+        for poly in _edge_buildings(rng, plots[i], [t for t in taken if t.intersects(plots[i])]):
+            if rng.random() < 0.1:
+                continue  # demolished: a gap in the row today
+            add(poly, _draw_year(rng, map_year), i + 1, "standing")
+    # a few old houses digitised a little off their place
+    old = [k for k, (y, what) in enumerate(zip(years, kind))
+           if what == "standing" and y is not None and y < map_year]
+    for k in sorted(int(v) for v in rng.permutation(old)[:4]):
+        angle = rng.uniform(0, 2 * math.pi)
+        step = rng.uniform(1.0, 1.5)
+        moved = affinity.translate(polygons[k], step * math.cos(angle), step * math.sin(angle))
+        others = [p for m, p in enumerate(polygons) if m != k and p.intersects(moved)]
+        if others:
+            moved = moved.difference(unary_union(others))
+        parts = [g for g in getattr(moved, "geoms", [moved]) if g.geom_type == "Polygon"]
+        if parts:
+            polygons[k] = shapely.set_precision(max(parts, key=lambda g: g.area), 0.01)
+            kind[k] = "offset"
+    for i in sorted(set(range(n)) - set(chosen)):
+        if rng.random() < 0.5:
+            block = plots[i].buffer(-1.5, join_style="mitre")
+            parts = [g for g in getattr(block, "geoms", [block]) if g.geom_type == "Polygon"]
+            if parts and max(g.area for g in parts) >= 40:
+                add(shapely.set_precision(max(parts, key=lambda g: g.area), 0.01),
+                    int(rng.integers(1950, 2023)), i + 1, "rebuilt")
+    # away from every plot (and off the water): garden houses, villas, new estates
+    away = unary_union(plots).buffer(25)
+    minx, miny, maxx, maxy = smap.west, smap.south, smap.east, smap.north
+    placed = 0
+    for _ in range(400):
+        if placed == 8:
+            break
+        cx, cy = rng.uniform(minx + 15, maxx - 15), rng.uniform(miny + 15, maxy - 15)
+        house = affinity.rotate(box(cx - rng.uniform(4, 6), cy - rng.uniform(5, 7),
+                                    cx + rng.uniform(4, 6), cy + rng.uniform(5, 7)),
+                                rng.uniform(0, 90), origin=(cx, cy))
+        if house.intersects(away) or any(house.distance(p) < 8 for p in polygons[-placed:]
+                                         if placed):
+            continue
+        rows, cols = smap.to_pixel(np.asarray(house.exterior.coords))
+        rows, cols = np.clip(rows, 0, smap.shape[0] - 1), np.clip(cols, 0, smap.shape[1] - 1)
+        if np.any(smap.truth[rows, cols] == WATER):
+            continue
+        year = int(rng.integers(1600, map_year)) if placed % 2 == 0 else int(
+            rng.integers(map_year + 1, 2023))
+        add(shapely.set_precision(house, 0.01), year, 0, "outside")
+        placed += 1
+    ids = ["0503100000{:06d}".format(100000 + 17 * k) for k in range(len(polygons))]
+    return CurrentFootprints(polygons, years, owner, kind, ids, map_year)
+
+
+# ---------------------------------------------------------------------------
 # Pictures without GRASS
 # ---------------------------------------------------------------------------
 
@@ -751,7 +962,7 @@ def map_names(prefix="map"):
     return {
         "red": prefix + ".red", "green": prefix + ".green", "blue": prefix + ".blue",
         "training": prefix + "_training", "gt_points": prefix + "_gt_points",
-        "plots": prefix + "_plots",
+        "plots": prefix + "_plots", "current": prefix + "_current",
     }
 
 
@@ -768,8 +979,10 @@ def write_to_grass(smap, prefix="map"):
     Sets the region to the map, writes ``<prefix>.red``, ``.green``, ``.blue``
     (CELL 0-255 with grey colour tables) and the vectors ``<prefix>_training``
     (points: ``label``, ``class``), ``<prefix>_gt_points`` (points: ``plot``,
-    the category of the plot they lie in) and ``<prefix>_plots`` (areas:
-    ``kind``). Respects GRASS_OVERWRITE / --overwrite like any module.
+    the category of the plot they lie in), ``<prefix>_plots`` (areas:
+    ``kind``) and ``<prefix>_current`` (areas: today's footprints with
+    ``bouwjaar``, NULL where unknown, and ``identificatie``). Respects
+    GRASS_OVERWRITE / --overwrite like any module.
     """
     _find_repo_library()
     import grass.script as gs
@@ -789,6 +1002,10 @@ def write_to_grass(smap, prefix="map"):
     grassio.write_points(names["gt_points"], smap.gt_points, {"plot": cats})
     grassio.write_features(names["plots"], smap.plots, {"kind": list(smap.plot_kinds)},
                            cats=cats)
+    current = smap.current
+    grassio.write_features(names["current"], current.polygons,
+                           {"bouwjaar": current.years, "identificatie": current.ids},
+                           title="Current building footprints over the synthetic map")
     return names
 
 
@@ -816,10 +1033,12 @@ def main(argv=None):
     names = write_to_grass(smap, args.prefix)
     counts = {label: int(np.sum(smap.training["label"] == label)) for label in CLASSES}
     print("synthetic map (seed {}, {} x {} px at {} m) written: rasters {}, {}, {}; "
-          "vectors {} ({} training points), {} ({} points), {} ({} plots)".format(
+          "vectors {} ({} training points), {} ({} points), {} ({} plots), {} ({} current "
+          "footprints)".format(
               args.seed, args.size, args.size, args.res, names["red"], names["green"],
               names["blue"], names["training"], sum(counts.values()), names["gt_points"],
-              len(smap.gt_points), names["plots"], len(smap.plots)))
+              len(smap.gt_points), names["plots"], len(smap.plots), names["current"],
+              len(smap.current.polygons)))
     return 0
 
 

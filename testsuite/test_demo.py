@@ -18,7 +18,7 @@ import synthetic_map as sm
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DIST = os.environ.get("HISTO_DIST", os.path.join(ROOT, "dist"))
 RUN_DEMO = os.path.join(ROOT, "demo", "run_demo.sh")
-OUTPUT_FILES = ("generalize.json", "generalize_metrics.csv", "model.city.json",
+OUTPUT_FILES = ("generalize.json", "generalize_metrics.csv", "align.json", "model.city.json",
                 "map.png", "classes.png", "plots.png")
 
 pytestmark = pytest.mark.grass
@@ -151,9 +151,19 @@ def test_demo_pictures_and_report_of_outputs(demo):
         assert {1, 4} <= {int(v) for v in stats}
     else:
         assert "skip r.histo.classify" in demo["stdout"]
+    vectors = _grass(demo, ["g.list", "type=vector"]).split()
     if _implemented("v.histo.generalize") and "map_classes" in rasters:
-        assert "plots" in _grass(demo, ["g.list", "type=vector"]).split()
+        assert "plots" in vectors
         assert (out / "generalize.json").is_file()
+    if _implemented("v.histo.align") and "plots" in vectors:
+        import json
+
+        assert {"map_current", "aligned", "unmatched"} <= set(vectors)
+        counts = json.loads((out / "align.json").read_text())["counts"]
+        assert counts["aligned"] > 0.9 * counts["candidates"] > 300
+        if "footprints" in vectors:
+            sources = _grass(demo, ["v.db.select", "-c", "map=footprints", "columns=source"])
+            assert sources.split().count("aligned") == counts["aligned"]
     if _implemented("v.histo.lod2") and (out / "model.city.json").exists():
         import json
 

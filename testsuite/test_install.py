@@ -19,7 +19,8 @@ import sys
 import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-MODULES = ["r.histo.classify", "v.histo.generalize", "v.histo.subdivide", "v.histo.lod2"]
+MODULES = ["r.histo.classify", "v.histo.generalize", "v.histo.align", "v.histo.subdivide",
+           "v.histo.lod2"]
 PLACEHOLDER = "/path/to/histo-checkout"
 # a user's PATH with no python3 but Debian's (no pyenv, no venv, no dist/)
 PLAIN_PATH = "/usr/sbin:/usr/bin:/sbin:/bin"

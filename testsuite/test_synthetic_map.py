@@ -252,6 +252,72 @@ def test_png_picture(tmp_path, smap):
 
 
 # ---------------------------------------------------------------------------
+# Today's footprints (v.histo.align's fixture)
+# ---------------------------------------------------------------------------
+
+def test_current_footprints_are_valid_and_apart_with_every_kind(smap):
+    c = smap.current
+    n = len(c.polygons)
+    assert n > 300 and len(c.years) == len(c.plot) == len(c.kind) == len(c.ids) == n
+    assert len(set(c.ids)) == n
+    geoms = np.array(c.polygons, dtype=object)
+    assert shapely.is_valid(geoms).all() and set(shapely.get_type_id(geoms)) == {3}
+    a, b = shapely.STRtree(geoms).query(geoms, predicate="intersects")
+    keep = a < b
+    assert shapely.area(shapely.intersection(geoms[a[keep]], geoms[b[keep]])).max() < 1e-6
+    counts = {k: c.kind.count(k) for k in sm.CURRENT_KINDS}
+    assert counts["standing"] > 300 and counts["offset"] == 4
+    assert counts["straddling"] >= 2 and counts["rebuilt"] >= 3 and counts["outside"] == 8
+    # some plots keep buildings and some do not
+    assert 0.5 * len(smap.plots) < len({p for p, k in zip(c.plot, c.kind) if k == "standing"}) \
+        < len(smap.plots)
+
+
+def test_current_footprints_years_before_and_after_the_map_and_unknown(smap):
+    c = smap.current
+    known = [y for y in c.years if y is not None and y != 9999]
+    before = c.built_before()
+    assert c.map_year == sm.MAP_YEAR == 1900
+    assert 0.55 < len(before) / len(c.years) < 0.85
+    assert sum(y > 1900 for y in known) > 50
+    assert c.years.count(None) >= 3 and c.years.count(9999) >= 3
+    assert 1900 not in c.years
+    for k in ("straddling", "offset"):
+        assert all(c.years[i] < 1900 for i in range(len(c.years)) if c.kind[i] == k)
+    assert all(c.years[i] > 1900 for i in range(len(c.years)) if c.kind[i] == "rebuilt")
+
+
+def test_current_footprints_stand_where_their_kind_says(smap):
+    c = smap.current
+    plots = smap.plots
+    union = shapely.union_all(plots)
+    for poly, plot, kind in zip(c.polygons, c.plot, c.kind):
+        if kind in ("standing", "rebuilt"):
+            assert plots[plot - 1].buffer(0.01).contains(poly), kind  # 1 cm grid
+        elif kind == "offset":
+            inside = poly.intersection(plots[plot - 1]).area / poly.area
+            assert 0.6 < inside <= 1.0  # moved outwards or along the row
+        elif kind == "straddling":
+            shares = sorted((poly.intersection(p).area for p in plots), reverse=True)
+            assert shares[1] > 0 and shares[0] >= 2 * shares[1]
+            assert poly.intersection(plots[plot - 1]).area == shares[0]
+        else:
+            assert plot == 0 and poly.distance(union) > 20
+            rows, cols = smap.to_pixel(np.asarray(poly.exterior.coords))
+            assert not np.any(smap.truth[rows, cols] == WATER)
+
+
+def test_current_footprints_are_seeded_and_do_not_change_the_map():
+    a, b = sm.generate(seed=3, size=260), sm.generate(seed=3, size=260)
+    rgb = a.rgb.copy()
+    assert [p.wkb for p in a.current.polygons] == [p.wkb for p in b.current.polygons]
+    assert a.current.years == b.current.years
+    assert np.array_equal(a.rgb, rgb)
+    assert [p.wkb for p in sm.generate(seed=4, size=260).current.polygons] != \
+        [p.wkb for p in a.current.polygons]
+
+
+# ---------------------------------------------------------------------------
 # In GRASS
 # ---------------------------------------------------------------------------
 
@@ -297,6 +363,11 @@ def test_write_to_grass_maps_and_counts(synthetic):
         back, back_kind = by_cat[cat]
         assert back_kind == kind
         assert back.symmetric_difference(poly).area < 1e-3
+    geoms, columns = grassio.read_areas(synthetic.current)
+    assert columns["cat"] == list(range(1, len(m.current.polygons) + 1))
+    assert columns["bouwjaar"] == m.current.years
+    assert columns["identificatie"] == m.current.ids
+    assert max(g.symmetric_difference(p).area for g, p in zip(geoms, m.current.polygons)) < 1e-3
     # the bands read back equal the arrays
     gs.run_command("g.region", raster=synthetic.red)
     assert np.array_equal(grassio.read_raster(synthetic.green, dtype=np.int32), m.rgb[..., 1])

@@ -171,3 +171,25 @@ def test_reading_a_missing_map_fails_as_require_vector(io):
     job = io.start_read_areas("not_there")
     with pytest.raises(SystemExit):
         io.finish_read_areas(job)
+
+
+def test_table_alone_and_areas_of_some_categories(io):
+    import grass.script as gs
+
+    geoms = [box(84000 + 12 * i, 446000, 84010 + 12 * i, 446010) for i in range(5)]
+    io.write_features("some", geoms, {"year": [1800, None, 1900, 1950, 1700],
+                                      "name": ["a", "b", "c", "d", "e"]}, cats=[2, 3, 4, 8, 9])
+    table = io.read_table("some")
+    assert table == {"cat": [2, 3, 4, 8, 9], "year": [1800, None, 1900, 1950, 1700],
+                     "name": ["a", "b", "c", "d", "e"]}
+    assert io.cat_ranges([9, 2, 3, 4, 8, 3]) == "2-4,8-9"
+    read, columns = io.read_areas("some", cats=[3, 8, 9], table=False)
+    assert columns == {"cat": [3, 8, 9]}
+    assert [g.bounds[0] for g in read] == [84012, 84036, 84048]
+    read, columns = io.read_areas("some", cats=[4])
+    assert columns == {"cat": [4], "year": [1900], "name": ["c"]}
+    assert io.read_areas("some", cats=[]) == ([], {"cat": [], "year": [], "name": []})
+    gs.run_command("v.db.droptable", map="some", flags="f", quiet=True)
+    assert io.read_table("some") == {"cat": []}
+    with pytest.raises(SystemExit):
+        io.read_table("no_such_map")
