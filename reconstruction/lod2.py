@@ -179,7 +179,8 @@ class Lod2Result:
     report: Lod2Report
 
     def roof_counts(self):
-        """Roof type -> number of buildings, for every type of :data:`~reconstruction.roofs.ROOF_TYPES`."""
+        """Roof type -> number of buildings, for every type of
+        :data:`~reconstruction.roofs.ROOF_TYPES`."""
         return {k: int(np.sum(self.roof_types == k)) for k in ROOF_TYPES}
 
 
@@ -238,9 +239,11 @@ def requests_from_columns(columns, count, roof=AUTO, roof_column=None, map_year=
     requested = np.full(count, roof, dtype=object)
     if roof_column:
         if roof_column not in columns:
-            raise InputError("Column <{}> (roof type) not found in the input map".format(roof_column))
+            raise InputError("Column <{}> (roof type) not found in the input map".format(
+                roof_column))
         values = [None if v is None else str(v).strip().lower() for v in columns[roof_column]]
-        unknown = sorted({v for v in values if v not in (None, "") and v not in ROOF_TYPES + (AUTO,)})
+        known = ROOF_TYPES + (AUTO,)
+        unknown = sorted({v for v in values if v not in (None, "") and v not in known})
         if unknown:
             raise InputError("Unknown roof types in column <{}>: {} (known: {})".format(
                 roof_column, ", ".join(unknown), ", ".join(ROOF_TYPES)))

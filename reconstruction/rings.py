@@ -24,7 +24,8 @@ def starts(counts):
 
 
 def gather(first, counts):
-    """Entry indices of items that start at ``first`` with ``counts`` entries, one item after the other."""
+    """Entry indices of items that start at ``first`` with ``counts`` entries,
+    one item after the other."""
     return np.repeat(first - starts(counts), counts) + np.arange(int(np.sum(counts)))
 
 

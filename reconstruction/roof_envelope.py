@@ -153,6 +153,7 @@ def envelope_arrays(xy, slopes, top=None):
     ok = np.all(cnt[:, :n] >= 3, axis=1) & np.isfinite(zmax) & (zmax > 1e-9)
     return Envelope(xy, nodes, ring_idx, cnt, np.where(ok, zmax, 0.0), ok)
 
+
 def envelope_roofs(xy, slopes, top=None):
     """Roofs over convex footprints with the same number of vertices, as a
     list of :class:`~reconstruction.roof_model.Roof` (None for degenerate

@@ -75,7 +75,8 @@ class RoofGroup:
         xy = self.xy[j]
         n = len(xy)
         faces = [r[:k] for r, k in zip(self.faces[j].tolist(), self.counts[j].tolist()) if k >= 3]
-        vertices = np.concatenate([np.concatenate([xy, np.zeros((n, 1))], axis=1), self.vertices[j]])
+        base = np.concatenate([xy, np.zeros((n, 1))], axis=1)
+        vertices = np.concatenate([base, self.vertices[j]])
         chains = None
         if self.wall_mid is not None:
             chains = [[k, (k + 1) % n] if mid < 0 else [k, mid, (k + 1) % n]

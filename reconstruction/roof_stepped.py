@@ -55,11 +55,12 @@ def stepped_arrays(xy, ends, body, steps, thickness):
 
     ``xy``: (G, n, 2) footprints (local coordinates, counter-clockwise);
     ``ends``: (G,) index of the stepped edge; ``body``: the
-    :class:`~reconstruction.roof_envelope.Envelope` gable roofs (scaled to the roof height) of the main
-    bodies from :func:`clip_strips` (inner edge first, vertical face on edge
-    0); ``steps``: (G,) step heights; ``thickness`` of the facade. The facade
-    is a slab between the street edge and the inner edge whose profile rises
-    in steps of ``steps`` above the body roof's gable profile.
+    :class:`~reconstruction.roof_envelope.Envelope` gable roofs (scaled to
+    the roof height) of the main bodies from :func:`clip_strips` (inner edge
+    first, vertical face on edge 0); ``steps``: (G,) step heights;
+    ``thickness`` of the facade. The facade is a slab between the street edge
+    and the inner edge whose profile rises in steps of ``steps`` above the
+    body roof's gable profile.
 
     Returns a list of :class:`~reconstruction.roof_model.RoofGroup`, one per
     number of steps, whose ``index`` are rows of the input; their vertices

@@ -172,7 +172,8 @@ def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None
             if convex:
                 plan.envelope.append(EnvelopeJob(i, xy, np.full(n, h / ins), h))
             else:
-                plan.skeleton.append(SkeletonJob(i, xy, np.full(n, math.degrees(math.atan2(h, ins))), h))
+                pitch = np.full(n, math.degrees(math.atan2(h, ins)))
+                plan.skeleton.append(SkeletonJob(i, xy, pitch, h))
             continue
         if kind == "stepped" and i in bodies:
             body, opp = bodies[i]
@@ -252,7 +253,8 @@ class RoofSet:
     single: list
 
     def each(self):
-        """Every footprint's :class:`~reconstruction.roof_model.Roof`, None where it could not be built."""
+        """Every footprint's :class:`~reconstruction.roof_model.Roof`, None
+        where it could not be built."""
         out = list(self.single)
         for group in self.groups:
             for j, i in enumerate(group.index.tolist()):
@@ -337,7 +339,8 @@ def _skeleton_roofs(plan, attic):
 
 
 def scale_roof(roof, height):
-    """A roof with its heights scaled so that its highest point is at ``height`` (None stays None)."""
+    """A roof with its heights scaled so that its highest point is at
+    ``height`` (None stays None)."""
     if roof is None or roof.zmax <= 1e-9:
         return None
     v = roof.vertices.copy()

@@ -139,7 +139,6 @@ def assemble(xy, roof, ground, eaves):
     return verts, faces
 
 
-
 def group_parts(group, origins, ground, eaves):
     """Flat arrays ``(vertices, rings, face sizes, face owners)`` of the
     solids of one :class:`~reconstruction.roof_model.RoofGroup`: ground,

@@ -312,9 +312,9 @@ def report_footprints(report, ground):
         gs.warning(_("{} holes (inner courtyards) in footprints are filled").format(
             report.holes_filled))
     if report.left_out:
-        gs.warning(_("{} footprints or parts of footprints are left out (empty or degenerate: {})").format(
-            report.left_out, ", ".join("{} {}".format(v, k) for k, v in report.left_out_reasons.items())
-            or "no geometry"))
+        reasons = ", ".join("{} {}".format(v, k) for k, v in report.left_out_reasons.items())
+        gs.warning(_("{} footprints or parts of footprints are left out (empty or degenerate: "
+                     "{})").format(report.left_out, reasons or "no geometry"))
 
 
 if __name__ == "__main__":

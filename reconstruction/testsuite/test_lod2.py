@@ -33,7 +33,8 @@ def model(geoms, eaves=9.0, attic=4.0, ground=1.0, types="auto", years=np.nan, s
                            ground, ground_default=kw.pop("ground_default", 0.0))
     requests = lod2.RoofRequests(np.broadcast_to(np.asarray(types, dtype=object), (n,)).copy(),
                                  np.full(n, years, dtype=float))
-    footprints = lod2.Footprints(geoms, kw.pop("cats", None), kw.pop("plot", None), kw.pop("source", None))
+    footprints = lod2.Footprints(geoms, kw.pop("cats", None), kw.pop("plot", None),
+                                 kw.pop("source", None))
     return lod2.build_model(footprints, heights, requests, lod2.Lod2Config(seed=seed, **kw))
 
 

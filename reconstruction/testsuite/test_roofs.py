@@ -46,8 +46,8 @@ def test_draw_roof_types_follows_the_table():
 
 
 def test_draw_roof_types_low_roofs_are_flat_and_seeded():
-    a = roofs.draw_roof_types([4, 4, 5, 4], [1900] * 4, [0.5, 3, 3, 3], np.random.default_rng(1).random(4))
-    b = roofs.draw_roof_types([4, 4, 5, 4], [1900] * 4, [0.5, 3, 3, 3], np.random.default_rng(1).random(4))
+    a, b = (roofs.draw_roof_types([4, 4, 5, 4], [1900] * 4, [0.5, 3, 3, 3],
+                                  np.random.default_rng(1).random(4)) for _ in range(2))
     assert a[0] == "flat"
     assert list(a) == list(b)
 
