@@ -27,6 +27,7 @@ from typing import NamedTuple, Optional
 import numpy as np
 
 from . import cityjson
+from .contract import PLOT, SOURCE
 from .errors import InputError
 from .outlines import clean_rings, footprint_polygons, rings_are_simple
 from .roof_model import RoofConfig
@@ -359,8 +360,8 @@ def build(prepared, config=None):
         "roof_height": np.round(np.where(got == "flat", 0.0, prepared.attic[fsrc]), 3),
         "ground_height": np.round(prepared.ground[fsrc], 3),
         "map_year": [config.map_year] * len(fsrc),
-        "plot": per_building(prepared.footprints.plot),
-        "source": per_building(prepared.footprints.source),
+        PLOT: per_building(prepared.footprints.plot),
+        SOURCE: per_building(prepared.footprints.source),
         "footprint": [cats[i] for i in fsrc],
     }
     report = replace(prepared.report, dropped=len(buildings) - len(kept),

@@ -259,12 +259,7 @@ def main():
     if prepared.report.rings:
         gs.message(_("Building {} solids...").format(prepared.report.rings))
     result = lod2.build(prepared, config)
-    if result.report.dropped:
-        gs.warning(_("{} footprints gave no valid solid, even flat, and are left out").format(
-            result.report.dropped))
-    if result.report.fell_back:
-        gs.warning(_("{} roofs fell back to a simpler type to stay valid").format(
-            result.report.fell_back))
+    report_build(result.report)
     text = lod2.citymodel_text(result, crs, title="LoD2 model from <{}>".format(options["input"]))
     with grassio.doing("writing '{}'".format(output)):
         cityjson.write_text(output, text)
@@ -273,21 +268,7 @@ def main():
     gs.message(_("{} buildings written to '{}': {}").format(
         len(result.ids), output, ", ".join("{} {}".format(v, k) for k, v in counts.items() if v)))
     if flags["v"]:
-        check = validation.validate(result.solids)
-        valid = sum(r is None for r in check)
-        total = result.report.rings
-        print("solids={}".format(total))
-        print("valid={}".format(valid))
-        print("percent_valid={:.2f}".format(100.0 * valid / total if total else 100.0))
-        print("fallbacks={}".format(len(result.report.fallbacks)))
-        print("dropped={}".format(result.report.dropped))
-        for k, v in counts.items():
-            print("roof_{}={}".format(k, v))
-        for fallback in result.report.fallbacks:
-            gs.message(_("Footprint cat {}: {} roof invalid ({}), fell back").format(*fallback))
-        for r in check:
-            if r is not None:
-                gs.message(_("Invalid solid: {}").format(r))
+        report_validity(result, validation.validate(result.solids), counts)
     return 0
 
 
@@ -295,6 +276,33 @@ def _column(columns, key):
     """The values of the column named by option ``key``, or None when it is not in the map."""
     name = options[key]
     return columns[name] if name and name in columns else None
+
+
+def report_build(report):
+    """Warn about the buildings left out or simpler than requested."""
+    if report.dropped:
+        gs.warning(_("{} footprints gave no valid solid, even flat, and are left out").format(
+            report.dropped))
+    if report.fell_back:
+        gs.warning(_("{} roofs fell back to a simpler type to stay valid").format(report.fell_back))
+
+
+def report_validity(result, check, counts):
+    """Print the -v report: counts and percent valid, and each fallback and invalid solid."""
+    valid = sum(r is None for r in check)
+    total = result.report.rings
+    print("solids={}".format(total))
+    print("valid={}".format(valid))
+    print("percent_valid={:.2f}".format(100.0 * valid / total if total else 100.0))
+    print("fallbacks={}".format(len(result.report.fallbacks)))
+    print("dropped={}".format(result.report.dropped))
+    for k, v in counts.items():
+        print("roof_{}={}".format(k, v))
+    for fallback in result.report.fallbacks:
+        gs.message(_("Footprint cat {}: {} roof invalid ({}), fell back").format(*fallback))
+    for r in check:
+        if r is not None:
+            gs.message(_("Invalid solid: {}").format(r))
 
 
 def report_footprints(report, ground):
