@@ -175,3 +175,25 @@ def test_integer_text_as_json_dumps():
         json.dumps(sem[a:b].tolist(), separators=(",", ":")) for a, b in zip(bounds[:-1], bounds[1:])]
     with pytest.raises(ValueError):
         cityjson._int_text(np.array([1, -1]), np.zeros(2, dtype=np.int64), [","])
+
+
+def test_write_text_leaves_no_partial_file(tmp_path):
+    path = tmp_path / "m.city.json"
+    cityjson.write_text(str(path), '{"type":"CityJSON"}')
+    assert path.read_text() == '{"type":"CityJSON"}' and not (tmp_path / "m.city.json.part").exists()
+    missing = tmp_path / "no_such_dir" / "m.city.json"
+    with pytest.raises(OSError):
+        cityjson.write_text(str(missing), "{}")
+    assert not missing.exists() and not (tmp_path / "no_such_dir").exists()
+
+
+def test_write_text_removes_the_part_file_when_writing_fails(tmp_path, monkeypatch):
+    path = tmp_path / "m.city.json"
+
+    def refuse(src, dst):
+        raise OSError("disk full")
+
+    monkeypatch.setattr(cityjson.os, "replace", refuse)
+    with pytest.raises(OSError, match="disk full"):
+        cityjson.write_text(str(path), "{}")
+    assert list(tmp_path.iterdir()) == []
