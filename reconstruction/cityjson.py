@@ -3,16 +3,18 @@
 One ``Building`` per footprint with one ``Solid`` geometry of lod "2.0" and
 its semantic surfaces, vertices shared and de-duplicated over the whole
 model, stored as integers with a millimetre ``transform``. Built from the
-flat arrays of a :class:`reconstruction.solids.SolidSet` in bulk.
+flat arrays of a :class:`reconstruction.solidset.SolidSet` in bulk.
 """
 
 import itertools
 import json
 import math
+import os
 
 import numpy as np
 
-from .solids import SEMANTIC_NAMES, unique_rows
+from .rings import next_in_ring, offsets, unique_rows
+from .solidset import SEMANTIC_NAMES
 
 CITYJSON_VERSION = "2.0"
 LOD = "2.0"
@@ -54,7 +56,7 @@ def _attr_list(values):
 def citymodel(ss, semantics, ids, attributes=None, reference_system=None, title=None):
     """The CityJSON document (a dict) of a set of solids.
 
-    ``ss``: a :class:`~reconstruction.solids.SolidSet`; ``semantics``: a code
+    ``ss``: a :class:`~reconstruction.solidset.SolidSet`; ``semantics``: a code
     per face (0 ground, 1 wall, 2 roof); ``ids``: an identifier per solid;
     ``attributes``: dict name -> sequence of values per solid (None/nan
     values are left out); ``reference_system``: EPSG code or OGC URL.
@@ -270,9 +272,17 @@ def citymodel_text(ss, semantics, ids, attributes=None, reference_system=None, t
 
 
 def write_text(path, text):
-    """Write a CityJSON document given as text."""
-    with open(path, "w") as f:
-        f.write(text)
+    """Write a CityJSON document given as text: to ``path + ".part"``, then
+    renamed, so that a failure leaves no partial file (and no ``.part``)."""
+    tmp = path + ".part"
+    try:
+        with open(tmp, "w") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
 
 
 def write(path, model):
@@ -324,10 +334,9 @@ def consistency_errors(model):
         if out.any():
             errors.append("{} vertex indices out of range".format(int(out.sum())))
             flat = np.clip(flat, 0, max(nv - 1, 0))
-        start = np.concatenate([[0], np.cumsum(sizes)[:-1]])
-        nxt = np.arange(len(flat)) + 1
-        nxt[start + sizes - 1] = start
-        dup = np.nonzero(flat == flat[nxt])[0]
+        bounds = offsets(sizes)
+        start = bounds[:-1]
+        dup = np.nonzero(flat == flat[next_in_ring(bounds)])[0]
         if len(dup):
             ring_of = np.searchsorted(start, dup, side="right") - 1
             for k in np.unique(ring_of)[:10]:
@@ -348,7 +357,6 @@ def schema_validator(schema_dir, definition="cityjson.schema.json"):
     (e.g. ``../shared/schemas/cityjson-2.0.2``), with every ``$ref`` resolved
     locally through a ``referencing`` registry. ``definition`` may point
     inside a file, e.g. ``cityobjects.schema.json#/Building``."""
-    import os
 
     from jsonschema import Draft7Validator
     from referencing import Registry, Resource

@@ -6,7 +6,7 @@ import os
 import numpy as np
 import pytest
 
-from reconstruction import cityjson, roofs, solids
+from reconstruction import cityjson, outlines, roofs, solids, solidset
 
 ORIGIN = np.array([85000.1234, 446000.5678])
 
@@ -15,14 +15,14 @@ def model_of(kinds, crs=28992):
     fps, n = [], len(kinds)
     for i in range(n):
         xy = np.array([[0, 0], [12, 0], [12, 6], [0, 6]], dtype=float) + [i * 12.0, 0]
-        fps.append(solids.clean_ring(xy + ORIGIN)[0])
-    ss, kept, got, log = solids.build_solids(fps, np.full(n, 1.5), np.full(n, 9.0),
-                                             np.full(n, 3.0), kinds, np.full((n, 3), 0.3))
+        fps.append(outlines.clean_ring(xy + ORIGIN)[0])
+    ss, kept, got, log = solids.build_solids(solids.Buildings(fps, np.full(n, 1.5), np.full(n, 9.0),
+                                             np.full(n, 3.0), kinds, np.full((n, 3), 0.3)))
     attrs = {"roof_type": list(got), "eaves_height": np.full(n, 9.0),
              "roof_height": np.full(n, 3.0), "ground_height": np.full(n, 1.5),
              "map_year": [1924] * n, "plot": [7] * n, "source": ["2pm"] * n,
              "nothing": [np.nan] * n}
-    return ss, cityjson.citymodel(ss, solids.semantics(ss), ["b{}".format(i) for i in kept],
+    return ss, cityjson.citymodel(ss, solidset.semantics(ss), ["b{}".format(i) for i in kept],
                                   attrs, crs)
 
 
@@ -49,13 +49,13 @@ def test_text_writer_gives_the_same_document():
              "eaves_height": np.full(15, 9.0), "roof_height": np.full(15, 3.0),
              "ground_height": np.full(15, 1.5), "map_year": [1924] * 15, "plot": [7] * 15,
              "source": ["2pm"] * 15, "nothing": [np.nan] * 15}
-    sem = solids.semantics(ss)
+    sem = solidset.semantics(ss)
     ids = ["b{}".format(i) for i in range(15)]
     text = cityjson.citymodel_text(ss, sem, ids, attrs, 28992)
     assert json.loads(text) == json.loads(json.dumps(cityjson.citymodel(ss, sem, ids, attrs, 28992)))
     # a solid without a roof surface keeps its semantics consistent
     sem2 = sem.copy()
-    sem2[sem2 == solids.ROOF] = solids.WALL
+    sem2[sem2 == solidset.ROOF] = solidset.WALL
     text = cityjson.citymodel_text(ss, sem2, ids, attrs, 28992, title="t")
     back = json.loads(text)
     assert back == json.loads(json.dumps(cityjson.citymodel(ss, sem2, ids, attrs, 28992, "t")))
@@ -137,7 +137,7 @@ def test_text_writer_attributes_as_json_dumps():
     booleans, big integers, infinity, NULL) and identifiers are written as
     json.dumps writes them."""
     ss, _ = model_of(["flat", "hip", "gable", "stepped"])
-    sem = solids.semantics(ss)
+    sem = solidset.semantics(ss)
     attrs = {"name": ['Rue "Haute", 12', None, "caf\u00e9 \\ \n", ""],
              "flag": [True, False, None, np.True_], "big": [2 ** 62, -1, 0, None],
              "height": np.array([1.25, np.nan, np.inf, 1e-7]), "empty": [None] * 4,
@@ -175,3 +175,25 @@ def test_integer_text_as_json_dumps():
         json.dumps(sem[a:b].tolist(), separators=(",", ":")) for a, b in zip(bounds[:-1], bounds[1:])]
     with pytest.raises(ValueError):
         cityjson._int_text(np.array([1, -1]), np.zeros(2, dtype=np.int64), [","])
+
+
+def test_write_text_leaves_no_partial_file(tmp_path):
+    path = tmp_path / "m.city.json"
+    cityjson.write_text(str(path), '{"type":"CityJSON"}')
+    assert path.read_text() == '{"type":"CityJSON"}' and not (tmp_path / "m.city.json.part").exists()
+    missing = tmp_path / "no_such_dir" / "m.city.json"
+    with pytest.raises(OSError):
+        cityjson.write_text(str(missing), "{}")
+    assert not missing.exists() and not (tmp_path / "no_such_dir").exists()
+
+
+def test_write_text_removes_the_part_file_when_writing_fails(tmp_path, monkeypatch):
+    path = tmp_path / "m.city.json"
+
+    def refuse(src, dst):
+        raise OSError("disk full")
+
+    monkeypatch.setattr(cityjson.os, "replace", refuse)
+    with pytest.raises(OSError, match="disk full"):
+        cityjson.write_text(str(path), "{}")
+    assert list(tmp_path.iterdir()) == []

@@ -1,49 +1,53 @@
 """Roofs: types drawn with the thesis's probabilities, and the geometry of each roof."""
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 from shapely.geometry import Point, Polygon
 
-from reconstruction import roofs
+from reconstruction import outlines, roof_envelope, roof_skeleton, roof_stepped, roofs
+from reconstruction.roof_model import RoofConfig
 
 RECT = np.array([[0.0, 0.0], [12.0, 0.0], [12.0, 6.0], [0.0, 6.0]])
 L_SHAPE = np.array([[0, 0], [10, 0], [10, 4], [4, 4], [4, 10], [0, 10]], dtype=float)
 
 
-def one(xy, kind, attic=3.0, u=0.5, **kw):
+def make(footprints, kinds, attic, uniforms, street=None, **config):
+    """Every roof (or None) and the type each got, from make_roofs."""
+    rs = roofs.make_roofs(footprints, kinds, attic, uniforms, street, RoofConfig(**config))
+    return rs.each(), rs.kinds
+
+
+def one(xy, kind, attic=3.0, u=0.5, street=None, **config):
     """One roof, with only the vertices its faces use (candidates are dropped)."""
-    r, kinds = roofs.make_roofs([xy], [kind], [attic], np.full((1, 3), u), **kw)
+    r, kinds = make([xy], [kind], [attic], np.full((1, 3), u), street, **config)
     roof = r[0]
     if roof is not None:
-        used = sorted({k for f in roof["faces"] for k in f})
+        used = sorted({k for f in roof.faces for k in f})
         remap = {k: i for i, k in enumerate(used)}
-        roof = dict(roof, vertices=roof["vertices"][used],
-                    faces=[[remap[k] for k in f] for f in roof["faces"]])
+        roof = replace(roof, vertices=roof.vertices[used],
+                       faces=[[remap[k] for k in f] for f in roof.faces])
     return roof, kinds[0]
-
-
-def face_points(roof, face):
-    return roof["vertices"][face]
 
 
 def test_draw_roof_types_follows_the_table():
     rng = np.random.default_rng(3)
     n = 40000
-    t = roofs.draw_roof_types(np.full(n, 4), np.full(n, 1900), np.full(n, 3.0), rng)
+    t = roofs.draw_roof_types(np.full(n, 4), np.full(n, 1900), np.full(n, 3.0), rng.random(n))
     weights = roofs.ROOF_PROBABILITIES[("before", 4)]
     for kind, w in weights.items():
         assert abs(np.mean(t == kind) - w / 100.0) < 0.015
-    t = roofs.draw_roof_types(np.full(n, 6), np.full(n, 1961), np.full(n, 3.0), rng)
+    t = roofs.draw_roof_types(np.full(n, 6), np.full(n, 1961), np.full(n, 3.0), rng.random(n))
     for kind, w in roofs.ROOF_PROBABILITIES[("after", "n")].items():
         assert abs(np.mean(t == kind) - w / 100.0) < 0.015
     assert not np.any(t == "stepped")
 
 
 def test_draw_roof_types_low_roofs_are_flat_and_seeded():
-    a = roofs.draw_roof_types([4, 4, 5, 4], [1900] * 4, [0.5, 3, 3, 3], np.random.default_rng(1))
-    b = roofs.draw_roof_types([4, 4, 5, 4], [1900] * 4, [0.5, 3, 3, 3], np.random.default_rng(1))
+    a, b = (roofs.draw_roof_types([4, 4, 5, 4], [1900] * 4, [0.5, 3, 3, 3],
+                                  np.random.default_rng(1).random(4)) for _ in range(2))
     assert a[0] == "flat"
     assert list(a) == list(b)
 
@@ -51,19 +55,19 @@ def test_draw_roof_types_low_roofs_are_flat_and_seeded():
 def test_hip_roof_on_rectangle():
     roof, kind = one(RECT, "hip", attic=3.0)
     assert kind == "hip"
-    v = roof["vertices"]
+    v = roof.vertices
     assert v[:, 2].max() == pytest.approx(3.0)
     # long faces at the pitch of Eq. 3.13 with the end as baseline: ridge at width/2
     ridge = v[np.isclose(v[:, 2], 3.0)]
     assert np.allclose(ridge[:, 1], 3.0)
     # steeper hip ends (>= 60 degrees): ridge ends closer to the ends than 3 m
     assert ridge[:, 0].min() < 3.0 and ridge[:, 0].max() > 9.0
-    assert len(roof["faces"]) == 4
+    assert len(roof.faces) == 4
 
 
 def test_gable_roof_has_vertical_ends():
     roof, _ = one(RECT, "gable", attic=4.0)
-    v = roof["vertices"]
+    v = roof.vertices
     ridge = v[np.isclose(v[:, 2], 4.0)]
     assert sorted(np.round(ridge[:, 0], 6)) == [0.0, 12.0]
     assert np.allclose(ridge[:, 1], 3.0)
@@ -71,8 +75,8 @@ def test_gable_roof_has_vertical_ends():
 
 def test_mansard_top_is_inset_and_flat():
     roof, _ = one(RECT, "mansard", attic=2.5, u=0.0, inset=(1.5, 1.5))
-    v = roof["vertices"]
-    top = [f for f in roof["faces"] if np.allclose(v[f, 2], 2.5)]
+    v = roof.vertices
+    top = [f for f in roof.faces if np.allclose(v[f, 2], 2.5)]
     assert len(top) == 1
     poly = Polygon(v[top[0], :2])
     assert poly.area == pytest.approx((12 - 3) * (6 - 3))
@@ -81,29 +85,29 @@ def test_mansard_top_is_inset_and_flat():
 def test_mansard_inset_below_half_the_shortest_edge():
     thin = np.array([[0, 0], [10, 0], [10, 1.5], [0, 1.5]], dtype=float)
     roof, _ = one(thin, "mansard", attic=2.0, inset=(2.0, 2.0))
-    v = roof["vertices"]
-    top = [f for f in roof["faces"] if np.allclose(v[f, 2], 2.0)]
+    v = roof.vertices
+    top = [f for f in roof.faces if np.allclose(v[f, 2], 2.0)]
     assert len(top) == 1 and Polygon(v[top[0], :2]).area > 0
 
 
 def test_envelope_matches_cgal_on_convex_footprints():
-    if not roofs.cgal_available():
+    if not roof_skeleton.cgal_available():
         pytest.skip("pySVCGAL not installed")
     quads = [RECT, np.array([[0, 0], [11, 1], [10, 7], [1, 6]], dtype=float),
              np.array([[0, 0], [8, 0], [10, 5], [5, 9], [-1, 5]], dtype=float)]
     for xy in quads:
-        env = roofs.envelope_roofs(xy[None], np.ones((1, len(xy))))[0]
-        cg = roofs.cgal_roofs([xy], [np.full(len(xy), 45.0)], [None])[0]
-        assert env["zmax"] == pytest.approx(cg["zmax"], abs=1e-4)
+        env = roof_envelope.envelope_roofs(xy[None], np.ones((1, len(xy))))[0]
+        cg = roof_skeleton.cgal_roofs([xy], [np.full(len(xy), 45.0)], [None])[0]
+        assert env.zmax == pytest.approx(cg.zmax, abs=1e-4)
 
 
 def test_cgal_edge_angles_go_to_the_right_edges():
-    if not roofs.cgal_available():
+    if not roof_skeleton.cgal_available():
         pytest.skip("pySVCGAL not installed")
     pitch = np.full(6, 45.0)
     pitch[[1, 4]] = 90.0          # the ends of the two arms of the L
-    roof = roofs.cgal_roofs([L_SHAPE], [pitch], [None])[0]
-    v = roof["vertices"]
+    roof = roof_skeleton.cgal_roofs([L_SHAPE], [pitch], [None])[0]
+    v = roof.vertices
     top = v[v[:, 2] > 1e-6]
     # ridge ends on the gable edges x = 10 (edge 1) and y = 10 (edge 4)
     assert np.any(np.isclose(top[:, 0], 10.0) & np.isclose(top[:, 1], 2.0))
@@ -111,12 +115,12 @@ def test_cgal_edge_angles_go_to_the_right_edges():
 
 
 def test_concave_hip_and_gable_use_the_skeleton():
-    if not roofs.cgal_available():
+    if not roof_skeleton.cgal_available():
         pytest.skip("pySVCGAL not installed")
     for kind in ("hip", "gable", "mansard"):
         roof, got = one(L_SHAPE, kind, attic=3.0)
         assert roof is not None and got == kind
-        assert roof["vertices"][:, 2].max() == pytest.approx(3.0, abs=1e-4)
+        assert roof.vertices[:, 2].max() == pytest.approx(3.0, abs=1e-4)
     roof, got = one(L_SHAPE, "stepped")
     assert got == "gable"
 
@@ -124,7 +128,7 @@ def test_concave_hip_and_gable_use_the_skeleton():
 def test_stepped_facade_steps_above_the_roof_and_inside():
     roof, kind = one(RECT, "stepped", attic=3.0, u=0.0, step=(0.5, 0.5), thickness=0.5)
     assert kind == "stepped"
-    v = roof["vertices"]
+    v = roof.vertices
     fp = Polygon(RECT).buffer(1e-6)
     assert all(fp.contains(Point(p)) for p in v[:, :2])
     # steps: heights are multiples of the step height, top above the ridge
@@ -140,25 +144,15 @@ def test_stepped_facade_steps_above_the_roof_and_inside():
 
 def test_stepped_on_street_edge():
     roof, kind = one(RECT, "stepped", street=[0])
-    v = roof["vertices"]
+    v = roof.vertices
     high = v[np.isclose(v[:, 2], v[:, 2].max())]
     assert np.all(high[:, 1] <= 0.5 + 1e-9)
 
 
 def test_flat_roof_is_the_footprint():
     roof, _ = one(RECT, "flat")
-    assert roof["faces"] == [[0, 1, 2, 3]]
-    assert np.all(roof["vertices"][:, 2] == 0)
-
-
-def test_helpers():
-    assert roofs.is_convex(RECT)
-    assert not roofs.is_convex(L_SHAPE)
-    assert roofs.opposite_edge(RECT, 1) == 3
-    assert roofs.end_edges(L_SHAPE) == [1, 4]
-    assert roofs.street_end(RECT) in (1, 3)
-    assert roofs.street_end(RECT, 0) == 0
-    assert math.isclose(roofs.edge_lengths(RECT).sum(), 36.0)
+    assert roof.faces == [[0, 1, 2, 3]]
+    assert np.all(roof.vertices[:, 2] == 0)
 
 
 def test_interp_rows_is_np_interp_per_row():
@@ -167,7 +161,7 @@ def test_interp_rows_is_np_interp_per_row():
     fp = rng.uniform(-5, 5, (7, 5))
     xp[:, -1], fp[:, -1] = xp[:, -2], fp[:, -2]      # padding repeats the last point
     x = xp[:, :1] + rng.random((7, 3)) * (xp[:, -1:] - xp[:, :1])
-    got = roofs._interp_rows(x, xp, fp)
+    got = roof_stepped._interp_rows(x, xp, fp)
     for r in range(7):
         assert np.allclose(got[r], np.interp(x[r], xp[r], fp[r]), atol=1e-9)
 
@@ -185,8 +179,8 @@ def test_stepped_facades_in_bulk_have_the_right_steps(xy, attic, step):
     edge as its front."""
     roof, kind = one(xy, "stepped", attic=attic, u=0.0, step=(step, step), thickness=0.5)
     assert kind == "stepped" and roof is not None
-    v = roof["vertices"]
-    facade = v[roof["faces"][0]]
+    v = roof.vertices
+    facade = v[roof.faces[0]]
     nsteps = int(round(facade[:, 2].max() / step))
     assert facade[:, 2].max() == pytest.approx(nsteps * step)
     assert nsteps >= 1 and nsteps * step <= attic + step + min(0.1, step / 4.0) + 1e-9
@@ -197,11 +191,11 @@ def test_stepped_facades_in_bulk_have_the_right_steps(xy, attic, step):
     fp = Polygon(xy).buffer(1e-6)
     assert all(fp.contains(Point(p)) for p in v[:, :2])
     # the front facade: 4 + 4 (nsteps - 1) corners on the street (shortest) edge
-    end = roofs.street_end(xy)
-    assert len(roof["faces"][0]) == 4 + 4 * (nsteps - 1)
+    end = outlines.street_end(xy)
+    assert len(roof.faces[0]) == 4 + 4 * (nsteps - 1)
     a, b = xy[end], xy[(end + 1) % len(xy)]
     t = (b - a) / np.hypot(*(b - a))
-    assert np.allclose((v[roof["faces"][0], :2] - a) @ np.array([-t[1], t[0]]), 0, atol=1e-9)
+    assert np.allclose((v[roof.faces[0], :2] - a) @ np.array([-t[1], t[0]]), 0, atol=1e-9)
 
 
 def test_stepped_facades_in_bulk_match_one_by_one():
@@ -214,14 +208,14 @@ def test_stepped_facades_in_bulk_match_one_by_one():
         fps.append(np.array([[0, 0], [w, rng.uniform(-0.5, 0.5)], [w, d], [0, d]]))
         hs.append(rng.uniform(1.5, 6.0))
         us.append(rng.random(3))
-    together, kinds = roofs.make_roofs(fps, ["stepped"] * 30, hs, np.array(us))
+    together, kinds = make(fps, ["stepped"] * 30, hs, np.array(us))
     assert set(kinds) == {"stepped"}
     assert sum(r is not None for r in together) >= 25
     for k in range(30):
-        alone, _ = roofs.make_roofs([fps[k]], ["stepped"], [hs[k]], np.array([us[k]]))
+        alone, _ = make([fps[k]], ["stepped"], [hs[k]], np.array([us[k]]))
         assert (together[k] is None) == (alone[0] is None)
         if together[k] is None:
             continue
-        assert together[k]["faces"] == alone[0]["faces"]
-        assert together[k]["chains"] == alone[0]["chains"]
-        assert np.allclose(together[k]["vertices"], alone[0]["vertices"], atol=1e-9)
+        assert together[k].faces == alone[0].faces
+        assert together[k].chains == alone[0].chains
+        assert np.allclose(together[k].vertices, alone[0].vertices, atol=1e-9)

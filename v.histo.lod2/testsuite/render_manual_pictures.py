@@ -16,10 +16,11 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(os.path.dirname(HERE)))
 
-from reconstruction import roofs, solids  # noqa: E402
+from reconstruction import outlines, roofs, solids, solidset  # noqa: E402
+from reconstruction.roof_model import RoofConfig  # noqa: E402
 
-COLOURS = {solids.GROUND: (0.5, 0.5, 0.5), solids.WALL: (0.93, 0.90, 0.84),
-           solids.ROOF: (0.72, 0.25, 0.18)}
+COLOURS = {solidset.GROUND: (0.5, 0.5, 0.5), solidset.WALL: (0.93, 0.90, 0.84),
+           solidset.ROOF: (0.72, 0.25, 0.18)}
 
 
 def polydata(ss):
@@ -30,7 +31,7 @@ def polydata(ss):
     sizes = np.diff(ss.face_start)
     faces = np.insert(ss.rings, ss.face_start[:-1], sizes)
     mesh = pv.PolyData(verts - centre, faces)
-    sem = solids.semantics(ss)
+    sem = solidset.semantics(ss)
     mesh.cell_data["rgb"] = np.array([COLOURS[k] for k in sem])
     return mesh
 
@@ -54,11 +55,11 @@ def roof_types_picture(path):
     fps, kinds = [], list(roofs.ROOF_TYPES)
     for i, kind in enumerate(kinds):
         xy = np.array([[0, 0], [8, 0], [8, 14], [0, 14]], dtype=float) + [i * 14.0, 0]
-        fps.append(solids.clean_ring(xy)[0])
+        fps.append(outlines.clean_ring(xy)[0])
     n = len(fps)
-    ss, kept, got, _ = solids.build_solids(fps, np.zeros(n), np.full(n, 9.0), np.full(n, 4.5),
-                                           kinds, np.full((n, 3), 0.5), street=[0] * n,
-                                           step=(0.6, 0.6))
+    buildings = solids.Buildings(fps, np.zeros(n), np.full(n, 9.0), np.full(n, 4.5), kinds,
+                                 np.full((n, 3), 0.5), street=[0] * n)
+    ss, kept, got, _ = solids.build_solids(buildings, RoofConfig(step=(0.6, 0.6)))
     assert list(got) == kinds
     render(ss, path, (1000, 330), elevation=25, azimuth=-35, zoom=2.3)
 
@@ -70,17 +71,18 @@ def block_picture(path):
     while x < 60:                     # a row of narrow houses along a street
         w = rng.uniform(5, 9)
         d = rng.uniform(12, 17)
-        fps.append(solids.clean_ring(np.array([[x, 0], [x + w, 0], [x + w, d], [x, d]]))[0])
+        fps.append(outlines.clean_ring(np.array([[x, 0], [x + w, 0], [x + w, d], [x, d]]))[0])
         x += w
     ell = np.array([[62, 0], [80, 0], [80, 22], [72, 22], [72, 8], [62, 8]], dtype=float)
-    fps.append(solids.clean_ring(ell)[0])
-    fps.append(solids.clean_ring(np.array([[85, 2], [97, 0], [99, 12], [91, 17], [84, 11]]))[0])
+    fps.append(outlines.clean_ring(ell)[0])
+    fps.append(outlines.clean_ring(np.array([[85, 2], [97, 0], [99, 12], [91, 17], [84, 11]]))[0])
     n = len(fps)
-    kinds = roofs.draw_roof_types([len(f) for f in fps], np.full(n, 1900), np.full(n, 4.0), rng)
+    kinds = roofs.draw_roof_types([len(f) for f in fps], np.full(n, 1900), np.full(n, 4.0),
+                                  rng.random(n))
     kinds[-2] = "gable"
-    ss, kept, got, _ = solids.build_solids(fps, np.zeros(n), rng.uniform(7, 12, n),
-                                           rng.uniform(3, 5, n), kinds, rng.random((n, 3)),
-                                           street=[0] * n)
+    ss, kept, got, _ = solids.build_solids(solids.Buildings(
+        fps, np.zeros(n), rng.uniform(7, 12, n), rng.uniform(3, 5, n), kinds, rng.random((n, 3)),
+        street=[0] * n))
     render(ss, path, (900, 380), elevation=35, azimuth=-25, zoom=1.75)
 
 

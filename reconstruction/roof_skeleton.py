@@ -1,0 +1,186 @@
+"""Roofs of any simple footprint: CGAL's weighted straight skeleton through ``pySVCGAL``.
+
+Concave footprints (L, U, T shapes) get their hip, gable and mansard roofs
+here. ``pySVCGAL`` is optional: without it :func:`cgal_roofs` builds nothing
+and those footprints fall back to a flat roof. Its C++ library writes to
+the process's standard output, which is silenced while it runs; the
+skeletons of many footprints are computed in one call (which releases the
+interpreter, so that it runs beside other work in a thread).
+"""
+
+import contextlib
+import os
+
+import numpy as np
+
+from .rings import offsets
+from .roof_model import Roof
+
+_CGAL = []
+
+
+@contextlib.contextmanager
+def _quiet_stdout():
+    """Silence what the C++ library writes straight to file descriptors 1 and 2."""
+    import sys
+
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except Exception:  # pragma: no cover
+            pass
+    try:
+        saved = [os.dup(1), os.dup(2)]
+    except OSError:  # pragma: no cover
+        yield
+        return
+    try:
+        with open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), 1)
+            os.dup2(null.fileno(), 2)
+            try:
+                yield
+            finally:
+                _flush_c_stdout()
+                os.dup2(saved[0], 1)
+                os.dup2(saved[1], 2)
+    finally:
+        for fd in saved:
+            os.close(fd)
+
+
+def _flush_c_stdout():
+    """Flush C stdio and C++ std::cout (the CGAL wrapper writes to both)."""
+    import ctypes
+
+    try:
+        ctypes.CDLL(None).fflush(None)
+    except Exception:  # pragma: no cover
+        pass
+    try:
+        lib = ctypes.CDLL("libstdc++.so.6")
+        for name in ("_ZSt4cout", "_ZSt4clog", "_ZSt4cerr"):
+            stream = ctypes.addressof(ctypes.c_char.in_dll(lib, name))
+            lib._ZNSo5flushEv(ctypes.c_void_p(stream))
+    except Exception:  # pragma: no cover
+        pass
+
+
+def cgal_available():
+    """True when pySVCGAL (CGAL's straight skeleton) can be imported."""
+    if not _CGAL:
+        try:
+            with _quiet_stdout(), contextlib.redirect_stdout(open(os.devnull, "w")):
+                from pySVCGAL.pySVCGAL import pySVCGAL_straight_skeleton_2d_extrude
+            _CGAL.append(pySVCGAL_straight_skeleton_2d_extrude)
+        except Exception:  # pragma: no cover - optional dependency
+            _CGAL.append(None)
+    return _CGAL[0] is not None
+
+
+def _cgal_extrude(footprints, pitches, heights):
+    """Call CGAL's skeleton extrusion of pySVCGAL's library with numpy arrays
+    (its Python wrapper converts every vertex one by one). Returns
+    ``{"objects": [{"object_index", "vertices", "faces"}]}`` as the wrapper."""
+    import ctypes
+
+    from pySVCGAL.pySVCGAL import MESH_DATA2, SVCGAL_clib
+
+    fn = SVCGAL_clib.straight_skeleton_2d_extrude
+    fn.argtypes = [ctypes.c_int, ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_bool),
+                   ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_double),
+                   ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_int),
+                   ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_float * 3),
+                   ctypes.c_bool, ctypes.c_bool, ctypes.c_int, ctypes.c_bool]
+    fn.restype = ctypes.POINTER(MESH_DATA2)
+    free = SVCGAL_clib.free_mem2
+    free.argtypes = [ctypes.POINTER(MESH_DATA2)]
+    B = len(footprints)
+    counts = np.array([len(xy) for xy in footprints], dtype=np.int32)
+    verts = np.zeros((int(counts.sum()), 3), dtype=np.float32)
+    verts[:, :2] = np.concatenate(footprints)
+    # the library takes the angle of edge i at position i + 1
+    angles = np.concatenate([np.roll(np.asarray(a, dtype=float), 1) for a in pitches])
+    restrict = np.array([h is not None for h in heights], dtype=np.bool_)
+    height = np.array([0.0 if h is None else float(h) for h in heights], dtype=np.float64)
+    modes = np.zeros(B, dtype=np.int32)
+    ones = np.ones(B, dtype=np.int32)
+
+    def ptr(a, t):
+        return a.ctypes.data_as(ctypes.POINTER(t))
+
+    md = fn(B, ptr(modes, ctypes.c_int), ptr(restrict, ctypes.c_bool),
+            ptr(height, ctypes.c_double), ptr(np.ascontiguousarray(angles), ctypes.c_double),
+            ptr(ones, ctypes.c_int), ptr(ones, ctypes.c_int), ptr(counts, ctypes.c_int),
+            ptr(verts, ctypes.c_float * 3), False, False, 0, False)
+    try:
+        m = md.contents
+        nobj = m.nn_objects
+        objects = []
+        if nobj > 0:
+            def arr(pointer, n, t=ctypes.c_int):
+                if n == 0:
+                    return np.zeros(0)
+                return np.ctypeslib.as_array(ctypes.cast(pointer, ctypes.POINTER(t)), shape=(n,)).copy()
+
+            idx = arr(m.nn_objects_indexes, nobj)
+            nv = arr(m.nn_verts, nobj)
+            nf = arr(m.nn_faces, nobj)
+            counters = arr(m.nn_faces_indexes_counters, int(nf.sum()))
+            allv = arr(m.vertices, int(nv.sum()) * 3, ctypes.c_float).reshape(-1, 3)
+            allf = arr(m.faces, int(counters.sum()))
+            v0 = f0 = k0 = 0
+            for i in range(nobj):
+                cnt = counters[f0:f0 + nf[i]]
+                flat = allf[k0:k0 + int(cnt.sum())]
+                bounds = offsets(cnt)
+                faces = [flat[bounds[j]:bounds[j + 1]].tolist() for j in range(len(cnt))]
+                objects.append({"object_index": int(idx[i]),
+                                "vertices": allv[v0:v0 + nv[i]].astype(float), "faces": faces})
+                v0 += nv[i]
+                f0 += nf[i]
+                k0 += int(cnt.sum())
+        return {"objects": objects}
+    finally:
+        free(md)
+
+
+def cgal_roofs(footprints, pitches, heights):
+    """Roofs over any simple footprints with CGAL's weighted straight skeleton.
+
+    ``footprints``: list of (n, 2) counter-clockwise rings (local coordinates);
+    ``pitches``: list of per-edge pitch angles in degrees (90 = gable end);
+    ``heights``: list of flat-top heights (mansard) or None. Returns a list of
+    :class:`~reconstruction.roof_model.Roof` (faces are triangles) or None
+    where CGAL failed.
+    """
+    if not cgal_available():
+        return [None] * len(footprints)
+    try:
+        with _quiet_stdout():
+            result = _cgal_extrude(footprints, pitches, heights)
+    except Exception:
+        return [None] * len(footprints)
+    out = [None] * len(footprints)
+    for obj in result.get("objects", []):
+        i = obj["object_index"]
+        xy = footprints[i]
+        n = len(xy)
+        v = np.asarray(obj["vertices"], dtype=float).reshape(-1, 3)
+        if len(v) < n or not np.allclose(v[:n, :2], xy, atol=1e-3):
+            continue
+        v[:n, :2] = xy
+        v[:n, 2] = 0.0
+        faces = [list(f) for f in obj["faces"] if not all(k < n for k in f)]
+        if not faces:
+            continue
+        # orient outwards: the roof seen from above is counter-clockwise
+        nz = 0.0
+        for f in faces:
+            a, b, cc = v[f[0]], v[f[1]], v[f[2]]
+            nz += (b[0] - a[0]) * (cc[1] - a[1]) - (b[1] - a[1]) * (cc[0] - a[0])
+        if nz < 0:
+            faces = [f[::-1] for f in faces]
+        out[i] = Roof(v, faces, False, float(v[:, 2].max()))
+    return out
+

@@ -1,0 +1,165 @@
+"""Validity of LoD2 solids, as val3dity checks a Solid.
+
+:func:`validate` checks, on the millimetre geometry that is written, in bulk
+over a :class:`~reconstruction.solidset.SolidSet`: rings of at least three
+distinct vertices, no duplicate consecutive vertices, no self-intersecting
+or degenerate (zero-area) ring, faces planar within 1 mm, every edge used
+exactly twice in opposite directions (closed, 2-manifold along edges,
+consistently oriented), V - E + F = 2 (one fan of faces around every vertex:
+2-manifold at the vertices, no handle), one connected shell, positive volume
+(outward orientation).
+"""
+
+import numpy as np
+
+from .rings import gather, starts
+from .solidset import face_geometry
+
+PLANARITY_TOL = 0.001
+
+
+def _components(n, a, b):
+    """Connected component label (smallest member) of n nodes joined by edges a-b,
+    by min-label propagation (shells have a small diameter)."""
+    labels = np.arange(n)
+    while True:
+        new = labels.copy()
+        np.minimum.at(new, a, labels[b])
+        np.minimum.at(new, b, labels[a])
+        new = new[new]
+        if np.array_equal(new, labels):
+            return labels
+        labels = new
+
+
+def validate(ss, tol=PLANARITY_TOL):
+    """Check every solid; returns a list with None (valid) or the reasons
+    (joined by "; ")."""
+    import shapely
+
+    S = len(ss)
+    reasons = list(ss.bad)
+
+    def flag(solids, reason):
+        for s in np.unique(solids):
+            if ss.bad[s] is not None:
+                continue
+            if reasons[s] is None:
+                reasons[s] = reason
+            elif reason not in reasons[s]:
+                reasons[s] += "; " + reason
+
+    F = len(ss.face_start) - 1
+    nf = np.diff(ss.solid_start)
+    flag(np.nonzero(nf < 4)[0], "fewer than 4 faces")
+    if F == 0:
+        return reasons
+    p, nxt, entry_face, normal, centroid, sizes = face_geometry(ss)
+    ss.face_normal = normal
+    face_solid = ss.face_solid
+    area2 = np.linalg.norm(normal, axis=1)
+    # degenerate rings: zero area
+    degenerate = area2 < 2e-7
+    flag(face_solid[degenerate], "degenerate ring (zero area)")
+    unit = normal / np.maximum(area2, 1e-300)[:, None]
+    # planarity: distance of each vertex to the least-squares plane (as
+    # val3dity). The plane through the centroid normal to the Newell normal
+    # bounds it: the least-squares plane's largest distance is at most the
+    # root of its sum of squares, at most that of any other plane through
+    # the centroid, at most sqrt(k) times that plane's largest distance; only
+    # faces this bound does not clear need the least-squares fit
+    rel = p - centroid[entry_face]
+    dist = np.abs(np.einsum("ij,ij->i", rel, unit[entry_face]))
+    maxdist = np.maximum.reduceat(dist, ss.face_start[:-1])
+    fit_faces = np.nonzero((maxdist * np.sqrt(sizes) > tol) & ~degenerate)[0]
+    if len(fit_faces):
+        e0 = ss.face_start[fit_faces]
+        k = sizes[fit_faces]
+        r = rel[gather(e0, k)]
+        first = starts(k)
+        cov = np.add.reduceat(r[:, :, None] * r[:, None, :], first, axis=0)
+        _, vecs = np.linalg.eigh(cov)
+        fit = np.repeat(vecs[:, :, 0], k, axis=0)
+        far = np.maximum.reduceat(np.abs(np.einsum("ij,ij->i", r, fit)), first) > tol
+        flag(face_solid[fit_faces[far]], "non-planar face (> 1 mm)")
+    # self-intersection: quads by segment tests in numpy, larger rings with
+    # shapely, all projected on their plane
+    quads = np.nonzero((sizes == 4) & ~degenerate)[0]
+    if len(quads):
+        axis = np.argmax(np.abs(unit[quads]), axis=1)
+        cols = np.array([[1, 2], [0, 2], [0, 1]])[axis]
+        q = p[ss.face_start[quads][:, None] + np.arange(4)]          # (Q, 4, 3)
+        q2 = np.take_along_axis(q, np.repeat(cols[:, None, :], 4, axis=1), axis=2)
+
+        def crosses(a, b, c, d):
+            def orient(u, v, w):
+                return np.sign((v[:, 0] - u[:, 0]) * (w[:, 1] - u[:, 1])
+                               - (v[:, 1] - u[:, 1]) * (w[:, 0] - u[:, 0]))
+            return (orient(a, b, c) * orient(a, b, d) < 0) & (orient(c, d, a) * orient(c, d, b) < 0)
+
+        bow = crosses(q2[:, 0], q2[:, 1], q2[:, 2], q2[:, 3]) | \
+            crosses(q2[:, 1], q2[:, 2], q2[:, 3], q2[:, 0])
+        flag(face_solid[quads[bow]], "self-intersecting ring")
+    big = np.nonzero((sizes >= 5) & ~degenerate)[0]
+    if len(big):
+        axis = np.argmax(np.abs(unit[big]), axis=1)
+        sel = np.isin(entry_face, big)
+        ef = entry_face[sel]
+        pos = np.searchsorted(big, ef)
+        drop = axis[pos]
+        pts = p[sel]
+        keep_cols = np.array([[1, 2], [0, 2], [0, 1]])[drop]
+        xy2 = np.take_along_axis(pts, keep_cols, axis=1)
+        # close each ring
+        begin = np.searchsorted(ef, big)
+        closed = np.insert(xy2, np.r_[begin[1:], len(xy2)], xy2[begin], axis=0)
+        ids = np.insert(pos, np.r_[begin[1:], len(xy2)], np.arange(len(big)))
+        rings = shapely.linearrings(closed, indices=ids)
+        simple = shapely.is_simple(rings)
+        flag(face_solid[big[~simple]], "self-intersecting ring")
+    # edges: every undirected edge exactly twice, in opposite directions
+    a = ss.rings
+    b = ss.rings[nxt]
+    N = max(len(ss.vertices), 1)
+    ukey = np.minimum(a, b) * N + np.maximum(a, b)
+    forward = a < b
+    order = np.argsort(ukey, kind="stable")      # (timsort: faster on these runs)
+    sk = ukey[order]
+    E = len(sk)
+    start = np.ones(E, dtype=bool)
+    start[1:] = sk[1:] != sk[:-1]
+    run_start = np.nonzero(start)[0]
+    run_len = np.diff(np.append(run_start, E))
+    entry_run_len = np.repeat(run_len, run_len)          # in sorted order
+    once = order[entry_run_len == 1]
+    flag(face_solid[entry_face[once]], "edge used only once (shell not closed)")
+    many = order[entry_run_len > 2]
+    flag(face_solid[entry_face[many]], "edge used more than twice (non-manifold)")
+    pairs = run_start[run_len == 2]
+    ea, eb = order[pairs], order[pairs + 1]
+    same = forward[ea] == forward[eb]
+    flag(face_solid[entry_face[ea[same]]],
+         "edge used twice in the same direction (faces not consistently oriented)")
+    # 2-manifold at the vertices: with every edge used twice, the shell is a
+    # closed surface; V - E + F = 2 holds for a genus-0 surface whose every
+    # vertex has one fan of faces (a vertex with k fans lowers it by k - 1)
+    vsol = np.full(N, -1, dtype=np.int64)
+    vsol[a] = face_solid[entry_face]
+    nv = np.bincount(vsol[vsol >= 0], minlength=S)
+    ne = np.bincount(face_solid[entry_face], minlength=S) / 2.0
+    euler = nv - ne + nf
+    flag(np.nonzero((euler != 2) & (nf > 0))[0],
+         "non-manifold vertex or handle (V - E + F != 2)")
+    # one connected shell
+    if len(ea):
+        labels = _components(F, entry_face[ea], entry_face[eb])
+        lo = np.minimum.reduceat(labels, ss.solid_start[:-1][nf > 0])
+        hi = np.maximum.reduceat(labels, ss.solid_start[:-1][nf > 0])
+        flag(np.nonzero(nf > 0)[0][lo != hi], "more than one shell")
+    # volume (divergence theorem) must be positive: outward orientation
+    vol = np.einsum("ij,ij->i", normal, centroid) / 6.0
+    svol = np.zeros(S)
+    np.add.at(svol, face_solid, vol)
+    flag(np.nonzero(svol <= 1e-9)[0], "zero or negative volume (faces oriented inwards)")
+    return reasons
+
