@@ -21,7 +21,9 @@ import numpy as np
 
 import grass.script as gs
 
-from .errors import InputError
+# the one error convention (run_main, doing, ...) has its own file; modules
+# reach it as grassio.run_main, grassio.doing
+from .grassrun import Terminated, doing, failure_message, finish_tool, run_main  # noqa: F401
 
 _TEMP_MAPS = {"raster": set(), "vector": set()}
 _TEMP_FILES = set()
@@ -55,76 +57,6 @@ def register_cleanup():
     failure alike.
     """
     _ensure_cleanup()
-
-
-_DOING = []
-
-
-class doing:
-    """Context manager naming what the module is doing, for the ``ERROR:`` line of a failure.
-
-    ``with grassio.doing("reading the footprints <fp>"): ...`` -- a GRASS tool
-    that fails inside ends the module with "ERROR: ... failed while reading
-    the footprints <fp>" (see :func:`run_main`).
-    """
-
-    def __init__(self, what):
-        self.what = what
-
-    def __enter__(self):
-        _DOING.append(self.what)
-        return self
-
-    def __exit__(self, *exc):
-        if not exc[0]:
-            _DOING.pop()
-        return False
-
-
-def failure_message(error):
-    """One line for an exception that ends a module: what failed, and while doing what."""
-    from grass.exceptions import CalledModuleError
-
-    while_doing = " while {}".format(_DOING[-1]) if _DOING else ""
-    if isinstance(error, InputError):
-        return str(error)
-    if isinstance(error, CalledModuleError):
-        tool = error.cmd if isinstance(error.cmd, str) else "a GRASS tool"
-        detail = ""
-        errors = getattr(error, "msg", "")
-        if "See the following errors:" in errors:
-            detail = ": " + " ".join(errors.split("See the following errors:", 1)[1].split())
-        return "GRASS tool {} failed (return code {}){}{}".format(
-            tool, error.returncode, while_doing, detail)
-    if isinstance(error, KeyboardInterrupt):
-        return "Interrupted{}".format(while_doing)
-    if isinstance(error, MemoryError):
-        return "Out of memory{}".format(while_doing)
-    if isinstance(error, OSError):
-        return "{}{}".format(error, while_doing)
-    return None
-
-
-def run_main(main):
-    """Run a module's ``main()``: the one place where library errors become ``gs.fatal``.
-
-    :class:`~reconstruction.errors.InputError` (bad input), a failing child
-    GRASS tool (``CalledModuleError``), an interruption and running out of
-    memory end in one ``ERROR:`` line and exit code 1, never a traceback;
-    temporary maps and files are removed (atexit). Any other exception is a
-    bug and keeps its traceback.
-    """
-    try:
-        return main()
-    except (InputError, KeyboardInterrupt, MemoryError, OSError) as error:
-        message = failure_message(error)
-    except Exception as error:  # noqa: BLE001 - CalledModuleError only; others re-raised
-        from grass.exceptions import CalledModuleError
-
-        if not isinstance(error, CalledModuleError):
-            raise
-        message = failure_message(error)
-    gs.fatal(message)
 
 
 def temp_map(kind, prefix):
@@ -226,7 +158,8 @@ def require_new_file(path, option):
 
 def vector_counts(name):
     """Topology counts of a vector map (points, areas, ...) as integers."""
-    info = gs.vector_info_topo(name)
+    with doing("reading the topology of vector map <{}>".format(name)):
+        info = gs.vector_info_topo(name)
     return {k: int(v) for k, v in info.items() if isinstance(v, (int, float))}
 
 
@@ -242,7 +175,8 @@ def region():
 
 def raster_region_matches(names):
     """True when all rasters share extent and resolution."""
-    infos = [gs.raster_info(n) for n in names]
+    with doing("reading the extent of raster maps <{}>".format(",".join(names))):
+        infos = [gs.raster_info(n) for n in names]
     keys = ("north", "south", "east", "west", "nsres", "ewres")
     first = infos[0]
     return all(all(abs(float(i[k]) - float(first[k])) < 1e-6 for k in keys) for i in infos[1:])
@@ -253,7 +187,8 @@ def read_raster(name, dtype=np.float64):
     from grass.script import array as garray
 
     null = np.nan if np.dtype(dtype).kind == "f" else None
-    arr = garray.array(mapname=name, dtype=dtype, null=null)
+    with doing("reading raster map <{}>".format(name)):
+        arr = garray.array(mapname=name, dtype=dtype, null=null)
     return np.array(arr)
 
 
@@ -266,7 +201,8 @@ def write_raster(name, values, title=None, cell=True, null=None):
 
     arr = garray.array(dtype=np.int32 if cell else np.float64)
     arr[...] = values
-    arr.write(name, title=title, null=null, overwrite=gs.overwrite())
+    with doing("writing raster map <{}>".format(name)):
+        arr.write(name, title=title, null=null, overwrite=gs.overwrite())
 
 
 # ---------------------------------------------------------------------------
@@ -366,11 +302,12 @@ def write_features(name, geometries, columns=None, snap=-1, feature_type=None,
         kwargs["type"] = feature_type
     # Geometry only: the table is written below with quoted column names, since
     # domain names such as "case" are SQL keywords that v.in.ogr cannot create.
-    gs.run_command(
-        "v.in.ogr", input=path, output=name, flags="ot", quiet=True,
-        overwrite=gs.overwrite(), **kwargs,
-    )
-    _finish_vector(name, cats, columns, title)
+    with doing("writing vector map <{}>".format(name)):
+        gs.run_command(
+            "v.in.ogr", input=path, output=name, flags="ot", quiet=True,
+            overwrite=gs.overwrite(), **kwargs,
+        )
+        _finish_vector(name, cats, columns, title)
     return name
 
 
@@ -440,9 +377,10 @@ def write_areas(name, polygons, columns=None, cats=None, title=None):
     path = temp_file(".txt")
     with open(path, "w") as f:
         f.write("".join(text))
-    gs.run_command("v.in.ascii", input=path, output=name, format="standard", flags="nt",
-                   quiet=True, overwrite=gs.overwrite())
-    _finish_vector(name, cats, columns, title)
+    with doing("writing vector map <{}>".format(name)):
+        gs.run_command("v.in.ascii", input=path, output=name, format="standard", flags="nt",
+                       quiet=True, overwrite=gs.overwrite())
+        _finish_vector(name, cats, columns, title)
     return name
 
 
