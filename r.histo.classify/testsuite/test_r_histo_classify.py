@@ -152,7 +152,8 @@ def test_seed_makes_runs_identical_and_other_options_take_effect(small):
 def test_temporary_maps_removed_after_a_failing_segmentation(small):
     # the first pair segments, the second is refused by i.segment (minsize > 100000):
     # the first segmentation must not be left behind
-    _fails("i.segment failed (threshold=0.08, minsize=100001)", input=_inputs(small),
+    _fails("i.segment failed (return code 1) while segmenting with threshold=0.08, minsize=100001",
+           input=_inputs(small),
            training="train_small", threshold="0.08,0.08", minsize="1,100001",
            minsize_step=100000, nprocs=1)
 
