@@ -150,6 +150,17 @@ def require_vector(name):
         gs.fatal(_("Vector map <{}> not found").format(name))
 
 
+def require_features(name, kind, key):
+    """Fail unless vector map ``name`` (given as ``key``=) holds ``kind`` (areas, points...)."""
+    require_vector(name)
+    counts = vector_counts(name)
+    if counts.get(kind, 0) == 0:
+        held = ", ".join("{} {}".format(counts.get(k, 0), k)
+                         for k in ("points", "lines", "boundaries", "centroids", "areas"))
+        gs.fatal(_("Vector map <{}> given as {}= has no {} (it holds {}): give a map of {}").format(
+            name, key, kind, held, kind))
+
+
 def require_new_file(path, option):
     """Fail if an output file exists and --overwrite was not given."""
     if path and os.path.exists(path) and not gs.overwrite():
@@ -166,12 +177,6 @@ def vector_counts(name):
 # ---------------------------------------------------------------------------
 # Rasters
 # ---------------------------------------------------------------------------
-
-def region():
-    """The current computational region as a dict of floats and ints."""
-    reg = gs.region()
-    return reg
-
 
 def raster_region_matches(names):
     """True when all rasters share extent and resolution."""
