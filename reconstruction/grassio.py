@@ -14,12 +14,14 @@ import json
 import math
 import os
 import shutil
+import subprocess
 import tempfile
 import threading
 
 import numpy as np
 
 import grass.script as gs
+from grass.exceptions import CalledModuleError
 
 # the one error convention (run_main, doing, ...) has its own file; modules
 # reach it as grassio.run_main, grassio.doing
@@ -33,9 +35,11 @@ _CLEANUP_REGISTERED = []
 def _cleanup():
     for kind, names in _TEMP_MAPS.items():
         if names and os.environ.get("GISRC"):
+            # silent: names of maps never made (a failure came first) only give
+            # warnings after the module's ERROR: line
             gs.run_command(
                 "g.remove", flags="f", type=kind, name=",".join(sorted(names)),
-                quiet=True, errors="ignore",
+                quiet=True, errors="ignore", stderr=subprocess.DEVNULL,
             )
             names.clear()
     for path in list(_TEMP_FILES):
@@ -207,7 +211,9 @@ def write_raster(name, values, title=None, cell=True, null=None):
     arr = garray.array(dtype=np.int32 if cell else np.float64)
     arr[...] = values
     with doing("writing raster map <{}>".format(name)):
-        arr.write(name, title=title, null=null, overwrite=gs.overwrite())
+        # grass.script.array swallows r.in.bin's failure into a return code
+        if arr.write(name, title=title, null=null, overwrite=gs.overwrite()) != 0:
+            raise CalledModuleError("r.in.bin", "r.in.bin output={}".format(name), 1)
 
 
 # ---------------------------------------------------------------------------
