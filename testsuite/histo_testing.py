@@ -34,3 +34,21 @@ def run_in_latlong(dbase, name, *command):
     proc = subprocess.run(["grass", os.path.join(location, "PERMANENT"), "--exec"] + list(command),
                           capture_output=True, text=True, env=env)
     return location, proc
+
+
+def failing_tool_env(directory, *tools):
+    """An environment whose PATH finds a fake of each GRASS tool ``tools`` first in
+    ``directory``: it prints an ERROR: line and fails, as a tool that breaks
+    inside a module would. Pass it as ``env=`` to the module run."""
+    import os
+
+    os.makedirs(str(directory), exist_ok=True)
+    for tool in tools:
+        path = os.path.join(str(directory), tool)
+        with open(path, "w") as f:
+            f.write("#!/bin/sh\necho \"ERROR: {} failed on purpose (test)\" >&2\nexit 1\n".format(
+                tool))
+        os.chmod(path, 0o755)
+    env = dict(os.environ)
+    env["PATH"] = os.pathsep.join([str(directory), env["PATH"]])
+    return env
