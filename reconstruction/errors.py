@@ -2,7 +2,7 @@
 
 The library raises :class:`InputError` for bad input, with the message a user
 should read (no traceback wanted); a module script turns it into one
-``ERROR:`` line through :func:`reconstruction.grassio.run_module_main`.
+``ERROR:`` line through :func:`reconstruction.grassio.run_main`.
 ``InputError`` is a ``ValueError``, so callers that catch ``ValueError`` keep
 working.
 """

@@ -14,14 +14,18 @@ import json
 import math
 import os
 import shutil
+import subprocess
 import tempfile
 import threading
 
 import numpy as np
 
 import grass.script as gs
+from grass.exceptions import CalledModuleError
 
-from .errors import InputError
+# the one error convention (run_main, doing, ...) has its own file; modules
+# reach it as grassio.run_main, grassio.doing
+from .grassrun import Terminated, doing, failure_message, finish_tool, run_main  # noqa: F401
 
 _TEMP_MAPS = {"raster": set(), "vector": set()}
 _TEMP_FILES = set()
@@ -31,9 +35,11 @@ _CLEANUP_REGISTERED = []
 def _cleanup():
     for kind, names in _TEMP_MAPS.items():
         if names and os.environ.get("GISRC"):
+            # silent: names of maps never made (a failure came first) only give
+            # warnings after the module's ERROR: line
             gs.run_command(
                 "g.remove", flags="f", type=kind, name=",".join(sorted(names)),
-                quiet=True, errors="ignore",
+                quiet=True, errors="ignore", stderr=subprocess.DEVNULL,
             )
             names.clear()
     for path in list(_TEMP_FILES):
@@ -55,76 +61,6 @@ def register_cleanup():
     failure alike.
     """
     _ensure_cleanup()
-
-
-_DOING = []
-
-
-class doing:
-    """Context manager naming what the module is doing, for the ``ERROR:`` line of a failure.
-
-    ``with grassio.doing("reading the footprints <fp>"): ...`` -- a GRASS tool
-    that fails inside ends the module with "ERROR: ... failed while reading
-    the footprints <fp>" (see :func:`run_main`).
-    """
-
-    def __init__(self, what):
-        self.what = what
-
-    def __enter__(self):
-        _DOING.append(self.what)
-        return self
-
-    def __exit__(self, *exc):
-        if not exc[0]:
-            _DOING.pop()
-        return False
-
-
-def failure_message(error):
-    """One line for an exception that ends a module: what failed, and while doing what."""
-    from grass.exceptions import CalledModuleError
-
-    while_doing = " while {}".format(_DOING[-1]) if _DOING else ""
-    if isinstance(error, InputError):
-        return str(error)
-    if isinstance(error, CalledModuleError):
-        tool = error.cmd if isinstance(error.cmd, str) else "a GRASS tool"
-        detail = ""
-        errors = getattr(error, "msg", "")
-        if "See the following errors:" in errors:
-            detail = ": " + " ".join(errors.split("See the following errors:", 1)[1].split())
-        return "GRASS tool {} failed (return code {}){}{}".format(
-            tool, error.returncode, while_doing, detail)
-    if isinstance(error, KeyboardInterrupt):
-        return "Interrupted{}".format(while_doing)
-    if isinstance(error, MemoryError):
-        return "Out of memory{}".format(while_doing)
-    if isinstance(error, OSError):
-        return "{}{}".format(error, while_doing)
-    return None
-
-
-def run_main(main):
-    """Run a module's ``main()``: the one place where library errors become ``gs.fatal``.
-
-    :class:`~reconstruction.errors.InputError` (bad input), a failing child
-    GRASS tool (``CalledModuleError``), an interruption and running out of
-    memory end in one ``ERROR:`` line and exit code 1, never a traceback;
-    temporary maps and files are removed (atexit). Any other exception is a
-    bug and keeps its traceback.
-    """
-    try:
-        return main()
-    except (InputError, KeyboardInterrupt, MemoryError, OSError) as error:
-        message = failure_message(error)
-    except Exception as error:  # noqa: BLE001 - CalledModuleError only; others re-raised
-        from grass.exceptions import CalledModuleError
-
-        if not isinstance(error, CalledModuleError):
-            raise
-        message = failure_message(error)
-    gs.fatal(message)
 
 
 def temp_map(kind, prefix):
@@ -218,6 +154,17 @@ def require_vector(name):
         gs.fatal(_("Vector map <{}> not found").format(name))
 
 
+def require_features(name, kind, key):
+    """Fail unless vector map ``name`` (given as ``key``=) holds ``kind`` (areas, points...)."""
+    require_vector(name)
+    counts = vector_counts(name)
+    if counts.get(kind, 0) == 0:
+        held = ", ".join("{} {}".format(counts.get(k, 0), k)
+                         for k in ("points", "lines", "boundaries", "centroids", "areas"))
+        gs.fatal(_("Vector map <{}> given as {}= has no {} (it holds {}): give a map of {}").format(
+            name, key, kind, held, kind))
+
+
 def require_new_file(path, option):
     """Fail if an output file exists and --overwrite was not given."""
     if path and os.path.exists(path) and not gs.overwrite():
@@ -226,7 +173,8 @@ def require_new_file(path, option):
 
 def vector_counts(name):
     """Topology counts of a vector map (points, areas, ...) as integers."""
-    info = gs.vector_info_topo(name)
+    with doing("reading the topology of vector map <{}>".format(name)):
+        info = gs.vector_info_topo(name)
     return {k: int(v) for k, v in info.items() if isinstance(v, (int, float))}
 
 
@@ -234,15 +182,10 @@ def vector_counts(name):
 # Rasters
 # ---------------------------------------------------------------------------
 
-def region():
-    """The current computational region as a dict of floats and ints."""
-    reg = gs.region()
-    return reg
-
-
 def raster_region_matches(names):
     """True when all rasters share extent and resolution."""
-    infos = [gs.raster_info(n) for n in names]
+    with doing("reading the extent of raster maps <{}>".format(",".join(names))):
+        infos = [gs.raster_info(n) for n in names]
     keys = ("north", "south", "east", "west", "nsres", "ewres")
     first = infos[0]
     return all(all(abs(float(i[k]) - float(first[k])) < 1e-6 for k in keys) for i in infos[1:])
@@ -253,7 +196,8 @@ def read_raster(name, dtype=np.float64):
     from grass.script import array as garray
 
     null = np.nan if np.dtype(dtype).kind == "f" else None
-    arr = garray.array(mapname=name, dtype=dtype, null=null)
+    with doing("reading raster map <{}>".format(name)):
+        arr = garray.array(mapname=name, dtype=dtype, null=null)
     return np.array(arr)
 
 
@@ -266,7 +210,10 @@ def write_raster(name, values, title=None, cell=True, null=None):
 
     arr = garray.array(dtype=np.int32 if cell else np.float64)
     arr[...] = values
-    arr.write(name, title=title, null=null, overwrite=gs.overwrite())
+    with doing("writing raster map <{}>".format(name)):
+        # grass.script.array swallows r.in.bin's failure into a return code
+        if arr.write(name, title=title, null=null, overwrite=gs.overwrite()) != 0:
+            raise CalledModuleError("r.in.bin", "r.in.bin output={}".format(name), 1)
 
 
 # ---------------------------------------------------------------------------
@@ -372,11 +319,12 @@ def write_features(name, geometries, columns=None, snap=-1, feature_type=None,
         kwargs["type"] = feature_type
     # Geometry only: the table is written below with quoted column names, since
     # domain names such as "case" are SQL keywords that v.in.ogr cannot create.
-    gs.run_command(
-        "v.in.ogr", input=path, output=name, flags="ot", quiet=True,
-        overwrite=gs.overwrite(), **kwargs,
-    )
-    _finish_vector(name, cats, columns, title, history)
+    with doing("writing vector map <{}>".format(name)):
+        gs.run_command(
+            "v.in.ogr", input=path, output=name, flags="ot", quiet=True,
+            overwrite=gs.overwrite(), **kwargs,
+        )
+        _finish_vector(name, cats, columns, title, history)
     return name
 
 
@@ -449,9 +397,10 @@ def write_areas(name, polygons, columns=None, cats=None, title=None, history=Fal
     path = temp_file(".txt")
     with open(path, "w") as f:
         f.write("".join(text))
-    gs.run_command("v.in.ascii", input=path, output=name, format="standard", flags="nt",
-                   quiet=True, overwrite=gs.overwrite())
-    _finish_vector(name, cats, columns, title, history)
+    with doing("writing vector map <{}>".format(name)):
+        gs.run_command("v.in.ascii", input=path, output=name, format="standard", flags="nt",
+                       quiet=True, overwrite=gs.overwrite())
+        _finish_vector(name, cats, columns, title, history)
     return name
 
 

@@ -54,14 +54,18 @@ def parse_number(text, key, cast=float, minimum=None, allow_minimum=True, maximu
     return value
 
 
-def parse_list(text, cast=str):
-    """A comma-separated option as a list (empty items dropped)."""
+def parse_list(text, cast=str, key=None):
+    """A comma-separated option as a list (empty items dropped).
+
+    ``key`` names the option in the error message.
+    """
     if not text:
         return []
     try:
         return [cast(v.strip()) for v in text.split(",") if v.strip()]
     except (TypeError, ValueError):
-        raise InputError("<{}> must be a comma-separated list of numbers".format(text)) from None
+        raise InputError("{}<{}> must be a comma-separated list of numbers".format(
+            "Option {}=: ".format(key) if key else "", text)) from None
 
 
 def processes(nprocs, cores=None):

@@ -110,3 +110,21 @@ def import_delft_alignment(shared_data):
         f.write("COMMIT;\n")
     gs.run_command("db.execute", input=sql, quiet=True)
     return {"thesis1961": thesis[1961], "thesis1880": thesis[1880], "years": years}
+
+
+def failing_tool_env(directory, *tools):
+    """An environment whose PATH finds a fake of each GRASS tool ``tools`` first in
+    ``directory``: it prints an ERROR: line and fails, as a tool that breaks
+    inside a module would. Pass it as ``env=`` to the module run."""
+    import os
+
+    os.makedirs(str(directory), exist_ok=True)
+    for tool in tools:
+        path = os.path.join(str(directory), tool)
+        with open(path, "w") as f:
+            f.write("#!/bin/sh\necho \"ERROR: {} failed on purpose (test)\" >&2\nexit 1\n".format(
+                tool))
+        os.chmod(path, 0o755)
+    env = dict(os.environ)
+    env["PATH"] = os.pathsep.join([str(directory), env["PATH"]])
+    return env

@@ -1,11 +1,13 @@
 """r.histo.classify in a temporary GRASS location: results, options, bad inputs, acceptance."""
 
 import os
+import signal
 import subprocess
+import time
 
 import numpy as np
 import pytest
-from histo_testing import run_in_latlong
+from histo_testing import failing_tool_env, run_in_latlong
 
 pytestmark = pytest.mark.grass
 
@@ -152,9 +154,41 @@ def test_seed_makes_runs_identical_and_other_options_take_effect(small):
 def test_temporary_maps_removed_after_a_failing_segmentation(small):
     # the first pair segments, the second is refused by i.segment (minsize > 100000):
     # the first segmentation must not be left behind
-    _fails("i.segment failed (threshold=0.08, minsize=100001)", input=_inputs(small),
+    _fails("i.segment failed (return code 1) while segmenting with threshold=0.08, minsize=100001",
+           input=_inputs(small),
            training="train_small", threshold="0.08,0.08", minsize="1,100001",
            minsize_step=100000, nprocs=1)
+
+
+def test_a_failing_grass_tool_ends_in_one_error_line(small, tmp_path):
+    # i.segment (started in parallel) and r.in.bin (writing the output, inside grassio)
+    env = failing_tool_env(tmp_path / "a", "i.segment")
+    _fails("GRASS tool i.segment failed (return code 1) while segmenting with threshold=0.08, "
+           "minsize=8: i.segment failed on purpose", env=env, input=_inputs(small),
+           training="train_small", threshold="0.08,0.09", minsize="8,8", nprocs=2)
+    env = failing_tool_env(tmp_path / "b", "r.in.bin")
+    _fails("GRASS tool r.in.bin failed (return code 1) while writing raster map <bad>", env=env,
+           input=_inputs(small), training="train_small", threshold="0.08,0.08", minsize="8,8")
+
+
+def test_sigterm_cleans_up_like_an_interruption(small):
+    import grass.script as gs
+
+    proc = gs.start_command(MODULE, input=_inputs(small), training="train_small", output="bad",
+                            threshold="0.05,0.12", minsize="4,10", nprocs=1, quiet=True,
+                            stderr=subprocess.PIPE)
+    deadline = time.time() + 120
+    while not gs.list_strings("raster", pattern="tmp_histo_seg*") and time.time() < deadline:
+        time.sleep(0.2)
+    assert proc.poll() is None, "the module ended before it could be terminated"
+    time.sleep(1)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=120)
+    err = " ".join(gs.decode(err).split())
+    assert proc.returncode == 1
+    assert "ERROR: Terminated (SIGTERM)" in err and "Traceback" not in err, err
+    assert not gs.find_file("bad", element="cell")["fullname"]
+    assert _temp_maps() == []
 
 
 # ---------------------------------------------------------------------------
@@ -162,16 +196,17 @@ def test_temporary_maps_removed_after_a_failing_segmentation(small):
 # ---------------------------------------------------------------------------
 
 
-def _fails(message, **kwargs):
+def _fails(message, env=None, **kwargs):
     import grass.script as gs
 
     options = dict(output="bad", quiet=True)
     options.update(kwargs)
-    proc = gs.start_command(MODULE, stderr=subprocess.PIPE, **options)
+    proc = gs.start_command(MODULE, stderr=subprocess.PIPE, env=env, **options)
     _, err = proc.communicate()
     err = " ".join(gs.decode(err).split())
     assert proc.returncode != 0
     assert message in err, err
+    assert "Traceback" not in err and "WARNING" not in err.split(message)[-1], err
     assert not gs.find_file("bad", element="cell")["fullname"]
     assert _temp_maps() == []
 

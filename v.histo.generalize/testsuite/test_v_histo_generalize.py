@@ -11,7 +11,7 @@ import shapely
 from shapely.geometry import box
 
 from reconstruction import assessment, generalization, shape_metrics
-from histo_testing import key_values, run_in_latlong, run_module
+from histo_testing import failing_tool_env, key_values, run_in_latlong, run_module
 
 pytestmark = pytest.mark.grass
 
@@ -251,6 +251,29 @@ def test_bad_inputs_fail_cleanly(synthetic, mapset, tmp_path, case):
             assert f.read() == "keep"
     else:
         assert not os.path.exists(metrics)
+
+
+@pytest.mark.parametrize("tool,raster,doing", [
+    ("v.in.ogr", False, "writing vector map <plots>"),
+    ("r.to.vect", True, "vectorising class 1 of raster map <truth>"),
+])
+def test_a_failing_grass_tool_ends_in_one_error_line(synthetic, mapset, tmp_path, tool, raster,
+                                                     doing):
+    import grass.script as gs
+
+    report = str(tmp_path / "r.json")
+    kwargs = {"raster": truth_raster(synthetic), "class": 1} if raster else \
+        {"input": synthetic.plots}
+    before = set(gs.read_command("g.list", type="raster,vector", mapset=".").split())
+    rc, _, err = run(output="plots", report=report, env=failing_tool_env(tmp_path, tool),
+                     **kwargs)
+    err = " ".join(err.split())
+    assert rc == 1
+    assert err.endswith("ERROR: GRASS tool {} failed (return code 1) while {}".format(
+        tool, doing)), err
+    assert "Traceback" not in err
+    assert set(gs.read_command("g.list", type="raster,vector", mapset=".").split()) == before
+    assert not os.path.exists(report)
 
 
 def test_unprojected_location_is_refused(grass_session, tmp_path):

@@ -1,0 +1,311 @@
+"""The r.histo.classify stage as one entry point: from map bands and training
+points to a classified raster.
+
+- :func:`read_config`: the module's options as a :class:`ClassifyConfig`;
+- :func:`read_training`: the training points checked and located on the
+  grid (:class:`Training`);
+- :func:`classify_map`: chooses the segmentation among the tried parameter
+  pairs, classifies its segments and removes classes such as text, with the
+  algorithms of :mod:`reconstruction.classification`. The segmentations
+  themselves come from the caller (the module runs i.segment), so that this
+  stays pure: an iterable of finished runs and a function that reads one;
+- :func:`category_rules`, :func:`colour_rules`, :func:`tuning_table`: the
+  texts the module writes and prints.
+
+Bad input raises :class:`~reconstruction.errors.InputError` with the message
+a user should read.
+"""
+
+import time
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+from . import classification as cl
+from .errors import InputError
+from .options import parse_list, parse_number, parse_range, processes
+
+# Colours of the classes: by class name where it is a usual one, otherwise
+# distinct colours in the order of the labels.
+NAMED_COLOURS = {
+    "building": "230:80:80", "buildings": "230:80:80", "text": "40:40:40", "water": "60:120:220",
+    "street": "235:235:225", "streets": "235:235:225", "road": "235:235:225",
+    "vegetation": "90:170:80", "park": "90:170:80", "garden": "90:170:80",
+    "symbol": "150:60:170", "church": "240:160:40", "railway": "120:120:120",
+}
+PALETTE = ("230:80:80", "40:40:40", "60:120:220", "235:235:225", "240:160:40", "150:60:170",
+           "90:170:80", "200:200:60", "120:200:220", "170:110:70")
+
+
+@dataclass(frozen=True)
+class ClassifyConfig:
+    """What r.histo.classify does: parameter pairs to try, classifiers, removal.
+
+    Sizes: ``min_area`` in square map units, ``min_width`` in map units,
+    ``window`` in cells (odd; None: from the thickness of the removed objects).
+    """
+
+    thresholds: tuple
+    minsizes: tuple
+    alpha: float = 1.0
+    classifiers: tuple = cl.CLASSIFIERS
+    features: tuple = ("spectral", "size")
+    remove: tuple = ()
+    window: Optional[int] = None
+    iterations: Optional[int] = None
+    min_area: float = 0.0
+    min_width: float = 0.0
+    separate: tuple = ()
+    seed: int = 1
+    nprocs: int = 1
+
+    @property
+    def pairs(self):
+        """The (threshold, minsize) pairs to try, thresholds first."""
+        return [(t, m) for t in self.thresholds for m in self.minsizes]
+
+
+@dataclass(frozen=True)
+class Grid:
+    """The raster grid (GRASS region): north-west corner, resolution, size."""
+
+    north: float
+    west: float
+    nsres: float
+    ewres: float
+    rows: int
+    cols: int
+
+    @classmethod
+    def from_region(cls, region):
+        """From the keys of ``grass.script.region()``."""
+        return cls(region["n"], region["w"], region["nsres"], region["ewres"],
+                   int(region["rows"]), int(region["cols"]))
+
+
+@dataclass(frozen=True)
+class Training:
+    """Training points: label of each point, class names, cell of each point."""
+
+    labels: np.ndarray
+    names: dict
+    rows: np.ndarray
+    cols: np.ndarray
+
+    @property
+    def classes(self):
+        """The labels present, sorted."""
+        return sorted(set(self.labels.tolist()))
+
+
+@dataclass
+class ClassifyResult:
+    """Result of :func:`classify_map`.
+
+    classes: the class raster (labels of the training points, 0 = no data);
+    pairs, criteria: the tried (threshold, minsize) pairs and their (VW, Moran's I);
+    tuning: the :class:`~reconstruction.classification.TuningResult` of the pairs;
+    chosen: the caller's id of the chosen segmentation (the others are the caller's to drop);
+    segments: the number of segments of the chosen one; window: the refill window
+    used (None when nothing was removed); present: the labels kept;
+    timing: (step, seconds) pairs.
+    """
+
+    classes: np.ndarray
+    pairs: list
+    criteria: list
+    tuning: cl.TuningResult
+    chosen: object
+    segments: int
+    window: Optional[int]
+    present: list
+    timing: list = field(default_factory=list)
+
+    @property
+    def best_pair(self):
+        return self.pairs[self.tuning.best]
+
+
+def read_config(options):
+    """The options of r.histo.classify (a dict of option texts) as a :class:`ClassifyConfig`."""
+    low_t, high_t = parse_range(options["threshold"], "threshold", float)
+    low_m, high_m = parse_range(options["minsize"], "minsize", int)
+    t_step = parse_number(options["threshold_step"], "threshold_step", float, minimum=0,
+                          allow_minimum=False)
+    m_step = parse_number(options["minsize_step"], "minsize_step", int, minimum=0,
+                          allow_minimum=False)
+    thresholds = cl.parameter_values(low_t, high_t, t_step)
+    minsizes = [int(v) for v in cl.parameter_values(low_m, high_m, m_step, 0)]
+    if not (0 < low_t and high_t < 1):
+        raise InputError("Thresholds must lie between 0 and 1, got {}-{}".format(low_t, high_t))
+    if low_m < 1:
+        raise InputError("Minimum sizes must be at least 1 cell, got {}".format(low_m))
+    classifiers = parse_list(options["classifiers"])
+    if len(set(classifiers)) != len(classifiers):
+        raise InputError("Option classifiers= lists a classifier twice")
+    window = None
+    if options["window"]:
+        window = parse_number(options["window"], "window", int)
+        if window < 1 or window % 2 == 0:
+            raise InputError("Option window= must be a positive odd number, got {}".format(window))
+    iterations = None
+    if options["iterations"]:
+        iterations = parse_number(options["iterations"], "iterations", int, minimum=1)
+    return ClassifyConfig(
+        thresholds=tuple(thresholds), minsizes=tuple(minsizes),
+        alpha=parse_number(options["alpha"], "alpha"),
+        classifiers=tuple(classifiers), features=tuple(parse_list(options["features"])),
+        remove=tuple(parse_list(options["remove"], int, key="remove")),
+        window=window, iterations=iterations,
+        min_area=parse_number(options["min_area"] or 0, "min_area", minimum=0),
+        min_width=parse_number(options["min_width"] or 0, "min_width", minimum=0),
+        separate=tuple(parse_list(options["separate"], int, key="separate")),
+        seed=parse_number(options["seed"], "seed", int),
+        nprocs=processes(options["nprocs"]))
+
+
+def integer_labels(values, column):
+    """Class labels of the training points as positive ints."""
+    labels = []
+    for value in values:
+        if value is None or value == "":
+            raise InputError("Training point without a value in column <{}>".format(column))
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            raise InputError("Column <{}> must hold integer class labels, found <{}>".format(
+                column, value)) from None
+        if number != int(number) or number <= 0:
+            raise InputError("Column <{}> must hold positive integer class labels, found <{}>".format(
+                column, value))
+        labels.append(int(number))
+    return labels
+
+
+def read_training(xy, columns, label_column, class_column, config, grid, name="training"):
+    """The training points (coordinates ``xy`` and attribute ``columns`` of map
+    ``name``) checked against ``config`` and located on ``grid``."""
+    if label_column not in columns:
+        raise InputError("Training map <{}> has no column <{}> (columns: {})".format(
+            name, label_column, ", ".join(columns) or "none"))
+    if not len(xy):
+        raise InputError("Training map <{}> has no points".format(name))
+    labels = np.array(integer_labels(columns[label_column], label_column))
+    names = {}
+    if class_column and class_column in columns:
+        for label, text in zip(labels, columns[class_column]):
+            if text not in (None, ""):
+                names.setdefault(int(label), str(text))
+    classes = sorted(set(labels.tolist()))
+    if len(classes) < 2:
+        raise InputError("Training points hold {} class(es) in column <{}>: at least two are "
+                         "needed".format(len(classes), label_column))
+    missing = [r for r in config.remove if r not in classes]
+    if missing:
+        raise InputError("No training point has the label(s) {} given in remove= (labels: {})".format(
+            ",".join(map(str, missing)), ",".join(map(str, classes))))
+    missing = [r for r in config.separate if r not in classes or r in config.remove]
+    if missing:
+        raise InputError("Label(s) {} in separate= are not kept classes of the training "
+                         "points".format(",".join(map(str, missing))))
+    if len(set(classes) - set(config.remove)) < 1:
+        raise InputError("remove= lists every class: nothing would be left")
+    rows, cols = cl.points_to_cells(xy, grid.north, grid.west, grid.nsres, grid.ewres,
+                                    grid.rows, grid.cols)
+    outside = int((rows < 0).sum())
+    if outside:
+        raise InputError("{} of {} training points lie outside the computational region".format(
+            outside, len(xy)))
+    return Training(labels, names, rows, cols)
+
+
+def _ignore(text):
+    pass
+
+
+def classify_map(bands, segmentations, read_segments, training, config, grid,
+                 message=_ignore, verbose=_ignore):
+    """Classify a scanned map: tuned segmentation, ensemble vote, removal.
+
+    ``bands``: the map's bands (arrays on ``grid``, nan = no data);
+    ``segmentations``: an iterable of ``(k, id)`` as the segmentation of
+    ``config.pairs[k]`` is ready, ``read_segments(id)`` its segment array.
+    ``message`` and ``verbose`` receive progress texts. Returns a
+    :class:`ClassifyResult`.
+    """
+    start = time.perf_counter()
+    if not all(np.isfinite(b[training.rows, training.cols]).all() for b in bands):
+        raise InputError("Some training points lie on no-data cells of the input maps")
+    pairs = config.pairs
+    criteria = [None] * len(pairs)
+    ids = [None] * len(pairs)
+    for k, segmentation in segmentations:
+        criteria[k] = cl.segmentation_criteria(read_segments(segmentation), bands)
+        ids[k] = segmentation
+        if len(pairs) > 1:
+            verbose("threshold={} minsize={}: VW={:.4f} Moran's I={:.4f}".format(
+                pairs[k][0], pairs[k][1], *criteria[k]))
+    tuning = cl.tune(criteria, config.alpha)
+    best = tuning.best
+    message("Chosen segmentation: threshold={} minsize={} (F={:.3f})".format(
+        pairs[best][0], pairs[best][1], tuning.f[best]))
+    timing = [("segmentation", time.perf_counter() - start)]
+    start = time.perf_counter()
+
+    segments = read_segments(ids[best])
+    index, n_segments = cl.relabel(segments)
+    _ids, features = cl.segment_features(segments, bands)
+    train_rows = index[training.rows, training.cols]
+    if (train_rows < 0).any():
+        raise InputError("Some training points lie outside every segment")
+    message("Classifying {} segments with {}...".format(n_segments, ",".join(config.classifiers)))
+    model_features = cl.select_features(features, len(bands), config.features)
+    voted, _predictions = cl.classify_segments(model_features, train_rows, training.labels,
+                                               config.classifiers, config.seed, config.nprocs)
+    classes = cl.class_raster(index, voted.astype(np.int32))
+    timing.append(("classification", time.perf_counter() - start))
+    start = time.perf_counter()
+
+    classes, window = _remove(classes, config, grid)
+    timing.append(("removal", time.perf_counter() - start))
+    return ClassifyResult(
+        classes=classes, pairs=pairs, criteria=criteria, tuning=tuning, chosen=ids[best],
+        segments=n_segments, window=window,
+        present=[c for c in training.classes if c not in config.remove], timing=timing)
+
+
+def _remove(classes, config, grid):
+    """Removal of text, symbols, thin parts and small regions: ``(classes, window used or None)``."""
+    cell_area = grid.nsres * grid.ewres
+    min_cells = int(np.ceil(config.min_area / cell_area)) if config.min_area > 0 else 0
+    width_cells = int(round(config.min_width / min(grid.nsres, grid.ewres))) if config.min_width else 0
+    if not (config.remove or min_cells > 1 or width_cells > 1):
+        return classes, None
+    return cl.remove_classes(classes, config.remove, config.window, config.iterations, min_cells,
+                             width_cells, config.separate)
+
+
+def tuning_table(result):
+    """The lines that flag -p prints: the tuning table (CSV) and the chosen pair."""
+    t = result.tuning
+    lines = ["threshold,minsize,vw,moran,vw_norm,moran_norm,f"]
+    for k, (threshold, minsize) in enumerate(result.pairs):
+        lines.append("{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}".format(
+            threshold, minsize, t.vw[k], t.moran[k], t.vw_norm[k], t.moran_norm[k], t.f[k]))
+    lines.append("best: threshold={} minsize={}".format(*result.best_pair))
+    return lines
+
+
+def category_rules(labels, names):
+    """r.category rules (label:name) for the labels, "class <label>" where unnamed."""
+    return "\n".join("{}:{}".format(c, names.get(c, "class {}".format(c))) for c in labels)
+
+
+def colour_rules(labels, names):
+    """r.colors rules (label r:g:b) for the labels, by class name where known."""
+    rules = []
+    for i, label in enumerate(labels):
+        name = names.get(label, "").strip().lower()
+        rules.append("{} {}".format(label, NAMED_COLOURS.get(name, PALETTE[i % len(PALETTE)])))
+    return "\n".join(rules)
