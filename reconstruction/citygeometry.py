@@ -58,7 +58,7 @@ def leaves_of(geometries):
     """The leaves of many geometries (GeometryInstances and unknown types have none)."""
     out = []
     for depth, group in _by_depth(geometries).items():
-        out.extend(parts([g["boundaries"] for _, g in group], depth + 1))
+        out.extend(parts([g["boundaries"] for _, g in group], depth))
     return out
 
 
