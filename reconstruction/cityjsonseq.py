@@ -131,6 +131,7 @@ def header(translate, lo, hi, reference_system=None, title=None, copied=None, sc
     return out
 
 
+@citygeometry.gc_paused()
 def write(f, ss, semantics, ids, attributes=None, reference_system=None, title=None,
           copied=None, chunk=20000):
     """Write a CityJSONSeq to the text file ``f``: the header, one feature per
@@ -141,7 +142,7 @@ def write(f, ss, semantics, ids, attributes=None, reference_system=None, title=N
     attributes = {k: _attr_list(v) for k, v in (attributes or {}).items()}
     ids = [str(i) for i in ids]
     if copied is not None and len(copied):
-        clash = set(ids).intersection(o for objs in copied.objects for o in objs)
+        clash = set(ids).intersection(o for objs in copied.trees for o in objs)
         if clash:
             raise InputError("{} copied objects have the id of a generated building (e.g. <{}>)"
                              .format(len(clash), sorted(clash)[0]))
@@ -169,15 +170,48 @@ def write(f, ss, semantics, ids, attributes=None, reference_system=None, title=N
             itertools.repeat(',"CityObjects":{'), objects, itertools.repeat('},"vertices":'),
             verts, itertools.repeat("}\n")))))
     if copied is not None and len(copied):
-        dumps = json.JSONEncoder(separators=(",", ":")).encode
-        verts = vertices_texts(copied.vertices - lo, copied.vertex_start)
-        for a in range(0, len(copied), chunk):
-            f.write("".join(
-                '{"type":"CityJSONFeature","id":' + dumps(oid) + ',"CityObjects":' +
-                dumps(objs) + ',"vertices":' + v + "}\n"
-                for oid, objs, v in zip(copied.ids[a:a + chunk], copied.objects[a:a + chunk],
-                                        verts[a:a + chunk])))
+        for text in _copied_features(copied, lo, chunk):
+            f.write(text)
     return S + (len(copied) if copied is not None else 0)
+
+
+def _copied_features(copied, lo, chunk):
+    """The feature lines of the copied buildings, ``chunk`` buildings a text:
+    one json.dumps of the chunk's objects around holes for the boundaries
+    and vertices, which are written in bulk."""
+    per = copied.geometry_counts()
+    first = np.concatenate([[0], np.cumsum(per)]).astype(int).tolist()
+    fills_all = copied.boundary_texts()
+    verts = vertices_texts(copied.vertices - lo, copied.vertex_start)
+    for a in range(0, len(copied), chunk):
+        b = min(len(copied), a + chunk)
+        g0, g1 = first[a], first[b]
+        fills = fills_all[g0:g1]
+        structure = [{"type": "CityJSONFeature", "id": copied.ids[n],
+                      "CityObjects": copied.holed(n), "vertices": citygeometry.HOLE}
+                     for n in range(a, b)]
+        pieces = citygeometry.pieces_around_holes(structure, g1 - g0 + b - a)
+        if pieces is None:                 # an attribute that is the placeholder itself
+            yield "".join(_feature_text(copied, n, lo) for n in range(a, b))
+            continue
+        out, j, k = [pieces[0][1:]], 1, 0           # without the list's "["
+        for n in range(a, b):
+            for _ in range(per[n]):
+                out.extend((fills[k], pieces[j]))
+                k += 1
+                j += 1
+            # after the vertices comes "}," (or "}]"): one feature a line
+            out.extend((verts[n], "}\n", pieces[j][2:]))
+            j += 1
+        yield "".join(out)
+
+
+def _feature_text(copied, n, lo):
+    """One copied building's feature line, written plainly by json.dumps."""
+    rows = copied.vertices[copied.vertex_start[n]:copied.vertex_start[n + 1]] - lo
+    return json.dumps({"type": "CityJSONFeature", "id": copied.ids[n],
+                       "CityObjects": copied.objects()[n], "vertices": rows.tolist()},
+                      separators=(",", ":")) + "\n"
 
 
 def part_faces(ss, a, b):
@@ -217,6 +251,7 @@ def features(f, path="<stream>"):
     return head, lines()
 
 
+@citygeometry.gc_paused()
 def read_features(f, path="<stream>"):
     """All features of a CityJSONSeq as one document whose objects keep their
     feature's indices, and the vertex offset of every object's feature."""
@@ -236,6 +271,7 @@ def read_features(f, path="<stream>"):
     return doc, offsets
 
 
+@citygeometry.gc_paused()
 def collect(f, path="<stream>"):
     """The CityJSON document (dict) of a CityJSONSeq text file: the features'
     objects with indices into one vertex list, shared vertices once and

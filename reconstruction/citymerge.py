@@ -14,7 +14,6 @@ textures) and geometry templates are not copied.
 """
 
 import json
-import re
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -44,21 +43,27 @@ class CopyReport:
 class CopiedBuildings:
     """Buildings ready to be written.
 
-    ``ids``: the top-level object ids; ``objects``: per building, its city
-    objects by id (itself first), boundaries indexing the building's own
-    vertices ``vertices[vertex_start[b]:vertex_start[b + 1]]``; ``vertices``:
-    (N, 3) int64 absolute coordinates in units of ``scale``;
+    ``ids``: the top-level object ids; ``trees``: per building, its city
+    objects by id (itself first), their geometries as the source model has
+    them (use :meth:`objects` or :func:`objects_text` for indices into
+    ``vertices``); ``vertices``: (N, 3) int64 absolute coordinates in units
+    of ``scale``, building after building from ``vertex_start``;
     ``reference_system`` and ``extensions``: of the model they come from
-    (extensions only when a copied object uses one).
+    (extensions only when a copied object uses one). ``layout`` (a
+    :class:`~reconstruction.citygeometry.Layout` of :meth:`geometries`) and
+    ``rows`` (the vertex row of each of its entries) let the buildings be
+    written with any numbering of the rows without walking their lists again.
     """
     ids: list
-    objects: list
+    trees: list
     vertices: np.ndarray
     vertex_start: np.ndarray
     scale: float
     reference_system: object
     extensions: dict
     report: CopyReport
+    layout: object = None
+    rows: np.ndarray = None
 
     def __len__(self):
         return len(self.ids)
@@ -68,6 +73,51 @@ class CopiedBuildings:
         if len(self.vertices) == 0:
             return None
         return self.vertices.min(axis=0), self.vertices.max(axis=0)
+
+    def geometries(self):
+        """Every copied geometry (building after building, object after object)."""
+        return [g for tree in self.trees for obj in tree.values() for g in obj.get("geometry", ())]
+
+    def geometry_counts(self):
+        """The number of copied geometries of every building."""
+        return [sum(len(o.get("geometry", ())) for o in tree.values()) for tree in self.trees]
+
+    def holed(self, n):
+        """The city objects of building ``n`` with :data:`~reconstruction.citygeometry.HOLE`
+        for every geometry's boundaries (see :func:`citygeometry.splice`)."""
+        objs = {}
+        for oid, obj in self.trees[n].items():
+            objs[oid] = dict(obj)
+            if "geometry" in obj:
+                objs[oid]["geometry"] = [dict(g, boundaries=citygeometry.HOLE)
+                                         for g in obj["geometry"]]
+        return objs
+
+    def local_index(self):
+        """Per vertex row its index among its building's own rows."""
+        owner = np.repeat(np.arange(len(self.ids)), np.diff(self.vertex_start))
+        return np.arange(len(self.vertices)) - self.vertex_start[owner]
+
+    def boundary_texts(self, index=None):
+        """The JSON text of the boundaries of every copied geometry with vertex
+        indices ``index[row]`` (None: :meth:`local_index`)."""
+        index = self.local_index() if index is None else index
+        return citygeometry.texts(self.layout, index[self.rows])
+
+    def objects(self, index=None):
+        """Per building, its city objects with vertex indices ``index[row]``
+        (None: :meth:`local_index`, each building's own from 0)."""
+        index = self.local_index() if index is None else index
+        new = iter(citygeometry.rebuild(self.layout, self.geometries(), index[self.rows]))
+        out = []
+        for tree in self.trees:
+            objs = {}
+            for oid, obj in tree.items():
+                objs[oid] = dict(obj)
+                if "geometry" in obj:
+                    objs[oid]["geometry"] = [next(new) for _ in obj["geometry"]]
+            out.append(objs)
+        return out
 
 
 def _chosen_lods(geometries, lods):
@@ -103,19 +153,21 @@ def _uses_extension(obj):
 
 
 def _to_grid(model, src, scale):
-    """Model vertices ``src`` as integers of ``scale`` (absolute).
+    """Model vertices ``src`` as integers of ``scale`` (absolute), and whether exactly.
 
     When the model's scale is a whole multiple of the output's, every
     vertex moves by the same rounding of the translation (at most half the
-    output scale), so distinct vertices stay distinct."""
+    output scale), so distinct vertices stay distinct; else each is rounded
+    on its own and neighbours closer than the output scale may meet."""
     v = model.vertices[src]
     ratio = model.scale / scale
     k = np.rint(ratio)
     if v.dtype.kind == "i" and np.all(np.abs(ratio - k) < 1e-9) and np.all(k >= 1):
-        return v * k.astype(np.int64) + np.rint(model.translate / scale).astype(np.int64)
-    return np.rint((v * model.scale + model.translate) / scale).astype(np.int64)
+        return v * k.astype(np.int64) + np.rint(model.translate / scale).astype(np.int64), True
+    return np.rint((v * model.scale + model.translate) / scale).astype(np.int64), False
 
 
+@citygeometry.gc_paused()
 def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None):
     """The buildings ``buildings`` (indices into ``model.buildings``) ready to be merged.
 
@@ -123,110 +175,139 @@ def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None):
     strings ("1.2", "2.2"; a building with none of them is copied at its
     highest, counted in the report); ``attributes``: name -> one value per
     building, added to the copied top-level objects (None values and names
-    the object already has are left alone).
+    the object already has are left alone). The model is not changed.
     """
     buildings = [int(b) for b in buildings]
     report = CopyReport(buildings=len(buildings))
-    big = max(len(model.vertices), 1)
-    trees, geoms, shift, where = [], [], [], []
+    trees = []
     uses_extension = False
     for n, b in enumerate(buildings):
         oid = model.buildings[b]
         tree = {o: model.objects[o] for o in model.tree(oid)}
-        all_geoms = [g for obj in tree.values() for g in obj.get("geometry", ())]
-        chosen, fell = _chosen_lods(all_geoms, lods)
+        chosen, fell = _chosen_lods([g for obj in tree.values() for g in obj.get("geometry", ())],
+                                    lods)
         report.lod_fallback += fell
         objs = {}
         for o, obj in tree.items():
-            uses_extension = uses_extension or _uses_extension(obj)
+            if model.extensions and not uses_extension:
+                uses_extension = _uses_extension(obj)
             copy = dict(obj)
-            kept = []
-            for g in obj.get("geometry", ()):
-                if not _copyable(g):
-                    report.skipped_geometries += 1
-                    continue
-                if g.get("lod") not in chosen:
-                    continue
-                g = {k: v for k, v in g.items() if k not in ("material", "texture")}
-                where.append((n, o, len(kept)))
-                kept.append(g)
-                geoms.append(g)
-                shift.append(int(model.offset[b]) + n * big)
-                report.geometries[g.get("lod")] = report.geometries.get(g.get("lod"), 0) + 1
             if "geometry" in obj:
+                kept = []
+                for g in obj["geometry"]:
+                    if not _copyable(g):
+                        report.skipped_geometries += 1
+                    elif g.get("lod") in chosen:
+                        if "material" in g or "texture" in g:
+                            g = {k: v for k, v in g.items() if k not in ("material", "texture")}
+                        kept.append(g)
+                        report.geometries[g["lod"]] = report.geometries.get(g["lod"], 0) + 1
                 copy["geometry"] = kept
             objs[o] = copy
         if attributes:
-            top = objs[oid]
-            attrs = dict(top.get("attributes") or {})
-            for name, values in attributes.items():
-                value = values[n]
-                if isinstance(value, np.generic):
-                    value = value.item()
-                if value is not None and value == value and name not in attrs:
-                    attrs[name] = value
-            top["attributes"] = attrs
+            _add_attributes(objs[oid], attributes, n)
         trees.append(objs)
         report.objects += len(objs)
-    state = {}
-
-    def local(flat):
-        # global source index with the building number on top -> per building local index
-        uniq, inv = np.unique(flat, return_inverse=True)
-        owner = uniq // big
-        first = np.searchsorted(owner, np.arange(len(buildings)))
-        state.update(uniq=uniq, owner=owner, first=first)
-        return inv - first[flat // big]
-
-    new = citygeometry.reindex(geoms, local, shift) if geoms else []
-    uniq = state.get("uniq", np.zeros(0, dtype=np.int64))
-    owner = state.get("owner", np.zeros(0, dtype=np.int64))
-    rows = _to_grid(model, uniq % big, scale) if len(uniq) else np.zeros((0, 3), np.int64)
-    start = np.zeros(len(buildings) + 1, dtype=np.int64)
-    np.cumsum(np.bincount(owner, minlength=len(buildings)), out=start[1:])
-    if len(rows):
-        rows, start, new, report.collapsed_surfaces = _collapse(rows, owner, start, new, where)
-    for (n, o, k), g in zip(where, new):
-        if g is not None:
-            trees[n][o]["geometry"][k] = g
-    for objs in trees:
-        for obj in objs.values():
-            if "geometry" in obj:
-                obj["geometry"] = [g for g in obj["geometry"] if g is not None]
-    return CopiedBuildings(ids=[model.buildings[b] for b in buildings], objects=trees,
-                           vertices=rows, vertex_start=start, scale=scale,
-                           reference_system=model.reference_system,
-                           extensions=model.extensions if uses_extension else None,
-                           report=report)
+    copied = CopiedBuildings(ids=[model.buildings[b] for b in buildings], trees=trees,
+                             vertices=None, vertex_start=None, scale=scale,
+                             reference_system=model.reference_system,
+                             extensions=model.extensions if uses_extension else None,
+                             report=report)
+    counts = copied.geometry_counts()
+    building_of = np.repeat(np.arange(len(buildings)), counts)
+    offset = model.offset[buildings] if buildings else np.zeros(0, dtype=np.int64)
+    copied.layout = citygeometry.layout(copied.geometries(), offset[building_of])
+    source, row_owner, copied.rows = _rows(copied.layout.flat,
+                                           building_of[copied.layout.entry_geometry],
+                                           len(model.vertices))
+    copied.vertices, exact = _to_grid(model, source, scale)
+    copied.vertex_start = np.zeros(len(buildings) + 1, dtype=np.int64)
+    np.cumsum(np.bincount(row_owner, minlength=len(buildings)), out=copied.vertex_start[1:])
+    if not exact and len(source) and len(
+            unique_rows(np.column_stack([row_owner, copied.vertices]))[0]) < len(source):
+        _collapse(copied, row_owner)
+    return copied
 
 
-def _collapse(rows, owner, start, geoms, where):
+def _rows(source, owner, count):
+    """The vertex rows of copied entries: one row per (building, model vertex)
+    used, building after building, by model vertex within one.
+
+    Returns the model vertex and the building of every row and the row of
+    every entry. Usually each vertex is used by one building only and one
+    pass over an array of the model's vertex count does it; else a sort."""
+    if len(source) == 0:
+        empty = np.zeros(0, dtype=np.int64)
+        return empty, empty, empty
+    user = np.full(count, -1, dtype=np.int64)
+    user[source] = owner
+    if np.array_equal(user[source], owner):
+        used = np.nonzero(user >= 0)[0]
+        order = np.argsort(user[used], kind="stable")
+        row_source = used[order]
+        row_of = np.empty(count, dtype=np.int64)
+        row_of[row_source] = np.arange(len(row_source))
+        return row_source, user[row_source], row_of[source]
+    keys, rows = np.unique(owner * count + source, return_inverse=True)
+    return keys % count, keys // count, rows.ravel()
+
+
+def _add_attributes(obj, attributes, n):
+    attrs = dict(obj.get("attributes") or {})
+    for name, values in attributes.items():
+        value = values[n]
+        if isinstance(value, np.generic):
+            value = value.item()
+        if value is not None and value == value and name not in attrs:
+            attrs[name] = value
+    obj["attributes"] = attrs
+
+
+def _collapse(copied, owner):
     """Vertices of one building that met on the output grid made one, rings
     and surfaces that collapsed dropped, vertices left unused removed (only
-    happens when the model's grid is finer than the output's)."""
-    keyed = np.column_stack([owner, rows])
-    if len(unique_rows(keyed)[0]) == len(rows):
-        return rows, start, geoms, 0
-    uniq, inv = np.unique(keyed, axis=0, return_inverse=True)     # grouped by building
-    inv = inv.ravel()
-    merged = citygeometry.reindex(geoms, lambda flat: inv[flat],
-                                  [int(start[n]) for n, _, _ in where])
-    cleaned, dropped = [], 0
+    happens when the model's grid is finer than the output's). The
+    geometries then index the rows directly."""
+    uniq, inv = np.unique(np.column_stack([owner, copied.vertices]), axis=0,
+                          return_inverse=True)                 # grouped by building
+    merged = citygeometry.rebuild(copied.layout, copied.geometries(), inv.ravel()[copied.rows])
+    cleaned = []
     for g in merged:
-        g, d = citygeometry.drop_collapsed(g)
+        g, dropped = citygeometry.drop_collapsed(g)
         cleaned.append(g)
-        dropped += d
+        copied.report.collapsed_surfaces += dropped
     kept = [g for g in cleaned if g is not None]
     used = np.zeros(len(uniq), dtype=bool)
     if kept:
-        used[citygeometry.flat_indices(citygeometry.leaves_of(kept))[0]] = True
+        used[citygeometry.indices(kept)] = True
     remap = np.cumsum(used) - 1
-    new_start = np.zeros(len(start), dtype=np.int64)
-    np.cumsum(np.bincount(uniq[used, 0], minlength=len(start) - 1), out=new_start[1:])
-    local = citygeometry.reindex(kept, lambda flat: remap[flat] - new_start[uniq[flat, 0]])
-    it = iter(local)
-    out = [None if g is None else next(it) for g in cleaned]
-    return uniq[used, 1:], new_start, out, dropped
+    final = iter(citygeometry.reindex(kept, lambda flat: remap[flat]) if kept else [])
+    it = iter(cleaned)
+    for tree in copied.trees:
+        for obj in tree.values():
+            if "geometry" in obj:
+                obj["geometry"] = [next(final) for g in [next(it) for _ in obj["geometry"]]
+                                   if g is not None]
+    copied.vertices = uniq[used, 1:]
+    copied.vertex_start[1:] = np.cumsum(np.bincount(uniq[used, 0], minlength=len(copied.ids)))
+    copied.layout = citygeometry.layout(copied.geometries())
+    copied.rows = copied.layout.flat
+
+
+def objects_text(copied, index):
+    """The JSON text of the copied city objects (members of a CityObjects
+    object, without the braces) with vertex indices ``index[row]``, the
+    boundaries written in bulk."""
+    structure = {}
+    for n in range(len(copied)):
+        structure.update(copied.holed(n))
+    text = citygeometry.splice(structure, copied.boundary_texts(index))
+    if text is None:                    # an attribute that is the placeholder itself
+        merged = {}
+        for objs in copied.objects(index):
+            merged.update(objs)
+        text = json.dumps(merged, separators=(",", ":"))
+    return text[1:-1]
 
 
 # ---------------------------------------------------------------------------
@@ -280,46 +361,37 @@ def _placement(generated, copied):
     if G:
         target[inv[:G]] = np.arange(G)
     mine = inv[G:]
-    fresh = target[mine] < 0
-    # the new rows, in the order they first appear
-    groups, first = np.unique(mine[fresh], return_index=True)
-    order = np.argsort(first, kind="stable")
-    target[groups[order]] = G + np.arange(len(groups))
-    return target[mine], uniq[groups[order]]
+    new = np.zeros(len(uniq), dtype=bool)
+    new[mine] = True
+    if G:
+        new[inv[:G]] = False
+    groups = np.nonzero(new)[0]
+    target[groups] = G + np.arange(len(groups))
+    return target[mine], uniq[groups]
 
 
-def _copied_objects(copied, to_out):
-    """The copied city objects (one dict, ids in order) with output vertex indices."""
-    geoms, shift, where = [], [], []
-    for n, objs in enumerate(copied.objects):
-        for o, obj in objs.items():
-            for k, g in enumerate(obj.get("geometry", ())):
-                geoms.append(g)
-                shift.append(int(copied.vertex_start[n]))
-                where.append((n, o, k))
-    new = citygeometry.reindex(geoms, lambda flat: to_out[flat], shift) if geoms else []
-    out = {}
-    for objs in copied.objects:
-        for o, obj in objs.items():
-            out[o] = dict(obj)
-            if "geometry" in obj:
-                out[o]["geometry"] = list(obj["geometry"])
-    for (n, o, k), g in zip(where, new):
-        out[o]["geometry"][k] = g
-    return out
-
-
-_KEY = re.compile(r'"((?:[^"\\]|\\.)*)":\{"type":"')
+def _keys(body):
+    """The object ids (JSON-escaped) in the text of a CityObjects member: every
+    object starts ``"id":{"type":"`` (the result may hold a few more strings
+    than the ids, never fewer)."""
+    keys = set()
+    for piece in body.split('":{"type":"')[:-1]:
+        k = piece.rfind('"')
+        while k > 0 and (len(piece[:k]) - len(piece[:k].rstrip("\\"))) % 2:
+            k = piece.rfind('"', 0, k)                  # an escaped quote inside the id
+        keys.add(piece[k + 1:])
+    return keys
 
 
 def _check_ids(copied, generated_keys):
-    clash = [i for objs in copied.objects for i in objs
+    clash = [i for objs in copied.trees for i in objs
              if json.dumps(i)[1:-1] in generated_keys]
     if clash:
         raise InputError("{} copied objects have the id of a generated building (e.g. <{}>): "
                          "rename the generated buildings".format(len(clash), clash[0]))
 
 
+@citygeometry.gc_paused()
 def merge(generated, copied):
     """The generated CityJSON document with the ``copied`` buildings added.
 
@@ -339,7 +411,8 @@ def merge(generated, copied):
     _check_ids(copied, {json.dumps(k)[1:-1] for k in doc.get("CityObjects", {})})
     head, to_out, rows = _head_and_rows(doc, gen, translate, copied, scale)
     objects = dict(doc.get("CityObjects", {}))
-    objects.update(_copied_objects(copied, to_out))
+    for objs in copied.objects(to_out):
+        objects.update(objs)
     head["CityObjects"] = objects
     head["vertices"] = list(doc.get("vertices") or []) + rows.tolist()
     return head
@@ -387,10 +460,9 @@ def _merge_text(text, copied):
     flat = np.fromstring(inner.replace("[", " ").replace("]", " "), dtype=np.int64, sep=",") \
         if inner.strip() != "[]" else np.zeros(0, dtype=np.int64)
     gen = flat.reshape(-1, 3)
-    # every object key of the generated text starts '"id":{"type":"' (a superset of them)
-    _check_ids(copied, set(_KEY.findall(body)))
+    _check_ids(copied, _keys(body))
     head, to_out, rows = _head_and_rows(doc, gen, translate, copied, scale)
-    objects = json.dumps(_copied_objects(copied, to_out), separators=(",", ":"))[1:-1]
+    objects = objects_text(copied, to_out)
     new_vertices = vertices_texts(rows, np.array([0, len(rows)]))[0]
     if len(gen) == 0:
         vertices = new_vertices

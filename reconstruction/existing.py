@@ -217,31 +217,34 @@ def read_model(path, types=("Building",)):
         f = open(path, encoding="utf-8")
     except OSError as error:
         raise InputError("Cannot read the existing model '{}': {}".format(path, error.strerror))
-    with f:
+    with f, citygeometry.gc_paused():
         try:
+            # a CityJSONSeq is a complete JSON object on its first line and
+            # more lines after it; a one-line CityJSON file is parsed once
             first = f.readline()
             try:
-                head = json.loads(first)
-                rest = f.readline() if isinstance(head, dict) else ""
-                while rest.strip() == "" and rest != "":
-                    rest = f.readline()
+                doc = json.loads(first)
             except json.JSONDecodeError:
-                head, rest = None, ""
-            if isinstance(head, dict) and rest:
+                doc = None
+            rest = f.readline() if isinstance(doc, dict) else ""
+            while rest != "" and not rest.strip():
+                rest = f.readline()
+            offsets, sequence = None, False
+            if rest:
                 f.seek(0)
                 doc, offsets = cityjsonseq.read_features(f, path)
                 sequence = True
-            else:
+            elif doc is None:
                 f.seek(0)
                 doc = json.load(f)
-                offsets, sequence = None, False
         except UnicodeDecodeError:
             raise _not_cityjson(path, "not a text file") from None
         except json.JSONDecodeError as error:
             raise _not_cityjson(path, "not JSON: {}".format(error)) from None
-    return model_of(doc, path, offsets, sequence, types)
+        return model_of(doc, path, offsets, sequence, types)
 
 
+@citygeometry.gc_paused()
 def model_of(doc, path="<model>", offsets=None, sequence=False, types=("Building",)):
     """An :class:`ExistingModel` of a CityJSON document (dict), upgraded from 1.1.
 
@@ -329,6 +332,7 @@ def _footprint_surfaces(model, building):
     return found, ("ground" if found else "")
 
 
+@citygeometry.gc_paused()
 def footprints(model):
     """The footprints of all buildings of a model (:class:`BuildingFootprints`), in bulk."""
     import shapely

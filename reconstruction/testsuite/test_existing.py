@@ -167,7 +167,7 @@ def with_two_lods(sample):
 def test_existing_lod_chooses_the_geometries(sample, lods, expected, fallback):
     model = with_two_lods(sample)
     copied = citymerge.copy_buildings(model, [0, 1], lods=lods)
-    for objs in copied.objects:
+    for objs in copied.objects():
         part = [o for o in objs.values() if o["type"] == "BuildingPart"][0]
         assert [g["lod"] for g in part["geometry"]] == expected
     assert copied.report.lod_fallback == fallback
@@ -252,7 +252,7 @@ def test_copied_attributes_are_added_without_overwriting(sample):
     model = existing.read_model(os.path.join(sample, FORMS[0]))
     copied = citymerge.copy_buildings(model, [0, 1], attributes={
         "plot": [7, None], "status": ["historic", "historic"]})
-    tops = [objs[i]["attributes"] for objs, i in zip(copied.objects, copied.ids)]
+    tops = [objs[i]["attributes"] for objs, i in zip(copied.trees, copied.ids)]
     assert tops[0]["plot"] == 7 and "plot" not in tops[1]
     assert tops[0]["status"] == "Pand in gebruik"
     # the model read is not changed by copying
@@ -304,6 +304,22 @@ def test_cityjsonseq_collected_equals_the_single_file(sample, schema_dir, chunk)
     assert cityjson.consistency_errors(back) == []
     assert citygeometry.resolved(back) == citygeometry.resolved(single)
     assert back["metadata"] == single["metadata"]
+
+
+def test_an_attribute_like_the_placeholder_is_written_plainly(sample):
+    """The bulk writers put boundaries where json.dumps wrote a NUL string:
+    a NUL attribute makes them fall back to plain json.dumps, same result."""
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    gen = generated(BOXES)
+    plain = citymerge.copy_buildings(model, [0, 1])
+    odd = citymerge.copy_buildings(model, [0, 1], attributes={"nul": [citygeometry.HOLE] * 2})
+    single, with_nul = (json.loads(citymerge.merge(gen[4], c)) for c in (plain, odd))
+    for oid in BAG:
+        assert with_nul["CityObjects"][oid]["attributes"].pop("nul") == citygeometry.HOLE
+    assert citygeometry.resolved(with_nul) == citygeometry.resolved(single)
+    back = cityjsonseq.collect(sequence_of(gen, odd)[1])
+    assert citygeometry.resolved(back)[BAG[0]]["attributes"]["nul"] == citygeometry.HOLE
+    assert cityjson.consistency_errors(back) == []
 
 
 def test_cityjsonseq_of_generated_buildings_only(schema_dir):

@@ -1,0 +1,166 @@
+#!/usr/bin/env python3
+"""Benchmark of merging an existing 3D city model and of writing CityJSONSeq (issue 17).
+
+Goals: merging a 10,000-building existing model (matching the aligned
+footprints, copying the buildings, merging them into the generated model's
+text and writing the file) takes at most the time of reading that model
+once; writing CityJSONSeq is no slower than writing the single file.
+
+The existing model is synthesised from the 3D BAG sample
+(``../shared/data/3dbag_sample``): its two buildings replicated on a grid
+(``--buildings`` in all, as CityJSONSeq and as one CityJSON file). The
+aligned footprints are the ground surfaces of those buildings (every one
+matches), plus ``--generated`` footprints that are built (gable roofs) as
+v.histo.lod2 builds them. Prints the median of ``--runs`` runs of each step.
+
+Pure library code; runs with ``python3`` from the checkout or inside the
+GRASS session of ``run_all.sh``:
+
+    python3 testsuite/benchmarks/bench_existing.py --runs 5
+"""
+
+import argparse
+import io
+import json
+import os
+import statistics
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, ROOT)
+SAMPLE = os.path.join(ROOT, "..", "shared", "data", "3dbag_sample", "3dbag_b2.city.jsonl")
+
+from reconstruction import citymerge, cityjson, cityjsonseq, existing, solids  # noqa: E402
+
+
+def synthesise(folder, n):
+    """An n-building 3D BAG-like model: the sample's buildings on a 40 m grid."""
+    with open(SAMPLE) as f:
+        header = json.loads(f.readline())
+        features = [json.loads(line) for line in f if line.strip()]
+    scale = header["transform"]["scale"][0]
+    per_row = 100
+    lines = [json.dumps(header, separators=(",", ":"))]
+    for k in range(n):
+        feature = features[k % len(features)]
+        dx = int(round((k // len(features) % per_row) * 40.0 / scale))
+        dy = int(round((k // len(features) // per_row) * 40.0 / scale))
+        old = feature["id"]
+        new = "NL.IMBAG.Pand.0503100{:09d}".format(k)
+        text = json.dumps({"type": "CityJSONFeature", "id": new,
+                           "CityObjects": feature["CityObjects"],
+                           "vertices": (np.asarray(feature["vertices"]) + [dx, dy, 0]).tolist()},
+                          separators=(",", ":"))
+        lines.append(text.replace(old, new))
+    seq = os.path.join(folder, "existing.city.jsonl")
+    with open(seq, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    with open(seq) as f:
+        doc = cityjsonseq.collect(f)
+    single = os.path.join(folder, "existing.city.json")
+    with open(single, "w") as f:
+        json.dump(doc, f, separators=(",", ":"))
+    return single, seq
+
+
+def generated_model(n, seed=3):
+    """Solids of n rectangles south of the existing buildings (as v.histo.lod2 builds them)."""
+    rng = np.random.default_rng(seed)
+    rings = []
+    for i in range(n):
+        x0, y0 = 80000.0 + (i % 200) * 25.0, 440000.0 + (i // 200) * 30.0
+        w, d = rng.uniform(5, 9), rng.uniform(10, 18)
+        rings.append(solids.clean_ring(np.array([[0, 0], [w, 0], [w, d], [0, d]]) + [x0, y0])[0])
+    ss, kept, got, _ = solids.build_solids(rings, np.zeros(n), np.full(n, 9.0), np.full(n, 3.0),
+                                           ["gable"] * n, rng.random((n, 3)))
+    ids = ["building_{}".format(k + 1) for k in kept]
+    return ss, solids.semantics(ss), ids, {"roof_type": list(got), "source": ["2pm"] * len(kept)}
+
+
+def median_time(fn, runs):
+    times = []
+    for _ in range(runs):
+        t = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t)
+    return statistics.median(times)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--runs", type=int, default=5)
+    parser.add_argument("--buildings", type=int, default=10000)
+    parser.add_argument("--generated", type=int, default=10000)
+    args, _ = parser.parse_known_args()
+    if not os.path.exists(SAMPLE):
+        print("skipped: the 3D BAG sample is not at '{}'".format(SAMPLE))
+        return 0
+    with tempfile.TemporaryDirectory() as folder:
+        single, seq = synthesise(folder, args.buildings)
+        print("existing model: {} buildings, {:.1f} MB (CityJSON), {:.1f} MB (CityJSONSeq)".format(
+            args.buildings, os.path.getsize(single) / 1e6, os.path.getsize(seq) / 1e6))
+        gen = generated_model(args.generated)
+        text = cityjson.citymodel_text(*gen, 28992, title="bench")
+        model = existing.read_model(single)
+        fps = existing.footprints(model)
+        aligned = list(fps.polygons)               # one polygon per building here
+        bag_ids = [b.rsplit(".", 1)[1] for b in model.buildings]
+        out = os.path.join(folder, "out.city.json")
+
+        def merge(ids):
+            m = existing.read_model(single)
+            matches = existing.match(m, aligned, ids=ids)
+            copied = citymerge.copy_buildings(m, matches.building[matches.matched])
+            cityjson.write_text(out, citymerge.merge(text, copied))
+            return matches
+
+        assert merge(bag_ids).report.by_id == args.buildings
+        assert merge(None).report.by_geometry == args.buildings
+        t_read = median_time(lambda: existing.read_model(single), args.runs)
+        t_read_seq = median_time(lambda: existing.read_model(seq), args.runs)
+        t_id = median_time(lambda: merge(bag_ids), args.runs) - t_read
+        t_geom = median_time(lambda: merge(None), args.runs) - t_read
+        print("read existing model: {:.3f} s (CityJSON), {:.3f} s (CityJSONSeq)".format(
+            t_read, t_read_seq))
+        print("merge by id (match, copy, merge, write): {:.3f} s = {:.2f} x the read".format(
+            t_id, t_id / t_read))
+        print("merge by geometry (footprints, match, copy, merge, write): {:.3f} s = {:.2f} x "
+              "the read".format(t_geom, t_geom / t_read))
+        matches = existing.match(model, aligned, ids=bag_ids)
+        copied = citymerge.copy_buildings(model, matches.building[matches.matched])
+        steps = {
+            "match by id": lambda: existing.match(model, aligned, ids=bag_ids),
+            "footprints": lambda: existing.footprints(model),
+            "match by geometry": lambda: existing.match(model, aligned, fps=fps),
+            "copy": lambda: citymerge.copy_buildings(model, matches.building[matches.matched]),
+            "merge into the text": lambda: citymerge.merge(text, copied),
+        }
+        for name, fn in steps.items():
+            print("  {}: {:.3f} s".format(name, median_time(fn, args.runs)))
+
+        def write_single(c):
+            body = cityjson.citymodel_text(*gen, 28992, title="bench")
+            cityjson.write_text(out, citymerge.merge(body, c) if c is not None else body)
+
+        def write_seq(c):
+            with open(out + "l", "w") as f:
+                cityjsonseq.write(f, *gen, 28992, title="bench", copied=c)
+
+        for label, c in (("{} generated".format(len(gen[2])), None),
+                         ("{} generated + {} copied".format(len(gen[2]), len(copied)), copied)):
+            t_single = median_time(lambda: write_single(c), args.runs)
+            t_seq = median_time(lambda: write_seq(c), args.runs)
+            print("write {}: single file {:.3f} s, CityJSONSeq {:.3f} s ({:.2f} x)".format(
+                label, t_single, t_seq, t_seq / t_single))
+        with open(out + "l") as f:
+            back = cityjsonseq.collect(f)
+        assert len(back["CityObjects"]) == len(gen[2]) + 2 * len(copied)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
