@@ -18,8 +18,8 @@ import numpy as np
 
 #: list levels above the leaves, by geometry type (a GeometryInstance's
 #: boundaries are the one vertex where its template is put)
-DEPTH = {"GeometryInstance": 0, "MultiPoint": 0, "MultiLineString": 1, "MultiSurface": 2, "CompositeSurface": 2,
-         "Solid": 3, "MultiSolid": 4, "CompositeSolid": 4}
+DEPTH = {"GeometryInstance": 0, "MultiPoint": 0, "MultiLineString": 1, "MultiSurface": 2,
+         "CompositeSurface": 2, "Solid": 3, "MultiSolid": 4, "CompositeSolid": 4}
 #: list levels above the surfaces (surfaces = lists of rings), by surface geometry type
 SURFACE_DEPTH = {"MultiSurface": 0, "CompositeSurface": 0, "Solid": 1, "MultiSolid": 2,
                  "CompositeSolid": 2}
@@ -305,7 +305,8 @@ def surfaces_of(geometry):
 
 
 def surface_types(geometry):
-    """The semantic type ("RoofSurface", ...) of every surface of a geometry (None where unknown)."""
+    """The surfaces of a geometry and the semantic type ("RoofSurface", ...)
+    of each (None where unknown)."""
     surfaces, values = surfaces_of(geometry)
     kinds = [s.get("type") for s in (geometry.get("semantics") or {}).get("surfaces", [])]
     return surfaces, [kinds[v] if v is not None and 0 <= v < len(kinds) else None for v in values]

@@ -9,18 +9,24 @@ aligned footprint; :mod:`reconstruction.citymerge` copies them.
 Formats: a CityJSON 2.0 file, or CityJSONSeq (``.city.jsonl``: a CityJSON
 header line, then one ``CityJSONFeature`` per building, as the 3D BAG's API
 and tiles serve it); the format is told by the content, not the name.
-CityJSON 1.1 is upgraded to 2.0 on read by cjio's own upgrade rules (the
-version, ``+GenericCityObject`` -> ``GenericCityObject``, the metadata's
-address as an object); anything else is an :class:`InputError`.
+CityJSON 1.1 is upgraded to 2.0 on read by the rules of the 2.0 changelog
+(the version, ``+GenericCityObject`` -> ``GenericCityObject``, the metadata's
+address as an object; cjio's ``upgrade`` does the same); anything else is an
+:class:`InputError`.
 
-Why not cjio for the rest: cjio 0.10's ``cityjson.reader`` parses with a
-Python hook on every JSON object (to refuse duplicate keys) and keeps every
-vertex as a Python list, it reads CityJSONSeq only from standard input, and
-its ``CityJSON.merge`` decompresses every vertex to floats and removes
-duplicates in a Python loop, does not compare reference systems and merges
+Why not cjio (0.10.1, pinned for its command line): importing
+``cjio.cityjson`` replaces, for the whole process, json's C encoder by the
+pure-Python one and writes every float with six decimals (``1e-07`` becomes
+``0.000000``), which would slow down and change every CityJSON file this
+library writes afterwards. And what its Python API still offers does not
+serve here: ``cityjson.reader`` parses with a Python hook on every JSON
+object (to refuse duplicate keys) and keeps every vertex as a Python list,
+CityJSONSeq is read only from standard input (``read_stdin``), and
+``CityJSON.merge`` decompresses every vertex to floats and removes
+duplicates in a Python loop, compares no reference systems and merges
 objects of the same id instead of refusing them. Reading the JSON once and
-walking the geometries in bulk (:mod:`reconstruction.citygeometry`) is what
-keeps merging a 10,000-building model within the time of reading it.
+walking the geometries in bulk (:mod:`reconstruction.citygeometry`) keeps
+merging a 10,000-building model near the time of reading it.
 
 Matching (:func:`match`), by id first, then by geometry:
 
@@ -168,9 +174,8 @@ def check_reference_system(model, location_epsg):
     if not same_place(code, location_epsg):
         raise InputError(
             "The reference system of the existing model '{}' (EPSG:{}) does not agree with "
-            "the location's (EPSG:{}): reproject the model first (e.g. cjio {} crs_reproject {})"
-            .format(model.path, code, location_epsg, os.path.basename(model.path),
-                    location_epsg))
+            "the location's (EPSG:{}): reproject the model first (e.g. with cjio's "
+            "crs_reproject)".format(model.path, code, location_epsg))
 
 
 # ---------------------------------------------------------------------------
@@ -193,14 +198,20 @@ def _check_version(path, doc):
 
 
 def _upgrade(doc):
-    """CityJSON 1.1 -> 2.0 in place, with cjio's own upgrade rules."""
-    from cjio import cityjson as cj
-
-    cm = cj.CityJSON(j=doc)
-    ok, reasons = cm.upgrade_version(VERSION, 3)
-    if not ok:
-        raise InputError("cannot upgrade CityJSON {} to {}: {}".format(doc.get("version"), VERSION,
-                                                                       reasons))
+    """CityJSON 1.1 -> 2.0 in place, by the rules of the 2.0 changelog (the
+    same as cjio's ``upgrade_version_v11_v20``): the version, the metadata's
+    point of contact address as an object, ``+GenericCityObject`` of the
+    Generic extension back as the core ``GenericCityObject``."""
+    doc["version"] = VERSION
+    contact = (doc.get("metadata") or {}).get("pointOfContact")
+    if isinstance(contact, dict) and isinstance(contact.get("address"), str):
+        contact["address"] = {"address": contact["address"]}
+    generic = (doc.get("extensions") or {}).get("Generic")
+    if isinstance(generic, dict) and "generic.ext.json" in str(generic.get("url", "")):
+        for obj in doc["CityObjects"].values():
+            if obj.get("type") == "+GenericCityObject":
+                obj["type"] = "GenericCityObject"
+        del doc["extensions"]["Generic"]
     return doc
 
 
@@ -258,7 +269,7 @@ def model_of(doc, path="<model>", offsets=None, sequence=False, types=("Building
     if not isinstance(doc.get("CityObjects"), dict) or not isinstance(doc.get("vertices"), list):
         raise _not_cityjson(path, "no CityObjects or vertices")
     if version != VERSION:
-        _upgrade(doc)
+        _upgrade(doc)                   # 1.1
     transform = doc.get("transform") or {}
     scale = np.asarray(transform.get("scale", [1.0, 1.0, 1.0]), dtype=float)
     translate = np.asarray(transform.get("translate", [0.0, 0.0, 0.0]), dtype=float)

@@ -179,15 +179,19 @@ def test_cityjson_11_is_upgraded_on_read(sample, tmp_path):
     with open(os.path.join(sample, FORMS[0])) as f:
         doc = json.load(f)
     doc["version"] = "1.1"
-    doc["extensions"] = {"Generic": {"url": "https://cityjson.org/extensions/download/generic.ext.json",
-                                     "version": "1.0"}}
+    doc["metadata"]["pointOfContact"] = {"contactName": "x", "emailAddress": "x@example.org",
+                                         "address": "Julianalaan 134, Delft"}
+    doc["extensions"] = {"Generic": {
+        "url": "https://cityjson.org/extensions/download/generic.ext.json", "version": "1.0"}}
     doc["CityObjects"]["thing"] = {"type": "+GenericCityObject"}
     path = tmp_path / "old.city.json"
     path.write_text(json.dumps(doc))
     model = existing.read_model(str(path))
+    assert json.dumps(1e-7) == "1e-07"            # (cjio's import would make it 0.000000)
     assert model.version == "1.1"
     assert model.objects["thing"]["type"] == "GenericCityObject"
     assert not model.extensions
+    assert model.metadata["pointOfContact"]["address"] == {"address": "Julianalaan 134, Delft"}
     assert set(model.buildings) == set(BAG)
 
 
@@ -341,3 +345,16 @@ def test_a_written_sequence_reads_back_as_an_existing_model(sample, tmp_path):
     assert sorted(model.tree(BAG[0])) == [BAG[0], BAG[0] + "-0"]
     area = existing.footprints(model).area
     assert np.all(area >= 100 - 1e-6)
+
+
+def test_every_footprint_copied_leaves_no_generated_building(sample, schema_dir):
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    copied = citymerge.copy_buildings(model, [0, 1])
+    ss, sem, ids, attrs, text = generated([])
+    assert len(ss) == 0
+    doc = json.loads(citymerge.merge(text, copied))
+    assert sorted(doc["CityObjects"]) == sorted([b for b in BAG] + [b + "-0" for b in BAG])
+    assert cityjson.schema_errors(doc, schema_dir) == []
+    assert cityjson.consistency_errors(doc) == []
+    back = cityjsonseq.collect(sequence_of((ss, sem, ids, attrs, text), copied)[1])
+    assert citygeometry.resolved(back) == citygeometry.resolved(doc)

@@ -20,7 +20,6 @@ GRASS session of ``run_all.sh``:
 """
 
 import argparse
-import io
 import json
 import os
 import statistics
@@ -37,11 +36,45 @@ SAMPLE = os.path.join(ROOT, "..", "shared", "data", "3dbag_sample", "3dbag_b2.ci
 from reconstruction import citymerge, cityjson, cityjsonseq, existing, solids  # noqa: E402
 
 
-def synthesise(folder, n):
-    """An n-building 3D BAG-like model: the sample's buildings on a 40 m grid."""
+def with_lod1(feature, header):
+    """The feature with LoD 1.2 and 1.3 prisms on its ground surface (at the
+    3D BAG's 70th and 50th percentile roof heights) before its LoD 2.2
+    solid, as every 3D BAG BuildingPart has them."""
+    oid = feature["id"]
+    part = feature["CityObjects"][oid + "-0"]
+    attrs = feature["CityObjects"][oid]["attributes"]
+    solid = part["geometry"][0]
+    values = solid["semantics"]["values"][0]
+    ground = [s[0] for s, v in zip(solid["boundaries"][0], values) if v == 0][0]
+    vertices = [list(v) for v in feature["vertices"]]
+    scale, translate = header["transform"]["scale"][2], header["transform"]["translate"][2]
+    prisms = []
+    for lod, height in (("1.2", attrs["b3_h_dak_70p"]), ("1.3", attrs["b3_h_dak_50p"])):
+        z = int(round((height - translate) / scale))
+        top = []
+        for i in ground:
+            vertices.append([vertices[i][0], vertices[i][1], z])
+            top.append(len(vertices) - 1)
+        n = len(ground)
+        walls = [[[ground[(k + 1) % n], ground[k], top[k], top[(k + 1) % n]]] for k in range(n)]
+        prisms.append({"type": "Solid", "lod": lod,
+                       "boundaries": [[[ground], [top[::-1]]] + walls],
+                       "semantics": {"surfaces": solid["semantics"]["surfaces"][:3],
+                                     "values": [[0, 1] + [2] * n]}})
+    feature = json.loads(json.dumps(feature))
+    feature["CityObjects"][oid + "-0"]["geometry"] = prisms + [solid]
+    feature["vertices"] = vertices
+    return feature
+
+
+def synthesise(folder, n, lod1=False):
+    """An n-building 3D BAG-like model: the sample's buildings on a 40 m grid
+    (with ``lod1``, LoD 1.2 and 1.3 prisms beside the LoD 2.2 solids)."""
     with open(SAMPLE) as f:
         header = json.loads(f.readline())
         features = [json.loads(line) for line in f if line.strip()]
+    if lod1:
+        features = [with_lod1(feature, header) for feature in features]
     scale = header["transform"]["scale"][0]
     per_row = 100
     lines = [json.dumps(header, separators=(",", ":"))]
@@ -82,12 +115,29 @@ def generated_model(n, seed=3):
 
 
 def median_time(fn, runs):
-    times = []
+    """Median wall time and median CPU time of the process (the machine is
+    shared: CPU time is the steadier figure)."""
+    wall, cpu = [], []
     for _ in range(runs):
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.process_time()
         fn()
-        times.append(time.perf_counter() - t)
-    return statistics.median(times)
+        wall.append(time.perf_counter() - t)
+        cpu.append(time.process_time() - c)
+    return Timing(statistics.median(wall), statistics.median(cpu))
+
+
+class Timing:
+    def __init__(self, wall, cpu):
+        self.wall, self.cpu = wall, cpu
+
+    def __sub__(self, other):
+        return Timing(self.wall - other.wall, self.cpu - other.cpu)
+
+    def __str__(self):
+        return "{:.3f} s ({:.3f} s CPU)".format(self.wall, self.cpu)
+
+    def ratio(self, other):
+        return "{:.2f} x ({:.2f} x CPU)".format(self.wall / other.wall, self.cpu / other.cpu)
 
 
 def main():
@@ -95,12 +145,14 @@ def main():
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--buildings", type=int, default=10000)
     parser.add_argument("--generated", type=int, default=10000)
+    parser.add_argument("--lod1", action="store_true",
+                        help="LoD 1.2 and 1.3 beside LoD 2.2, as in the 3D BAG (copied: 2.2)")
     args, _ = parser.parse_known_args()
     if not os.path.exists(SAMPLE):
         print("skipped: the 3D BAG sample is not at '{}'".format(SAMPLE))
         return 0
     with tempfile.TemporaryDirectory() as folder:
-        single, seq = synthesise(folder, args.buildings)
+        single, seq = synthesise(folder, args.buildings, args.lod1)
         print("existing model: {} buildings, {:.1f} MB (CityJSON), {:.1f} MB (CityJSONSeq)".format(
             args.buildings, os.path.getsize(single) / 1e6, os.path.getsize(seq) / 1e6))
         gen = generated_model(args.generated)
@@ -124,12 +176,11 @@ def main():
         t_read_seq = median_time(lambda: existing.read_model(seq), args.runs)
         t_id = median_time(lambda: merge(bag_ids), args.runs) - t_read
         t_geom = median_time(lambda: merge(None), args.runs) - t_read
-        print("read existing model: {:.3f} s (CityJSON), {:.3f} s (CityJSONSeq)".format(
-            t_read, t_read_seq))
-        print("merge by id (match, copy, merge, write): {:.3f} s = {:.2f} x the read".format(
-            t_id, t_id / t_read))
-        print("merge by geometry (footprints, match, copy, merge, write): {:.3f} s = {:.2f} x "
-              "the read".format(t_geom, t_geom / t_read))
+        print("read existing model: {} (CityJSON), {} (CityJSONSeq)".format(t_read, t_read_seq))
+        print("merge by id (match, copy, merge, write): {} = {} the read".format(
+            t_id, t_id.ratio(t_read)))
+        print("merge by geometry (footprints, match, copy, merge, write): {} = {} the read"
+              .format(t_geom, t_geom.ratio(t_read)))
         matches = existing.match(model, aligned, ids=bag_ids)
         copied = citymerge.copy_buildings(model, matches.building[matches.matched])
         steps = {
@@ -140,7 +191,7 @@ def main():
             "merge into the text": lambda: citymerge.merge(text, copied),
         }
         for name, fn in steps.items():
-            print("  {}: {:.3f} s".format(name, median_time(fn, args.runs)))
+            print("  {}: {}".format(name, median_time(fn, args.runs)))
 
         def write_single(c):
             body = cityjson.citymodel_text(*gen, 28992, title="bench")
@@ -154,8 +205,8 @@ def main():
                          ("{} generated + {} copied".format(len(gen[2]), len(copied)), copied)):
             t_single = median_time(lambda: write_single(c), args.runs)
             t_seq = median_time(lambda: write_seq(c), args.runs)
-            print("write {}: single file {:.3f} s, CityJSONSeq {:.3f} s ({:.2f} x)".format(
-                label, t_single, t_seq, t_seq / t_single))
+            print("write {}: single file {}, CityJSONSeq {} ({})".format(
+                label, t_single, t_seq, t_seq.ratio(t_single)))
         with open(out + "l") as f:
             back = cityjsonseq.collect(f)
         assert len(back["CityObjects"]) == len(gen[2]) + 2 * len(copied)
