@@ -405,16 +405,23 @@ def measured_heights(model, building):
     """:class:`MeasuredHeights` per footprint; ``building``: the index of the
     matched building of each footprint (-1 for none, see :class:`Matches`)."""
     building = np.asarray(building, dtype=np.int64)
-    values = {k: np.full(len(building), np.nan) for k in HEIGHT_ATTRIBUTES}
-    for i in np.nonzero(building >= 0)[0].tolist():
-        attrs = model.objects[model.buildings[building[i]]].get("attributes") or {}
-        for key, names in HEIGHT_ATTRIBUTES.items():
-            for name in names:
-                v = attrs.get(name)
-                if isinstance(v, (int, float)) and not isinstance(v, bool):
-                    values[key][i] = float(v)
-                    break
+    matched = np.nonzero(building >= 0)[0]
+    attrs = [model.objects[model.buildings[b]].get("attributes") or {}
+             for b in building[matched].tolist()]
+    values = {}
+    for key, names in HEIGHT_ATTRIBUTES.items():
+        column = np.full(len(building), np.nan)
+        for name in reversed(names):                # the first name wins
+            got = np.array([_number(a.get(name)) for a in attrs], dtype=float)
+            known = ~np.isnan(got)
+            column[matched[known]] = got[known]
+        values[key] = column
     return MeasuredHeights(**values)
+
+
+def _number(value):
+    return float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) \
+        else np.nan
 
 
 # ---------------------------------------------------------------------------
@@ -500,6 +507,20 @@ def _by_id(model, ids, prefix):
     return out, missing
 
 
+def _intersection_areas(a, b, tolerance=1e-3):
+    """Areas of the intersections of pairs of polygons. The aligned footprints
+    usually are the model's own footprints (the 3D BAG's ground surfaces are
+    the BAG's polygons), perhaps rounded, reoriented or started elsewhere:
+    pairs equal within ``tolerance`` once normalised skip the overlay."""
+    import shapely
+
+    same = shapely.equals_exact(shapely.normalize(a), shapely.normalize(b), tolerance=tolerance)
+    out = np.minimum(shapely.area(a), shapely.area(b))
+    if not same.all():
+        out[~same] = shapely.area(shapely.intersection(a[~same], b[~same]))
+    return out
+
+
 def _by_geometry(polygons, todo, fps, free, min_overlap):
     """Building per footprint ``todo`` by the largest intersection over union
     (at least ``min_overlap``), one footprint per building; returns (building, overlap)."""
@@ -518,7 +539,7 @@ def _by_geometry(polygons, todo, fps, free, min_overlap):
         return building, overlap
     fp = np.nonzero(ok)[0][pairs[0]]
     part = use[pairs[1]]
-    inter = shapely.area(shapely.intersection(mine[fp], fps.polygons[part]))
+    inter = _intersection_areas(mine[fp], fps.polygons[part])
     owner = fps.owner[part]
     # sum the parts of one building per footprint
     key = fp * len(fps.area) + owner
@@ -542,6 +563,7 @@ def _by_geometry(polygons, todo, fps, free, min_overlap):
     return building, overlap
 
 
+@citygeometry.gc_paused()
 def match(model, polygons, ids=None, prefix=None, min_overlap=0.5, fps=None):
     """The existing building of every aligned footprint (:class:`Matches`).
 

@@ -28,6 +28,7 @@ import tempfile
 import time
 
 import numpy as np
+import shapely
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, ROOT)
@@ -159,7 +160,8 @@ def main():
         text = cityjson.citymodel_text(*gen, 28992, title="bench")
         model = existing.read_model(single)
         fps = existing.footprints(model)
-        aligned = list(fps.polygons)               # one polygon per building here
+        # the aligned footprints as they come back from GRASS: counter-clockwise, millimetres
+        aligned = list(shapely.set_precision(shapely.orient_polygons(fps.polygons), 0.001))
         bag_ids = [b.rsplit(".", 1)[1] for b in model.buildings]
         out = os.path.join(folder, "out.city.json")
 
