@@ -161,13 +161,18 @@ def _map_plane(map_image, origin, z, pv):
     return plane, texture
 
 
+#: faces up to which every face is outlined by default (more: the outlines would grey the picture)
+EDGE_FACES = 20000
+
+
 def render(document, path, view=None, size=(1600, 1200), map_image=None, copied=(),
-           edges=True):
+           edges=None):
     """Write a PNG picture of a CityJSON document (dict) to ``path``.
 
     ``view``: a :class:`View`; ``map_image``: a :class:`MapImage` draped at
     the lowest vertex of the model; ``copied``: ids of top-level objects
-    drawn in the second colour scheme; ``edges``: outline every face.
+    drawn in the second colour scheme; ``edges``: outline every face (None:
+    when the model has at most :data:`EDGE_FACES` faces).
     Returns the image as an (rows, columns, 3) uint8 array.
     """
     view = view or View()
@@ -185,7 +190,7 @@ def render(document, path, view=None, size=(1600, 1200), map_image=None, copied=
         plotter.add_light(pv.Light(light_type="headlight"))
         plotter.add_mesh(mesh, scalars="colour", rgb=True, ambient=0.6, diffuse=0.55,
                          specular=0.0, show_scalar_bar=False)
-        if edges:
+        if edges or edges is None and len(s.kind) <= EDGE_FACES:
             plotter.add_mesh(outline, color=(60, 60, 60), line_width=1)
         if map_image is not None:
             plane, texture = _map_plane(map_image, s.origin, s.origin[2] - 0.05, pv)
