@@ -72,14 +72,6 @@ def _regroup(items, counts):
     return [items[a:b] for a, b in zip([0] + ends[:-1], ends)]
 
 
-def leaves_of(geometries):
-    """The leaves of many geometries (GeometryInstances and unknown types have none)."""
-    out = []
-    for depth, group in _by_depth(geometries).items():
-        out.extend(parts([g["boundaries"] for _, g in group], depth))
-    return out
-
-
 def _by_depth(geometries):
     groups = {}
     for k, g in enumerate(geometries):
@@ -163,7 +155,7 @@ def reindex(geometries, mapping, shift=None):
     (plus ``shift[k]``, an offset per geometry, where given) and returns the
     new indices, same length (or any array of one row per entry: the rows
     then stand in the leaves); the order of the entries is that of
-    :func:`leaves_of`. The input geometries are not changed; other members
+    :func:`indices`. The input geometries are not changed; other members
     (``semantics``, ``lod``...) are shared with them.
     """
     geometries = list(geometries)

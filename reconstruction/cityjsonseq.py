@@ -161,7 +161,7 @@ def write(f, ss, semantics, ids, attributes=None, reference_system=None, title=N
         b = min(S, a + chunk)
         part = take(ss, np.arange(a, b)) if (a, b) != (0, S) else ss
         local, rows, starts = _local_vertices(part)
-        objects = building_texts(part, np.asarray(semantics)[part_faces(ss, a, b)], ids[a:b],
+        objects = building_texts(part, np.asarray(semantics)[_faces_of(ss, a, b)], ids[a:b],
                                  {k: v[a:b] for k, v in attributes.items()}, local)
         verts = vertices_texts(rows - lo, starts)
         keys = [json.encoder.encode_basestring_ascii(i) for i in ids[a:b]]
@@ -214,7 +214,7 @@ def _feature_text(copied, n, lo):
                       separators=(",", ":")) + "\n"
 
 
-def part_faces(ss, a, b):
+def _faces_of(ss, a, b):
     """The face range of solids ``a`` to ``b`` (a slice)."""
     return slice(int(ss.solid_start[a]), int(ss.solid_start[b]))
 

@@ -300,8 +300,8 @@ def test_cityjsonseq_collected_equals_the_single_file(sample, schema_dir, chunk)
         feature = json.loads(line)
         assert list(feature_schema.iter_errors(feature)) == []
         assert feature["id"] in feature["CityObjects"]
-        used = citygeometry.flat_indices(citygeometry.leaves_of(
-            [g for o in feature["CityObjects"].values() for g in o.get("geometry", ())]))[0]
+        used = citygeometry.indices(
+            [g for o in feature["CityObjects"].values() for g in o.get("geometry", ())])
         assert set(used.tolist()) == set(range(len(feature["vertices"])))
     back = cityjsonseq.collect(io.StringIO(f.getvalue()))
     single = json.loads(text)
