@@ -322,8 +322,9 @@ class BuildingFootprints:
 
 
 def _footprint_surfaces(model, building):
-    """(surfaces, shift, source) of one building: its LoD0 surfaces, else the
-    GroundSurface surfaces of the highest-LoD geometry of each object in its tree."""
+    """(surfaces, source) of one building: its LoD0 surfaces, else the
+    GroundSurface surfaces of the highest-LoD geometry that has any, object
+    by object of its tree."""
     objs = [model.objects[o] for o in model.tree(building)]
     lod0 = [g for obj in objs for g in obj.get("geometry", ())
             if citygeometry.lod_value(g.get("lod")) == 0 and g.get("type") in
@@ -332,14 +333,15 @@ def _footprint_surfaces(model, building):
         return [s for g in lod0 for s in citygeometry.surfaces_of(g)[0]], "lod0"
     found = []
     for obj in objs:
-        best, best_lod = [], -1.0
-        for g in obj.get("geometry", ()):
+        geoms = obj.get("geometry", ())
+        if len(geoms) > 1:
+            geoms = sorted(geoms, key=lambda g: citygeometry.lod_value(g.get("lod")), reverse=True)
+        for g in geoms:
             surfaces, kinds = citygeometry.surface_types(g)
             ground = [s for s, k in zip(surfaces, kinds) if k == "GroundSurface"]
-            lod = citygeometry.lod_value(g.get("lod"))
-            if ground and lod > best_lod:
-                best, best_lod = ground, lod
-        found.extend(best)
+            if ground:
+                found.extend(ground)
+                break
     return found, ("ground" if found else "")
 
 
