@@ -1,0 +1,354 @@
+"""The vertex indices of CityJSON geometries, walked and rewritten in bulk.
+
+A CityJSON geometry's ``boundaries`` nest lists of vertex indices to a depth
+that depends on its type (a Solid: shells, surfaces, rings, indices). The
+innermost lists (the rings, or the points of a MultiPoint) are the
+*leaves*. Reading every index of many geometries, and writing them back
+re-indexed, goes through one flat numpy array: the lists are only taken
+apart and put together again level by level, never index by index in
+Python.
+"""
+
+import contextlib
+import gc
+import itertools
+from dataclasses import dataclass
+
+import numpy as np
+
+#: list levels above the leaves, by geometry type (a GeometryInstance's
+#: boundaries are the one vertex where its template is put)
+DEPTH = {"GeometryInstance": 0, "MultiPoint": 0, "MultiLineString": 1, "MultiSurface": 2,
+         "CompositeSurface": 2, "Solid": 3, "MultiSolid": 4, "CompositeSolid": 4}
+#: list levels above the surfaces (surfaces = lists of rings), by surface geometry type
+SURFACE_DEPTH = {"MultiSurface": 0, "CompositeSurface": 0, "Solid": 1, "MultiSolid": 2,
+                 "CompositeSolid": 2}
+
+
+@contextlib.contextmanager
+def gc_paused():
+    """Python's cyclic garbage collector paused: building or parsing millions
+    of small lists (a city model's boundaries) otherwise triggers collection
+    after collection over the whole heap, which makes parsing a 50 MB model
+    three to four times slower."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
+
+
+def lod_value(lod):
+    """A geometry's ``lod`` ("2.2", "0", 1) as a number, for comparisons (None -> -1)."""
+    try:
+        return float(lod)
+    except (TypeError, ValueError):
+        return -1.0
+
+
+def parts(nested, depth):
+    """The items ``depth`` list levels below ``nested`` (a list of trees), in order."""
+    level = nested
+    for _ in range(depth):
+        level = list(itertools.chain.from_iterable(level))
+    return level
+
+
+def flat_indices(leaves):
+    """The indices of many leaves as one int64 array, and the offsets of each leaf."""
+    sizes = np.fromiter(map(len, leaves), dtype=np.int64, count=len(leaves))
+    offsets = np.zeros(len(leaves) + 1, dtype=np.int64)
+    np.cumsum(sizes, out=offsets[1:])
+    flat = np.fromiter(itertools.chain.from_iterable(leaves), dtype=np.int64,
+                       count=int(offsets[-1]))
+    return flat, offsets
+
+
+def _regroup(items, counts):
+    """``items`` cut into consecutive lists of ``counts`` items."""
+    ends = list(itertools.accumulate(counts))
+    return [items[a:b] for a, b in zip([0] + ends[:-1], ends)]
+
+
+def _by_depth(geometries):
+    groups = {}
+    for k, g in enumerate(geometries):
+        depth = DEPTH.get(g.get("type"))
+        if depth is not None:
+            groups.setdefault(depth, []).append((k, g))
+    return groups
+
+
+@dataclass
+class Layout:
+    """Where the vertex indices of many geometries are.
+
+    ``flat``: every index (plus its geometry's shift), leaf after leaf,
+    the geometries grouped by depth; ``offsets``: where each leaf starts in
+    ``flat``; ``entry_geometry``: the geometry (position in the list) of
+    every entry; ``groups``: per depth ``(positions, first_leaf,
+    leaf_count, counts)``, ``counts`` the list lengths level by level.
+    Kept, a layout lets the same geometries be written again and again
+    with other indices without walking their lists.
+    """
+    count: int
+    groups: list
+    flat: np.ndarray
+    offsets: np.ndarray
+    entry_geometry: np.ndarray
+
+
+def layout(geometries, shift=None):
+    """The :class:`Layout` of many geometries (``shift``: added to the indices of each)."""
+    geometries = list(geometries)
+    groups, leaves, owner = [], [], []
+    for depth, members in _by_depth(geometries).items():
+        counts, level = [], [g["boundaries"] for _, g in members]
+        for _ in range(depth):
+            counts.append([len(p) for p in level])
+            level = list(itertools.chain.from_iterable(level))
+        positions = [k for k, _ in members]
+        groups.append((positions, len(leaves), len(level), counts))
+        leaves.extend(level)
+        per_top = np.array(positions, dtype=np.int64)
+        for c in counts:
+            per_top = np.repeat(per_top, c)
+        owner.append(per_top)
+    flat, offsets = flat_indices(leaves)
+    leaf_owner = np.concatenate(owner) if owner else np.zeros(0, dtype=np.int64)
+    entry_geometry = np.repeat(leaf_owner, np.diff(offsets))
+    if shift is not None and len(flat):
+        flat = flat + np.asarray(shift, dtype=np.int64)[entry_geometry]
+    return Layout(len(geometries), groups, flat, offsets, entry_geometry)
+
+
+def indices(geometries, shift=None):
+    """Every vertex index of many geometries (plus each one's ``shift``), as
+    one int64 array in the order :func:`reindex` hands them to its mapping."""
+    return layout(geometries, shift).flat
+
+
+def rebuild(lay, geometries, new):
+    """Copies of the geometries of a :class:`Layout` whose indices are ``new``
+    (one value, or one row, per entry of ``lay.flat``)."""
+    new = np.asarray(new).tolist()
+    offsets = lay.offsets.tolist()
+    new_leaves = [new[a:b] for a, b in zip(offsets[:-1], offsets[1:])]
+    out = list(geometries)
+    for positions, start, n, counts in lay.groups:
+        level = new_leaves[start:start + n]
+        for c in reversed(counts):
+            level = _regroup(level, c)
+        for k, b in zip(positions, level):
+            copy = dict(geometries[k])
+            copy["boundaries"] = b
+            out[k] = copy
+    return out
+
+
+def reindex(geometries, mapping, shift=None):
+    """Copies of ``geometries`` with new vertex indices: ``mapping(flat)``.
+
+    ``mapping`` takes the flat int64 array of every index of every geometry
+    (plus ``shift[k]``, an offset per geometry, where given) and returns the
+    new indices, same length (or any array of one row per entry: the rows
+    then stand in the leaves); the order of the entries is that of
+    :func:`indices`. The input geometries are not changed; other members
+    (``semantics``, ``lod``...) are shared with them.
+    """
+    geometries = list(geometries)
+    lay = layout(geometries, shift)
+    return rebuild(lay, geometries, mapping(lay.flat))
+
+
+def texts(lay, new):
+    """The JSON text of the ``boundaries`` of every geometry of a
+    :class:`Layout` with the non-negative indices ``new`` (one per entry),
+    written in bulk by the integer writer of ``cityjson``: every number
+    after its separator, the brackets between two rings, surfaces or shells
+    included (None for geometries of unknown type)."""
+    new = np.asarray(new, dtype=np.int64)
+    out = [None] * lay.count
+    for positions, start, n, counts in lay.groups:
+        sizes = np.diff(lay.offsets[start:start + n + 1])
+        if n == 0 or not sizes.all() or not all(all(c) for c in counts):
+            group = _joined(lay, new, positions, start, n, counts)      # an empty list somewhere
+        else:
+            group = _nested_text(new[lay.offsets[start]:lay.offsets[start + n]], sizes, counts)
+        for k, text in zip(positions, group):
+            out[k] = text
+    return out
+
+
+def _nested_text(values, sizes, counts):
+    """The texts of the geometries of one depth whose leaves hold
+    ``values`` (``sizes`` per leaf, ``counts``: list lengths level by level,
+    none empty): the separator before a number closes and opens as many
+    lists as end there."""
+    from .cityjson import _int_text, _pieces
+
+    depth = len(counts)
+    leaf = np.repeat(np.arange(len(sizes)), sizes)
+    change = np.zeros(len(values), dtype=np.int64)
+    change[1:] = leaf[1:] != leaf[:-1]
+    ancestor = np.arange(len(sizes))
+    for c in reversed(counts):
+        ancestor = np.repeat(np.arange(len(c)), c)[ancestor]
+        above = ancestor[leaf]
+        change[1:] += above[1:] != above[:-1]
+    # a new geometry: its leaf and every list above changed (for depth 0 the
+    # leaf is the geometry's boundaries); within one at most ``depth`` do
+    first = np.r_[0, np.nonzero(change == depth + 1)[0]]
+    change[0] = depth + 1
+    table = ["]" * k + "," + "[" * k for k in range(depth + 1)] + ["[" * (depth + 1)]
+    text, at = _int_text(values, change, table)
+    close = "]" * (depth + 1)
+    return [piece + close for piece in _pieces(text, at, first)]
+
+
+def _joined(lay, new, positions, start, n, counts):
+    """The texts of one depth's geometries, lists joined level by level."""
+    from .cityjson import _int_text, _pieces
+
+    offsets = lay.offsets[start:start + n + 1]
+    sizes = np.diff(offsets)
+    full = np.nonzero(sizes > 0)[0]
+    values = new[offsets[0]:offsets[-1]]
+    prefix = np.ones(len(values), dtype=np.int64)
+    prefix[offsets[full] - offsets[0]] = 0
+    text, at = _int_text(values, prefix, ["[", ","])
+    level = ["[]"] * n
+    for k, piece in zip(full.tolist(), _pieces(text, at, offsets[full] - offsets[0])):
+        level[k] = piece + "]"
+    for c in reversed(counts):
+        ends = list(itertools.accumulate(c))
+        level = ["[" + ",".join(level[a:b]) + "]" for a, b in zip([0] + ends[:-1], ends)]
+    return level
+
+
+#: stands in a structure given to json.dumps for text put in afterwards (see :func:`splice`)
+HOLE = "\x00"
+_HOLE_TEXT = '"\\u0000"'
+
+
+def pieces_around_holes(structure, holes):
+    """``json.dumps(structure)`` cut at the :data:`HOLE` strings the structure
+    holds (``holes`` of them): the texts between them, one more than the
+    holes; None when the structure has other strings equal to HOLE (the
+    caller then writes it another way)."""
+    import json
+
+    text = json.JSONEncoder(separators=(",", ":"), check_circular=False).encode(structure)
+    pieces = text.split(_HOLE_TEXT)
+    return pieces if len(pieces) == holes + 1 else None
+
+
+def splice(structure, fills):
+    """``json.dumps(structure)`` with the texts ``fills``, in order, where the
+    structure holds :data:`HOLE` strings (None: see :func:`pieces_around_holes`)."""
+    pieces = pieces_around_holes(structure, len(fills))
+    if pieces is None:
+        return None
+    out = [None] * (2 * len(pieces) - 1)
+    out[0::2] = pieces
+    out[1::2] = fills
+    return "".join(out)
+
+
+def resolved(document, digits=6):
+    """The city objects of a CityJSON document (dict) with the coordinates
+    of their vertices (rounded to ``digits``) in place of the indices: two
+    documents with the same objects and vertex coordinates give equal
+    results, whatever their vertex order or transform."""
+    t = document.get("transform") or {"scale": [1, 1, 1], "translate": [0, 0, 0]}
+    vertices = np.asarray(document.get("vertices") or np.zeros((0, 3)), dtype=float)
+    xyz = np.round(vertices.reshape(-1, 3) * t["scale"] + t["translate"], digits)
+    geoms, where = [], []
+    objects = {}
+    for oid, obj in document.get("CityObjects", {}).items():
+        objects[oid] = dict(obj)
+        for k, g in enumerate(obj.get("geometry", ())):
+            geoms.append(g)
+            where.append((oid, k))
+        if "geometry" in obj:
+            objects[oid]["geometry"] = list(obj["geometry"])
+    for (oid, k), g in zip(where, reindex(geoms, lambda flat: xyz[flat]) if geoms else []):
+        objects[oid]["geometry"][k] = g
+    return objects
+
+
+def surfaces_of(geometry):
+    """The surfaces (lists of rings, exterior first) of a surface geometry and
+    their semantic values (None where it has none), in order; ([], []) for
+    other types."""
+    depth = SURFACE_DEPTH.get(geometry.get("type"))
+    if depth is None:
+        return [], []
+    surfaces = parts([geometry["boundaries"]], depth + 1)
+    sem = geometry.get("semantics")
+    if sem is None or sem.get("values") is None:
+        return surfaces, [None] * len(surfaces)
+    values = parts(sem["values"], depth)
+    if len(values) != len(surfaces):
+        return surfaces, [None] * len(surfaces)
+    return surfaces, values
+
+
+def surface_types(geometry):
+    """The surfaces of a geometry and the semantic type ("RoofSurface", ...)
+    of each (None where unknown)."""
+    surfaces, values = surfaces_of(geometry)
+    kinds = [s.get("type") for s in (geometry.get("semantics") or {}).get("surfaces", [])]
+    return surfaces, [kinds[v] if v is not None and 0 <= v < len(kinds) else None for v in values]
+
+
+def drop_collapsed(geometry):
+    """A copy of a geometry without repeated consecutive vertices in its rings,
+    without the rings left with fewer than three vertices, and without the
+    surfaces whose exterior ring collapsed (their semantic values go with
+    them); None when nothing is left. Returns ``(geometry, surfaces_dropped)``.
+
+    Only surface geometries are cleaned (points and lines are returned as they are).
+    """
+    depth = SURFACE_DEPTH.get(geometry.get("type"))
+    if depth is None:
+        return geometry, 0
+    sem = geometry.get("semantics")
+    values = sem.get("values") if sem else None
+    dropped = [0]
+
+    def ring(r):
+        out = [v for k, v in enumerate(r) if v != r[k - 1]] if len(r) > 1 else list(r)
+        return out if len(out) >= 3 else None
+
+    def clean(node, vals, level):
+        """``node`` at surface depth ``level`` with its semantic values ``vals``."""
+        if level == 0:
+            keep_s, keep_v = [], []
+            for k, surface in enumerate(node):
+                rings = [ring(r) for r in surface]
+                if rings[0] is None:
+                    dropped[0] += 1
+                    continue
+                keep_s.append([r for r in rings if r is not None])
+                if vals is not None:
+                    keep_v.append(vals[k])
+            return keep_s, keep_v
+        keep_s, keep_v = [], []
+        for k, sub in enumerate(node):
+            s, v = clean(sub, None if vals is None else vals[k], level - 1)
+            if s:
+                keep_s.append(s)
+                keep_v.append(v)
+        return keep_s, keep_v
+
+    boundaries, new_values = clean(geometry["boundaries"], values, depth)
+    if not boundaries:
+        return None, dropped[0]
+    out = dict(geometry)
+    out["boundaries"] = boundaries
+    if values is not None:
+        out["semantics"] = dict(sem, values=new_values)
+    return out, dropped[0]

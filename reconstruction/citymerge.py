@@ -1,0 +1,475 @@
+"""Buildings copied from an existing city model into the generated one.
+
+:func:`copy_buildings` takes the matched buildings of an
+:class:`~reconstruction.existing.ExistingModel` with their attributes, their
+children (``BuildingPart`` ...) and the geometries of the LoDs chosen, and
+puts their vertices on the output's grid (integers of the output scale,
+absolute: a coordinate is ``value * scale``): no coordinate moves by more
+than half the output scale. :func:`merge` adds them to the CityJSON document
+of the generated buildings (the dict of ``cityjson.citymodel`` or the text
+of ``cityjson.citymodel_text``): one multi-LoD CityJSON 2.0 model in the
+generated model's ``transform``, vertices shared and without duplicates.
+The copied buildings keep their ids and LoDs; appearances (materials,
+textures) and geometry templates are not copied.
+"""
+
+import json
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import citygeometry
+from .errors import InputError
+from .solids import unique_rows
+
+SCALE = 0.001
+
+
+@dataclass
+class CopyReport:
+    """What was copied: buildings, city objects (with their children),
+    geometries by LoD, buildings without the LoDs asked for (copied at their
+    highest LoD instead), geometries left out (GeometryInstances, unknown
+    types) and surfaces that collapsed on the output grid."""
+    buildings: int = 0
+    objects: int = 0
+    geometries: dict = field(default_factory=dict)
+    lod_fallback: int = 0
+    skipped_geometries: int = 0
+    collapsed_surfaces: int = 0
+
+
+@dataclass
+class CopiedBuildings:
+    """Buildings ready to be written.
+
+    ``ids``: the top-level object ids; ``trees``: per building, its city
+    objects by id (itself first), their geometries as the source model has
+    them (use :meth:`objects` or :func:`objects_text` for indices into
+    ``vertices``); ``vertices``: (N, 3) int64 absolute coordinates in units
+    of ``scale``, building after building from ``vertex_start``;
+    ``reference_system`` and ``extensions``: of the model they come from
+    (extensions only when a copied object uses one). ``layout`` (a
+    :class:`~reconstruction.citygeometry.Layout` of :meth:`geometries`) and
+    ``rows`` (the vertex row of each of its entries) let the buildings be
+    written with any numbering of the rows without walking their lists again.
+    """
+    ids: list
+    trees: list
+    vertices: np.ndarray
+    vertex_start: np.ndarray
+    scale: float
+    reference_system: object
+    extensions: dict
+    report: CopyReport
+    layout: object = None
+    rows: np.ndarray = None
+
+    def __len__(self):
+        return len(self.ids)
+
+    def extent(self):
+        """(lo, hi) integer corners of the copied vertices (None when there are none)."""
+        if len(self.vertices) == 0:
+            return None
+        return self.vertices.min(axis=0), self.vertices.max(axis=0)
+
+    def geometries(self):
+        """Every copied geometry (building after building, object after object)."""
+        return [g for tree in self.trees for obj in tree.values() for g in obj.get("geometry", ())]
+
+    def geometry_counts(self):
+        """The number of copied geometries of every building."""
+        return [sum(len(o.get("geometry", ())) for o in tree.values()) for tree in self.trees]
+
+    def holed(self, n):
+        """The city objects of building ``n`` with :data:`~reconstruction.citygeometry.HOLE`
+        for every geometry's boundaries (see :func:`citygeometry.splice`)."""
+        objs = {}
+        for oid, obj in self.trees[n].items():
+            objs[oid] = dict(obj)
+            if "geometry" in obj:
+                objs[oid]["geometry"] = [dict(g, boundaries=citygeometry.HOLE)
+                                         for g in obj["geometry"]]
+        return objs
+
+    def local_index(self):
+        """Per vertex row its index among its building's own rows."""
+        owner = np.repeat(np.arange(len(self.ids)), np.diff(self.vertex_start))
+        return np.arange(len(self.vertices)) - self.vertex_start[owner]
+
+    def boundary_texts(self, index=None):
+        """The JSON text of the boundaries of every copied geometry with vertex
+        indices ``index[row]`` (None: :meth:`local_index`)."""
+        index = self.local_index() if index is None else index
+        return citygeometry.texts(self.layout, index[self.rows])
+
+    def objects(self, index=None):
+        """Per building, its city objects with vertex indices ``index[row]``
+        (None: :meth:`local_index`, each building's own from 0)."""
+        index = self.local_index() if index is None else index
+        new = iter(citygeometry.rebuild(self.layout, self.geometries(), index[self.rows]))
+        out = []
+        for tree in self.trees:
+            objs = {}
+            for oid, obj in tree.items():
+                objs[oid] = dict(obj)
+                if "geometry" in obj:
+                    objs[oid]["geometry"] = [next(new) for _ in obj["geometry"]]
+            out.append(objs)
+        return out
+
+
+def _chosen_lods(geometries, lods):
+    """The LoDs to copy of one building tree, and whether it fell back to its highest."""
+    present = {g.get("lod") for g in geometries if _copyable(g)}
+    if not present:
+        return set(), False
+    if lods == "all":
+        return present, False
+    if lods:
+        wanted = {citygeometry.lod_value(x) for x in lods}
+        chosen = {p for p in present if citygeometry.lod_value(p) in wanted}
+        if chosen:
+            return chosen, False
+    top = max(citygeometry.lod_value(p) for p in present)
+    return {p for p in present if citygeometry.lod_value(p) == top}, bool(lods)
+
+
+def _copyable(geometry):
+    """Geometries copied: all but GeometryInstances (templates are not copied) and unknown types."""
+    kind = geometry.get("type")
+    return kind in citygeometry.DEPTH and kind != "GeometryInstance"
+
+
+def _uses_extension(obj):
+    if str(obj.get("type", "")).startswith("+"):
+        return True
+    if any(str(k).startswith("+") for k in obj) or any(
+            str(k).startswith("+") for k in (obj.get("attributes") or {})):
+        return True
+    return any(str(s.get("type", "")).startswith("+") for g in obj.get("geometry", ())
+               for s in (g.get("semantics") or {}).get("surfaces", ()))
+
+
+def _to_grid(model, src, scale):
+    """Model vertices ``src`` as integers of ``scale`` (absolute), and whether exactly.
+
+    When the model's scale is a whole multiple of the output's, every
+    vertex moves by the same rounding of the translation (at most half the
+    output scale), so distinct vertices stay distinct; else each is rounded
+    on its own and neighbours closer than the output scale may meet."""
+    v = model.vertices[src]
+    ratio = model.scale / scale
+    k = np.rint(ratio)
+    if v.dtype.kind == "i" and np.all(np.abs(ratio - k) < 1e-9) and np.all(k >= 1):
+        return v * k.astype(np.int64) + np.rint(model.translate / scale).astype(np.int64), True
+    return np.rint((v * model.scale + model.translate) / scale).astype(np.int64), False
+
+
+@citygeometry.gc_paused()
+def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None):
+    """The buildings ``buildings`` (indices into ``model.buildings``) ready to be merged.
+
+    ``lods``: None for each building's highest LoD, "all", or a list of LoD
+    strings ("1.2", "2.2"; a building with none of them is copied at its
+    highest, counted in the report); ``attributes``: name -> one value per
+    building, added to the copied top-level objects (None values and names
+    the object already has are left alone). The model is not changed.
+    """
+    buildings = [int(b) for b in buildings]
+    report = CopyReport(buildings=len(buildings))
+    trees = []
+    uses_extension = False
+    for n, b in enumerate(buildings):
+        oid = model.buildings[b]
+        tree = {o: model.objects[o] for o in model.tree(oid)}
+        chosen, fell = _chosen_lods([g for obj in tree.values() for g in obj.get("geometry", ())],
+                                    lods)
+        report.lod_fallback += fell
+        objs = {}
+        for o, obj in tree.items():
+            if model.extensions and not uses_extension:
+                uses_extension = _uses_extension(obj)
+            copy = dict(obj)
+            if "geometry" in obj:
+                kept = []
+                for g in obj["geometry"]:
+                    if not _copyable(g):
+                        report.skipped_geometries += 1
+                    elif g.get("lod") in chosen:
+                        if "material" in g or "texture" in g:
+                            g = {k: v for k, v in g.items() if k not in ("material", "texture")}
+                        kept.append(g)
+                        report.geometries[g["lod"]] = report.geometries.get(g["lod"], 0) + 1
+                copy["geometry"] = kept
+            objs[o] = copy
+        if attributes:
+            _add_attributes(objs[oid], attributes, n)
+        trees.append(objs)
+        report.objects += len(objs)
+    copied = CopiedBuildings(ids=[model.buildings[b] for b in buildings], trees=trees,
+                             vertices=None, vertex_start=None, scale=scale,
+                             reference_system=model.reference_system,
+                             extensions=model.extensions if uses_extension else None,
+                             report=report)
+    counts = copied.geometry_counts()
+    building_of = np.repeat(np.arange(len(buildings)), counts)
+    offset = model.offset[buildings] if buildings else np.zeros(0, dtype=np.int64)
+    copied.layout = citygeometry.layout(copied.geometries(), offset[building_of])
+    source, row_owner, copied.rows = _rows(copied.layout.flat,
+                                           building_of[copied.layout.entry_geometry],
+                                           len(model.vertices))
+    copied.vertices, exact = _to_grid(model, source, scale)
+    copied.vertex_start = np.zeros(len(buildings) + 1, dtype=np.int64)
+    np.cumsum(np.bincount(row_owner, minlength=len(buildings)), out=copied.vertex_start[1:])
+    if not exact and len(source) and len(
+            unique_rows(np.column_stack([row_owner, copied.vertices]))[0]) < len(source):
+        _collapse(copied, row_owner)
+    return copied
+
+
+def _rows(source, owner, count):
+    """The vertex rows of copied entries: one row per (building, model vertex)
+    used, building after building, by model vertex within one.
+
+    Returns the model vertex and the building of every row and the row of
+    every entry. Usually each vertex is used by one building only and one
+    pass over an array of the model's vertex count does it; else a sort."""
+    if len(source) == 0:
+        empty = np.zeros(0, dtype=np.int64)
+        return empty, empty, empty
+    user = np.full(count, -1, dtype=np.int64)
+    user[source] = owner
+    if np.array_equal(user[source], owner):
+        used = np.nonzero(user >= 0)[0]
+        order = np.argsort(user[used], kind="stable")
+        row_source = used[order]
+        row_of = np.empty(count, dtype=np.int64)
+        row_of[row_source] = np.arange(len(row_source))
+        return row_source, user[row_source], row_of[source]
+    keys, rows = np.unique(owner * count + source, return_inverse=True)
+    return keys % count, keys // count, rows.ravel()
+
+
+def _add_attributes(obj, attributes, n):
+    attrs = dict(obj.get("attributes") or {})
+    for name, values in attributes.items():
+        value = values[n]
+        if isinstance(value, np.generic):
+            value = value.item()
+        if value is not None and value == value and name not in attrs:
+            attrs[name] = value
+    obj["attributes"] = attrs
+
+
+def _collapse(copied, owner):
+    """Vertices of one building that met on the output grid made one, rings
+    and surfaces that collapsed dropped, vertices left unused removed (only
+    happens when the model's grid is finer than the output's). The
+    geometries then index the rows directly."""
+    uniq, inv = np.unique(np.column_stack([owner, copied.vertices]), axis=0,
+                          return_inverse=True)                 # grouped by building
+    merged = citygeometry.rebuild(copied.layout, copied.geometries(), inv.ravel()[copied.rows])
+    cleaned = []
+    for g in merged:
+        g, dropped = citygeometry.drop_collapsed(g)
+        cleaned.append(g)
+        copied.report.collapsed_surfaces += dropped
+    kept = [g for g in cleaned if g is not None]
+    used = np.zeros(len(uniq), dtype=bool)
+    if kept:
+        used[citygeometry.indices(kept)] = True
+    remap = np.cumsum(used) - 1
+    final = iter(citygeometry.reindex(kept, lambda flat: remap[flat]) if kept else [])
+    it = iter(cleaned)
+    for tree in copied.trees:
+        for obj in tree.values():
+            if "geometry" in obj:
+                obj["geometry"] = [next(final) for g in [next(it) for _ in obj["geometry"]]
+                                   if g is not None]
+    copied.vertices = uniq[used, 1:]
+    copied.vertex_start[1:] = np.cumsum(np.bincount(uniq[used, 0], minlength=len(copied.ids)))
+    copied.layout = citygeometry.layout(copied.geometries())
+    copied.rows = copied.layout.flat
+
+
+def objects_text(copied, index):
+    """The JSON text of the copied city objects (members of a CityObjects
+    object, without the braces) with vertex indices ``index[row]``, the
+    boundaries written in bulk."""
+    structure = {}
+    for n in range(len(copied)):
+        structure.update(copied.holed(n))
+    text = citygeometry.splice(structure, copied.boundary_texts(index))
+    if text is None:                    # an attribute that is the placeholder itself
+        merged = {}
+        for objs in copied.objects(index):
+            merged.update(objs)
+        text = json.dumps(merged, separators=(",", ":"))
+    return text[1:-1]
+
+
+# ---------------------------------------------------------------------------
+# Into the generated document
+# ---------------------------------------------------------------------------
+
+def output_reference_system(generated, copied):
+    """The reference system of the merged model: the copied model's when it
+    is the generated one's with heights (7415 for 28992), else the one they
+    share; InputError when they locate points differently."""
+    from .existing import epsg_code, same_place
+
+    if copied is None or generated is None:
+        return generated if copied is None else copied
+    a, b = epsg_code(generated), epsg_code(copied)
+    if a == b:
+        return generated
+    if a is not None and b is not None and same_place(a, b):
+        from .existing import horizontal_epsg
+
+        return generated if horizontal_epsg(b) == b else copied
+    raise InputError("The reference system of the existing model ({}) does not agree with "
+                     "the generated model's ({})".format(copied, generated))
+
+
+def merged_metadata(metadata, lo, hi, copied, scale):
+    """Metadata of the merged model: extent over generated (integer corners
+    ``lo``/``hi`` of ``scale``, or None) and copied vertices, reference system."""
+    metadata = dict(metadata or {})
+    ext = copied.extent()
+    corners = [c for c in ((lo, hi), ext) if c is not None and c[0] is not None]
+    if corners:
+        low = np.min([c[0] for c in corners], axis=0)
+        high = np.max([c[1] for c in corners], axis=0)
+        metadata["geographicalExtent"] = (np.concatenate([low, high]) * scale).round(6).tolist()
+    rs = output_reference_system(metadata.get("referenceSystem"), copied.reference_system)
+    if rs is not None:
+        metadata["referenceSystem"] = rs
+    return metadata
+
+
+def _placement(generated, copied):
+    """Output index of every copied vertex (the generated vertex it equals,
+    or a new one after them) and the new rows, in order."""
+    G = len(generated)
+    if len(copied.vertices) == 0:
+        return np.zeros(0, dtype=np.int64), copied.vertices
+    both = np.concatenate([generated, copied.vertices]) if G else copied.vertices
+    uniq, inv = unique_rows(both)
+    target = np.full(len(uniq), -1, dtype=np.int64)
+    if G:
+        target[inv[:G]] = np.arange(G)
+    mine = inv[G:]
+    new = np.zeros(len(uniq), dtype=bool)
+    new[mine] = True
+    if G:
+        new[inv[:G]] = False
+    groups = np.nonzero(new)[0]
+    target[groups] = G + np.arange(len(groups))
+    return target[mine], uniq[groups]
+
+
+def _keys(body):
+    """The object ids (JSON-escaped) in the text of a CityObjects member: every
+    object starts ``"id":{"type":"`` (the result may hold a few more strings
+    than the ids, never fewer)."""
+    keys = set()
+    for piece in body.split('":{"type":"')[:-1]:
+        k = piece.rfind('"')
+        while k > 0 and (len(piece[:k]) - len(piece[:k].rstrip("\\"))) % 2:
+            k = piece.rfind('"', 0, k)                  # an escaped quote inside the id
+        keys.add(piece[k + 1:])
+    return keys
+
+
+def _check_ids(copied, generated_keys):
+    clash = [i for objs in copied.trees for i in objs
+             if json.dumps(i)[1:-1] in generated_keys]
+    if clash:
+        raise InputError("{} copied objects have the id of a generated building (e.g. <{}>): "
+                         "rename the generated buildings".format(len(clash), clash[0]))
+
+
+@citygeometry.gc_paused()
+def merge(generated, copied):
+    """The generated CityJSON document with the ``copied`` buildings added.
+
+    ``generated``: a CityJSON dict, or its text as ``cityjson.citymodel_text``
+    writes it (the result is then text too, built without parsing the
+    generated city objects). The output keeps the generated ``transform``
+    (its scale must be the copied buildings' scale); the metadata's extent
+    and reference system cover both.
+    """
+    if copied is None or len(copied) == 0:
+        return generated
+    if isinstance(generated, str):
+        return _merge_text(generated, copied)
+    doc = dict(generated)
+    scale, translate = _transform(doc, copied)
+    gen = np.asarray(doc.get("vertices") or np.zeros((0, 3)), dtype=np.int64).reshape(-1, 3)
+    _check_ids(copied, {json.dumps(k)[1:-1] for k in doc.get("CityObjects", {})})
+    head, to_out, rows = _head_and_rows(doc, gen, translate, copied, scale)
+    objects = dict(doc.get("CityObjects", {}))
+    for objs in copied.objects(to_out):
+        objects.update(objs)
+    head["CityObjects"] = objects
+    head["vertices"] = list(doc.get("vertices") or []) + rows.tolist()
+    return head
+
+
+def _transform(doc, copied):
+    t = doc.get("transform") or {}
+    scale = t.get("scale", [copied.scale] * 3)
+    if not np.allclose(scale, copied.scale, rtol=0, atol=1e-12):
+        raise ValueError("the copied buildings are on a grid of {}, the model's is {}".format(
+            copied.scale, scale))
+    return copied.scale, np.rint(np.asarray(t.get("translate", [0, 0, 0])) / copied.scale)
+
+
+def _head_and_rows(doc, gen, translate, copied, scale):
+    """The merged document without its objects and vertices, the output
+    index of every copied vertex and the new vertex rows (relative to the
+    output translate)."""
+    head = {k: v for k, v in doc.items() if k not in ("CityObjects", "vertices")}
+    translate = translate.astype(np.int64)
+    if len(gen) == 0:
+        translate = copied.vertices.min(axis=0)
+    absolute = gen + translate
+    to_out, rows = _placement(absolute, copied)
+    lo = absolute.min(axis=0) if len(gen) else None
+    hi = absolute.max(axis=0) if len(gen) else None
+    head["transform"] = {"scale": [scale] * 3, "translate": (translate * scale).round(6).tolist()}
+    head["metadata"] = merged_metadata(doc.get("metadata"), lo, hi, copied, scale)
+    if copied.extensions:
+        head["extensions"] = dict(doc.get("extensions") or {}, **copied.extensions)
+    return head, to_out, rows - translate
+
+
+def _merge_text(text, copied):
+    from .cityjsonseq import vertices_texts
+
+    head_end = text.find(',"CityObjects":{')
+    vstart = text.rfind(',"vertices":')
+    if head_end < 0 or vstart < head_end or not text.endswith("}") or text[vstart - 1] != "}":
+        return json.dumps(merge(json.loads(text), copied), separators=(",", ":"))
+    doc = json.loads(text[:head_end] + "}")
+    body = text[head_end + len(',"CityObjects":{'):vstart - 1]
+    inner = text[vstart + len(',"vertices":'):-1]
+    scale, translate = _transform(doc, copied)
+    flat = np.fromstring(inner.replace("[", " ").replace("]", " "), dtype=np.int64, sep=",") \
+        if inner.strip() != "[]" else np.zeros(0, dtype=np.int64)
+    gen = flat.reshape(-1, 3)
+    _check_ids(copied, _keys(body))
+    head, to_out, rows = _head_and_rows(doc, gen, translate, copied, scale)
+    objects = objects_text(copied, to_out)
+    new_vertices = vertices_texts(rows, np.array([0, len(rows)]))[0]
+    if len(gen) == 0:
+        vertices = new_vertices
+    elif len(rows) == 0:
+        vertices = inner
+    else:
+        vertices = inner[:-1] + "," + new_vertices[1:]
+    head_text = json.dumps(head, separators=(",", ":"))
+    return "".join([head_text[:-1], ',"CityObjects":{', body, "," if body and objects else "",
+                    objects, '},"vertices":', vertices, "}"])

@@ -1,0 +1,360 @@
+"""Buildings that still stand, copied from a current 3D city model (issue 17).
+
+On the 3D BAG excerpt of ../shared/data/3dbag_sample (two Delft buildings,
+CityJSON 2.0 and CityJSONSeq): aligned footprints made from the ground
+surfaces of their solids, plus generated footprints around them, built with
+the current library as v.histo.lod2 builds them.
+"""
+
+import copy
+import io
+import json
+import os
+
+import numpy as np
+import pytest
+import shapely
+
+from reconstruction import citygeometry, citymerge, cityjson, cityjsonseq, existing, solids
+from reconstruction.errors import InputError
+
+BAG = ("NL.IMBAG.Pand.0503100000028341", "NL.IMBAG.Pand.0503100000031927")
+FORMS = ("3dbag_b2.city.json", "3dbag_b2.city.jsonl")
+BOXES = [shapely.box(84970, 446530, 84985, 446545), shapely.box(85030, 446540, 85040, 446560),
+         shapely.box(84990, 446570, 85000, 446580)]
+
+
+@pytest.fixture(scope="module")
+def sample(shared_data):
+    path = os.path.join(shared_data, "3dbag_sample")
+    if not os.path.isdir(path):
+        pytest.skip("the 3D BAG sample is not in '{}'".format(path))
+    return path
+
+
+@pytest.fixture(scope="module")
+def schema_dir(schemas):
+    return os.path.join(schemas, "cityjson-2.0.2")
+
+
+def generated(polygons, first_id=1, crs=28992):
+    """The CityJSON text of gable-roofed buildings on ``polygons``, as v.histo.lod2 makes it."""
+    polys, src, part, _, _ = solids.footprint_polygons(polygons)
+    rings, _ = solids.clean_rings(polys)
+    n = len(rings)
+    ss, kept, got, _ = solids.build_solids(rings, np.zeros(n), np.full(n, 6.0), np.full(n, 3.0),
+                                           ["gable"] * n, np.full((n, 3), 0.5))
+    ids = ["building_{}".format(first_id + int(src[k])) for k in kept]
+    attributes = {"roof_type": list(got), "source": ["2pm"] * len(kept)}
+    sem = solids.semantics(ss)
+    return ss, sem, ids, attributes, cityjson.citymodel_text(ss, sem, ids, attributes, crs,
+                                                             title="test")
+
+
+def aligned_and_merged(path, ids=None, lods=None):
+    """Read the model, match its own footprints plus BOXES, copy and merge."""
+    model = existing.read_model(path)
+    fps = existing.footprints(model)
+    order = [model.buildings.index(b) for b in BAG]
+    polygons = [fps.geometry(b) for b in order] + BOXES
+    matches = existing.match(model, polygons, ids=ids)
+    todo = np.nonzero(matches.building < 0)[0]
+    ss, sem, gids, attrs, text = generated([polygons[i] for i in todo], first_id=3)
+    copied = citymerge.copy_buildings(model, matches.building[matches.matched], lods=lods)
+    return model, matches, copied, (ss, sem, gids, attrs, text), citymerge.merge(text, copied)
+
+
+@pytest.mark.parametrize("form", FORMS)
+def test_both_copied_buildings_keep_parts_lod22_and_vertices(sample, schema_dir, form):
+    path = os.path.join(sample, form)
+    ids = ["0503100000028341", 503100000031927, None, "", None]
+    model, matches, copied, gen, text = aligned_and_merged(path, ids=ids)
+    assert matches.report == existing.MatchReport(5, 2, 0, 3, 0)
+    doc = json.loads(text)
+    assert cityjson.schema_errors(doc, schema_dir) == []
+    assert cityjson.consistency_errors(doc) == []
+    objects = doc["CityObjects"]
+    assert len(objects) == 3 + 4
+    for oid in BAG:
+        part = oid + "-0"
+        assert objects[oid]["children"] == [part]
+        assert objects[part]["parents"] == [oid]
+        assert objects[part]["type"] == "BuildingPart"
+        assert [(g["type"], g["lod"]) for g in objects[part]["geometry"]] == [("Solid", "2.2")]
+        assert objects[oid]["attributes"]["identificatie"] == oid
+    generated_lods = {g["lod"] for o in objects.values() if o["type"] == "Building"
+                      for g in o.get("geometry", ())}
+    assert generated_lods == {"2.0"}
+    assert doc["metadata"]["referenceSystem"].endswith("/7415")
+    # every copied coordinate within 1 mm of the input, vertex by vertex
+    with open(os.path.join(sample, FORMS[0])) as f:
+        original = citygeometry.resolved(json.load(f))
+    merged = citygeometry.resolved(doc)
+    for oid in BAG:
+        a = np.array(citygeometry.parts(original[oid + "-0"]["geometry"][0]["boundaries"], 3))
+        b = np.array(citygeometry.parts(merged[oid + "-0"]["geometry"][0]["boundaries"], 3))
+        assert a.shape == b.shape
+        assert np.abs(a - b).max() <= 0.001
+    # the same document from the dict as from the text
+    assert citymerge.merge(json.loads(gen[4]), copied) == doc
+
+
+def test_json_and_jsonl_inputs_give_the_same_model(sample):
+    docs = [json.loads(aligned_and_merged(os.path.join(sample, form))[4]) for form in FORMS]
+    assert citygeometry.resolved(docs[0]) == citygeometry.resolved(docs[1])
+
+
+def test_ids_that_match_nothing_merge_by_geometry(sample):
+    ids = ["999", "NL.IMBAG.Pand.0000000000000001", "7", None, None]
+    _, matches, copied, _, text = aligned_and_merged(os.path.join(sample, FORMS[0]), ids=ids)
+    assert matches.report == existing.MatchReport(5, 0, 2, 3, 3)
+    assert matches.overlap[:2].min() > 0.99
+    assert sorted(copied.ids) == sorted(BAG)
+    assert cityjson.consistency_errors(json.loads(text)) == []
+
+
+def test_id_rules(sample):
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    polygons = [shapely.box(0, 0, 1, 1)] * 4
+    full = ["NL.IMBAG.Pand.0503100000028341", "0503100000028341", 503100000031927.0,
+            "503100000031927"]
+    got = existing.match(model, polygons, ids=full)
+    assert [model.buildings[b] if b >= 0 else None for b in got.building] == \
+        [BAG[0], None, BAG[1], None]                      # one footprint per building
+    prefixed = existing.match(model, polygons[:2], ids=["0503100000028341", "503100000031927"],
+                              prefix="NL.IMBAG.Pand.")
+    assert prefixed.report.by_id == 1 and prefixed.report.ids_not_found == 1
+
+
+def test_a_footprint_that_overlaps_too_little_is_generated(sample):
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    fps = existing.footprints(model)
+    b = model.buildings.index(BAG[0])
+    foot = fps.geometry(b)
+    w = foot.bounds[2] - foot.bounds[0]
+    moved = shapely.affinity.translate(foot, xoff=0.6 * w)
+    got = existing.match(model, [moved, foot], min_overlap=0.5)
+    assert got.building.tolist() == [-1, b]
+    assert got.report.unmatched == 1 and got.report.by_geometry == 1
+
+
+def test_measured_heights_of_the_matched_buildings(sample):
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    got = existing.match(model, [shapely.box(0, 0, 1, 1)] * 2, ids=[BAG[1], None])
+    h = got.heights
+    assert h.ground[0] == pytest.approx(-0.077) and np.isnan(h.ground[1])
+    assert (h.roof_50p[0], h.roof_70p[0], h.roof_max[0]) == (9.3, 10.49, 13.44)
+    assert h.above_ground("roof_70p")[0] == pytest.approx(10.49 + 0.077)
+    # the 2025 names come first
+    model.objects[BAG[1]]["attributes"].update(b3_h_70p=11.0, b3_h_nok=12.5)
+    h = existing.measured_heights(model, got.building)
+    assert (h.roof_70p[0], h.ridge[0]) == (11.0, 12.5)
+
+
+def with_two_lods(sample):
+    with open(os.path.join(sample, FORMS[0])) as f:
+        doc = json.load(f)
+    for oid in BAG:
+        part = doc["CityObjects"][oid + "-0"]
+        lod12 = copy.deepcopy(part["geometry"][0])
+        lod12["lod"] = "1.2"
+        part["geometry"].insert(0, lod12)
+    return existing.model_of(doc)
+
+
+@pytest.mark.parametrize("lods,expected,fallback", [
+    (None, ["2.2"], 0), (["1.2"], ["1.2"], 0), ("all", ["1.2", "2.2"], 0), (["1.3"], ["2.2"], 2)])
+def test_existing_lod_chooses_the_geometries(sample, lods, expected, fallback):
+    model = with_two_lods(sample)
+    copied = citymerge.copy_buildings(model, [0, 1], lods=lods)
+    for objs in copied.objects():
+        part = [o for o in objs.values() if o["type"] == "BuildingPart"][0]
+        assert [g["lod"] for g in part["geometry"]] == expected
+    assert copied.report.lod_fallback == fallback
+    doc = citymerge.merge(json.loads(generated(BOXES)[4]), copied)
+    assert cityjson.consistency_errors(doc) == []
+
+
+def test_cityjson_11_is_upgraded_on_read(sample, tmp_path):
+    with open(os.path.join(sample, FORMS[0])) as f:
+        doc = json.load(f)
+    doc["version"] = "1.1"
+    doc["metadata"]["pointOfContact"] = {"contactName": "x", "emailAddress": "x@example.org",
+                                         "address": "Julianalaan 134, Delft"}
+    doc["extensions"] = {"Generic": {
+        "url": "https://cityjson.org/extensions/download/generic.ext.json", "version": "1.0"}}
+    doc["CityObjects"]["thing"] = {"type": "+GenericCityObject"}
+    path = tmp_path / "old.city.json"
+    path.write_text(json.dumps(doc))
+    model = existing.read_model(str(path))
+    assert json.dumps(1e-7) == "1e-07"            # (cjio's import would make it 0.000000)
+    assert model.version == "1.1"
+    assert model.objects["thing"]["type"] == "GenericCityObject"
+    assert not model.extensions
+    assert model.metadata["pointOfContact"]["address"] == {"address": "Julianalaan 134, Delft"}
+    assert set(model.buildings) == set(BAG)
+
+
+@pytest.mark.parametrize("content,message", [
+    ('{"type": "FeatureCollection", "features": []}', "type is \"FeatureCollection\""),
+    ("not json at all\n", "not JSON"),
+    ('{"type": "CityJSON", "version": "1.0", "CityObjects": {}, "vertices": []}', "CityJSON 1.0"),
+    ('{"type":"CityJSON","version":"2.0","transform":{"scale":[1,1,1],"translate":[0,0,0]},'
+     '"CityObjects":{},"vertices":[]}\n{"type":"Feature"}\n', "line 2: not a CityJSONFeature"),
+])
+def test_a_file_that_is_not_cityjson_is_an_input_error(tmp_path, content, message):
+    path = tmp_path / "x.city.json"
+    path.write_text(content)
+    with pytest.raises(InputError, match=message):
+        existing.read_model(str(path))
+
+
+def test_missing_and_binary_files_are_input_errors(tmp_path):
+    with pytest.raises(InputError, match="Cannot read"):
+        existing.read_model(str(tmp_path / "none.city.json"))
+    path = tmp_path / "b.city.json"
+    path.write_bytes(bytes(range(128, 256)))
+    with pytest.raises(InputError, match="not a text file"):
+        existing.read_model(str(path))
+
+
+def test_reference_systems_must_agree(sample):
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    existing.check_reference_system(model, 28992)          # RD New + NAP on RD New
+    existing.check_reference_system(model, 7415)
+    with pytest.raises(InputError, match="EPSG:7415.*EPSG:31370"):
+        existing.check_reference_system(model, 31370)
+    copied = citymerge.copy_buildings(model, [0])
+    with pytest.raises(InputError, match="reference system"):
+        citymerge.merge(generated(BOXES, crs=31370)[4], copied)
+    assert existing.horizontal_epsg(7415) == 28992 and existing.horizontal_epsg(28992) == 28992
+
+
+def test_a_finer_grid_collapses_to_valid_rings(sample):
+    """A model on a 0.1 mm grid: vertices closer than the output's millimetre meet."""
+    with open(os.path.join(sample, FORMS[0])) as f:
+        doc = json.load(f)
+    doc["transform"]["scale"] = [0.0001] * 3
+    doc["vertices"] = [[x * 10, y * 10, z * 10] for x, y, z in doc["vertices"]]
+    part = doc["CityObjects"][BAG[0] + "-0"]["geometry"][0]
+    ring = part["boundaries"][0][1][0]
+    # a vertex 0.3 mm beside the ring's first one, put in after it
+    x, y, z = doc["vertices"][ring[0]]
+    doc["vertices"].append([x + 3, y, z])
+    ring.insert(1, len(doc["vertices"]) - 1)
+    model = existing.model_of(doc)
+    copied = citymerge.copy_buildings(model, [0, 1])
+    assert copied.report.collapsed_surfaces == 0
+    merged = citymerge.merge(json.loads(generated(BOXES)[4]), copied)
+    assert cityjson.consistency_errors(merged) == []
+    shell = merged["CityObjects"][BAG[0] + "-0"]["geometry"][0]["boundaries"][0]
+    assert len(shell) == len(part["boundaries"][0])
+    assert len(shell[1][0]) == len(ring) - 1          # the vertex that met its neighbour is gone
+
+
+def test_copied_attributes_are_added_without_overwriting(sample):
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    copied = citymerge.copy_buildings(model, [0, 1], attributes={
+        "plot": [7, None], "status": ["historic", "historic"]})
+    tops = [objs[i]["attributes"] for objs, i in zip(copied.trees, copied.ids)]
+    assert tops[0]["plot"] == 7 and "plot" not in tops[1]
+    assert tops[0]["status"] == "Pand in gebruik"
+    # the model read is not changed by copying
+    assert "plot" not in model.objects[copied.ids[0]]["attributes"]
+
+
+def test_a_copied_id_that_a_generated_building_has_is_refused(sample):
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    copied = citymerge.copy_buildings(model, [0])
+    ss, sem, ids, attrs, _ = generated(BOXES[:1])
+    text = cityjson.citymodel_text(ss, sem, [copied.ids[0]], attrs, 28992)
+    with pytest.raises(InputError, match="id of a generated building"):
+        citymerge.merge(text, copied)
+    with pytest.raises(InputError, match="id of a generated building"):
+        cityjsonseq.write(io.StringIO(), ss, sem, [copied.ids[0]], attrs, 28992, copied=copied)
+
+
+# ---------------------------------------------------------------------------
+# CityJSONSeq
+# ---------------------------------------------------------------------------
+
+def sequence_of(gen, copied, **kwargs):
+    ss, sem, ids, attrs, _ = gen
+    f = io.StringIO()
+    count = cityjsonseq.write(f, ss, sem, ids, attrs, 28992, "test", copied=copied, **kwargs)
+    f.seek(0)
+    return count, f
+
+
+@pytest.mark.parametrize("chunk", [20000, 2])
+def test_cityjsonseq_collected_equals_the_single_file(sample, schema_dir, chunk):
+    _, _, copied, gen, text = aligned_and_merged(os.path.join(sample, FORMS[1]))
+    count, f = sequence_of(gen, copied, chunk=chunk)
+    lines = f.getvalue().splitlines()
+    assert count == len(lines) - 1 == 5
+    head = json.loads(lines[0])
+    assert head["CityObjects"] == {} and head["vertices"] == []
+    assert cityjson.schema_errors(head, schema_dir) == []
+    feature_schema = cityjson.schema_validator(schema_dir, "cityjsonfeature.schema.json")
+    for line in lines[1:]:
+        feature = json.loads(line)
+        assert list(feature_schema.iter_errors(feature)) == []
+        assert feature["id"] in feature["CityObjects"]
+        used = citygeometry.indices(
+            [g for o in feature["CityObjects"].values() for g in o.get("geometry", ())])
+        assert set(used.tolist()) == set(range(len(feature["vertices"])))
+    back = cityjsonseq.collect(io.StringIO(f.getvalue()))
+    single = json.loads(text)
+    assert cityjson.consistency_errors(back) == []
+    assert citygeometry.resolved(back) == citygeometry.resolved(single)
+    assert back["metadata"] == single["metadata"]
+
+
+def test_an_attribute_like_the_placeholder_is_written_plainly(sample):
+    """The bulk writers put boundaries where json.dumps wrote a NUL string:
+    a NUL attribute makes them fall back to plain json.dumps, same result."""
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    gen = generated(BOXES)
+    plain = citymerge.copy_buildings(model, [0, 1])
+    odd = citymerge.copy_buildings(model, [0, 1], attributes={"nul": [citygeometry.HOLE] * 2})
+    single, with_nul = (json.loads(citymerge.merge(gen[4], c)) for c in (plain, odd))
+    for oid in BAG:
+        assert with_nul["CityObjects"][oid]["attributes"].pop("nul") == citygeometry.HOLE
+    assert citygeometry.resolved(with_nul) == citygeometry.resolved(single)
+    back = cityjsonseq.collect(sequence_of(gen, odd)[1])
+    assert citygeometry.resolved(back)[BAG[0]]["attributes"]["nul"] == citygeometry.HOLE
+    assert cityjson.consistency_errors(back) == []
+
+
+def test_cityjsonseq_of_generated_buildings_only(schema_dir):
+    gen = generated(BOXES + [shapely.box(85100, 446500, 85112, 446509)])
+    count, f = sequence_of(gen, None)
+    assert count == 4
+    back = cityjsonseq.collect(f)
+    assert citygeometry.resolved(back) == citygeometry.resolved(json.loads(gen[4]))
+    assert cityjson.consistency_errors(back) == []
+
+
+def test_a_written_sequence_reads_back_as_an_existing_model(sample, tmp_path):
+    _, _, copied, gen, text = aligned_and_merged(os.path.join(sample, FORMS[0]))
+    path = tmp_path / "out.city.jsonl"
+    with open(path, "w") as f:
+        cityjsonseq.write(f, *gen[:4], 28992, copied=copied)
+    model = existing.read_model(str(path))
+    assert model.sequence and len(model.buildings) == 5
+    assert sorted(model.tree(BAG[0])) == [BAG[0], BAG[0] + "-0"]
+    area = existing.footprints(model).area
+    assert np.all(area >= 100 - 1e-6)
+
+
+def test_every_footprint_copied_leaves_no_generated_building(sample, schema_dir):
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    copied = citymerge.copy_buildings(model, [0, 1])
+    ss, sem, ids, attrs, text = generated([])
+    assert len(ss) == 0
+    doc = json.loads(citymerge.merge(text, copied))
+    assert sorted(doc["CityObjects"]) == sorted([b for b in BAG] + [b + "-0" for b in BAG])
+    assert cityjson.schema_errors(doc, schema_dir) == []
+    assert cityjson.consistency_errors(doc) == []
+    back = cityjsonseq.collect(sequence_of((ss, sem, ids, attrs, text), copied)[1])
+    assert citygeometry.resolved(back) == citygeometry.resolved(doc)

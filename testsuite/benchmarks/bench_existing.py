@@ -1,0 +1,219 @@
+#!/usr/bin/env python3
+"""Benchmark of merging an existing 3D city model and of writing CityJSONSeq (issue 17).
+
+Goals: merging a 10,000-building existing model (matching the aligned
+footprints, copying the buildings, merging them into the generated model's
+text and writing the file) takes at most the time of reading that model
+once; writing CityJSONSeq is no slower than writing the single file.
+
+The existing model is synthesised from the 3D BAG sample
+(``../shared/data/3dbag_sample``): its two buildings replicated on a grid
+(``--buildings`` in all, as CityJSONSeq and as one CityJSON file). The
+aligned footprints are the ground surfaces of those buildings (every one
+matches), plus ``--generated`` footprints that are built (gable roofs) as
+v.histo.lod2 builds them. Prints the median of ``--runs`` runs of each step.
+
+Pure library code; runs with ``python3`` from the checkout or inside the
+GRASS session of ``run_all.sh``:
+
+    python3 testsuite/benchmarks/bench_existing.py --runs 5
+"""
+
+import argparse
+import json
+import os
+import statistics
+import sys
+import tempfile
+import time
+
+import numpy as np
+import shapely
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, ROOT)
+SAMPLE = os.path.join(ROOT, "..", "shared", "data", "3dbag_sample", "3dbag_b2.city.jsonl")
+
+from reconstruction import citymerge, cityjson, cityjsonseq, existing, solids  # noqa: E402
+
+
+def with_lod1(feature, header):
+    """The feature with LoD 1.2 and 1.3 prisms on its ground surface (at the
+    3D BAG's 70th and 50th percentile roof heights) before its LoD 2.2
+    solid, as every 3D BAG BuildingPart has them."""
+    oid = feature["id"]
+    part = feature["CityObjects"][oid + "-0"]
+    attrs = feature["CityObjects"][oid]["attributes"]
+    solid = part["geometry"][0]
+    values = solid["semantics"]["values"][0]
+    ground = [s[0] for s, v in zip(solid["boundaries"][0], values) if v == 0][0]
+    vertices = [list(v) for v in feature["vertices"]]
+    scale, translate = header["transform"]["scale"][2], header["transform"]["translate"][2]
+    prisms = []
+    for lod, height in (("1.2", attrs["b3_h_dak_70p"]), ("1.3", attrs["b3_h_dak_50p"])):
+        z = int(round((height - translate) / scale))
+        top = []
+        for i in ground:
+            vertices.append([vertices[i][0], vertices[i][1], z])
+            top.append(len(vertices) - 1)
+        n = len(ground)
+        walls = [[[ground[(k + 1) % n], ground[k], top[k], top[(k + 1) % n]]] for k in range(n)]
+        prisms.append({"type": "Solid", "lod": lod,
+                       "boundaries": [[[ground], [top[::-1]]] + walls],
+                       "semantics": {"surfaces": solid["semantics"]["surfaces"][:3],
+                                     "values": [[0, 1] + [2] * n]}})
+    feature = json.loads(json.dumps(feature))
+    feature["CityObjects"][oid + "-0"]["geometry"] = prisms + [solid]
+    feature["vertices"] = vertices
+    return feature
+
+
+def synthesise(folder, n, lod1=False):
+    """An n-building 3D BAG-like model: the sample's buildings on a 40 m grid
+    (with ``lod1``, LoD 1.2 and 1.3 prisms beside the LoD 2.2 solids)."""
+    with open(SAMPLE) as f:
+        header = json.loads(f.readline())
+        features = [json.loads(line) for line in f if line.strip()]
+    if lod1:
+        features = [with_lod1(feature, header) for feature in features]
+    scale = header["transform"]["scale"][0]
+    per_row = 100
+    lines = [json.dumps(header, separators=(",", ":"))]
+    for k in range(n):
+        feature = features[k % len(features)]
+        dx = int(round((k // len(features) % per_row) * 40.0 / scale))
+        dy = int(round((k // len(features) // per_row) * 40.0 / scale))
+        old = feature["id"]
+        new = "NL.IMBAG.Pand.0503100{:09d}".format(k)
+        text = json.dumps({"type": "CityJSONFeature", "id": new,
+                           "CityObjects": feature["CityObjects"],
+                           "vertices": (np.asarray(feature["vertices"]) + [dx, dy, 0]).tolist()},
+                          separators=(",", ":"))
+        lines.append(text.replace(old, new))
+    seq = os.path.join(folder, "existing.city.jsonl")
+    with open(seq, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    with open(seq) as f:
+        doc = cityjsonseq.collect(f)
+    single = os.path.join(folder, "existing.city.json")
+    with open(single, "w") as f:
+        json.dump(doc, f, separators=(",", ":"))
+    return single, seq
+
+
+def generated_model(n, seed=3):
+    """Solids of n rectangles south of the existing buildings (as v.histo.lod2 builds them)."""
+    rng = np.random.default_rng(seed)
+    rings = []
+    for i in range(n):
+        x0, y0 = 80000.0 + (i % 200) * 25.0, 440000.0 + (i // 200) * 30.0
+        w, d = rng.uniform(5, 9), rng.uniform(10, 18)
+        rings.append(solids.clean_ring(np.array([[0, 0], [w, 0], [w, d], [0, d]]) + [x0, y0])[0])
+    ss, kept, got, _ = solids.build_solids(rings, np.zeros(n), np.full(n, 9.0), np.full(n, 3.0),
+                                           ["gable"] * n, rng.random((n, 3)))
+    ids = ["building_{}".format(k + 1) for k in kept]
+    return ss, solids.semantics(ss), ids, {"roof_type": list(got), "source": ["2pm"] * len(kept)}
+
+
+def median_time(fn, runs):
+    """Median wall time and median CPU time of the process (the machine is
+    shared: CPU time is the steadier figure)."""
+    wall, cpu = [], []
+    for _ in range(runs):
+        t, c = time.perf_counter(), time.process_time()
+        fn()
+        wall.append(time.perf_counter() - t)
+        cpu.append(time.process_time() - c)
+    return Timing(statistics.median(wall), statistics.median(cpu))
+
+
+class Timing:
+    def __init__(self, wall, cpu):
+        self.wall, self.cpu = wall, cpu
+
+    def __sub__(self, other):
+        return Timing(self.wall - other.wall, self.cpu - other.cpu)
+
+    def __str__(self):
+        return "{:.3f} s ({:.3f} s CPU)".format(self.wall, self.cpu)
+
+    def ratio(self, other):
+        return "{:.2f} x ({:.2f} x CPU)".format(self.wall / other.wall, self.cpu / other.cpu)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--runs", type=int, default=5)
+    parser.add_argument("--buildings", type=int, default=10000)
+    parser.add_argument("--generated", type=int, default=10000)
+    parser.add_argument("--lod1", action="store_true",
+                        help="LoD 1.2 and 1.3 beside LoD 2.2, as in the 3D BAG (copied: 2.2)")
+    args, _ = parser.parse_known_args()
+    if not os.path.exists(SAMPLE):
+        print("skipped: the 3D BAG sample is not at '{}'".format(SAMPLE))
+        return 0
+    with tempfile.TemporaryDirectory() as folder:
+        single, seq = synthesise(folder, args.buildings, args.lod1)
+        print("existing model: {} buildings, {:.1f} MB (CityJSON), {:.1f} MB (CityJSONSeq)".format(
+            args.buildings, os.path.getsize(single) / 1e6, os.path.getsize(seq) / 1e6))
+        gen = generated_model(args.generated)
+        text = cityjson.citymodel_text(*gen, 28992, title="bench")
+        model = existing.read_model(single)
+        fps = existing.footprints(model)
+        # the aligned footprints as they come back from GRASS: counter-clockwise, millimetres
+        aligned = list(shapely.set_precision(shapely.orient_polygons(fps.polygons), 0.001))
+        bag_ids = [b.rsplit(".", 1)[1] for b in model.buildings]
+        out = os.path.join(folder, "out.city.json")
+
+        def merge(ids):
+            m = existing.read_model(single)
+            matches = existing.match(m, aligned, ids=ids)
+            copied = citymerge.copy_buildings(m, matches.building[matches.matched])
+            cityjson.write_text(out, citymerge.merge(text, copied))
+            return matches
+
+        assert merge(bag_ids).report.by_id == args.buildings
+        assert merge(None).report.by_geometry == args.buildings
+        t_read = median_time(lambda: existing.read_model(single), args.runs)
+        t_read_seq = median_time(lambda: existing.read_model(seq), args.runs)
+        t_id = median_time(lambda: merge(bag_ids), args.runs) - t_read
+        t_geom = median_time(lambda: merge(None), args.runs) - t_read
+        print("read existing model: {} (CityJSON), {} (CityJSONSeq)".format(t_read, t_read_seq))
+        print("merge by id (match, copy, merge, write): {} = {} the read".format(
+            t_id, t_id.ratio(t_read)))
+        print("merge by geometry (footprints, match, copy, merge, write): {} = {} the read"
+              .format(t_geom, t_geom.ratio(t_read)))
+        matches = existing.match(model, aligned, ids=bag_ids)
+        copied = citymerge.copy_buildings(model, matches.building[matches.matched])
+        steps = {
+            "match by id": lambda: existing.match(model, aligned, ids=bag_ids),
+            "footprints": lambda: existing.footprints(model),
+            "match by geometry": lambda: existing.match(model, aligned, fps=fps),
+            "copy": lambda: citymerge.copy_buildings(model, matches.building[matches.matched]),
+            "merge into the text": lambda: citymerge.merge(text, copied),
+        }
+        for name, fn in steps.items():
+            print("  {}: {}".format(name, median_time(fn, args.runs)))
+
+        def write_single(c):
+            body = cityjson.citymodel_text(*gen, 28992, title="bench")
+            cityjson.write_text(out, citymerge.merge(body, c) if c is not None else body)
+
+        def write_seq(c):
+            with open(out + "l", "w") as f:
+                cityjsonseq.write(f, *gen, 28992, title="bench", copied=c)
+
+        for label, c in (("{} generated".format(len(gen[2])), None),
+                         ("{} generated + {} copied".format(len(gen[2]), len(copied)), copied)):
+            t_single = median_time(lambda: write_single(c), args.runs)
+            t_seq = median_time(lambda: write_seq(c), args.runs)
+            print("write {}: single file {}, CityJSONSeq {} ({})".format(
+                label, t_single, t_seq, t_seq.ratio(t_single)))
+        with open(out + "l") as f:
+            back = cityjsonseq.collect(f)
+        assert len(back["CityObjects"]) == len(gen[2]) + 2 * len(copied)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
