@@ -26,7 +26,8 @@ from . import citygeometry
 from .cityjson import (CITYJSON_VERSION, LOD, _attr_list, _int_text, _member_texts, _pieces,
                        _split_by_solid, crs_url)
 from .errors import InputError
-from .solids import SEMANTIC_NAMES, take, unique_rows
+from .rings import unique_rows
+from .solidset import SEMANTIC_NAMES, take
 
 _SEPARATORS = ["[[", "],[", ",", "[[-", "],[-", ",-"]
 

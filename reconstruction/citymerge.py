@@ -20,7 +20,7 @@ import numpy as np
 
 from . import citygeometry
 from .errors import InputError
-from .solids import unique_rows
+from .rings import unique_rows
 
 SCALE = 0.001
 

@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 import shapely
 
-from reconstruction import citygeometry, citymerge, cityjson, cityjsonseq, existing, solids
+from reconstruction import citygeometry, citymerge, cityjson, cityjsonseq, existing, lod2, solids
+from reconstruction.solidset import semantics
 from reconstruction.errors import InputError
 
 BAG = ("NL.IMBAG.Pand.0503100000028341", "NL.IMBAG.Pand.0503100000031927")
@@ -39,16 +40,21 @@ def schema_dir(schemas):
 
 def generated(polygons, first_id=1, crs=28992):
     """The CityJSON text of gable-roofed buildings on ``polygons``, as v.histo.lod2 makes it."""
-    polys, src, part, _, _ = solids.footprint_polygons(polygons)
-    rings, _ = solids.clean_rings(polys)
-    n = len(rings)
-    ss, kept, got, _ = solids.build_solids(rings, np.zeros(n), np.full(n, 6.0), np.full(n, 3.0),
-                                           ["gable"] * n, np.full((n, 3), 0.5))
-    ids = ["building_{}".format(first_id + int(src[k])) for k in kept]
-    attributes = {"roof_type": list(got), "source": ["2pm"] * len(kept)}
-    sem = solids.semantics(ss)
-    return ss, sem, ids, attributes, cityjson.citymodel_text(ss, sem, ids, attributes, crs,
-                                                             title="test")
+    n = len(polygons)
+    if n == 0:  # build_model refuses to build nothing; the solids of no footprint
+        ss, _, _, _ = solids.build_solids(solids.Buildings(
+            [], np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0, dtype=object), np.zeros((0, 3))))
+        sem = semantics(ss)
+        return ss, sem, [], {}, cityjson.citymodel_text(ss, sem, [], {}, crs, title="test")
+    result = lod2.build_model(
+        lod2.Footprints(list(polygons), cats=list(range(first_id, first_id + n)),
+                        source=["2pm"] * n),
+        lod2.Heights(eaves=np.full(n, 6.0), attic=np.full(n, 3.0)),
+        lod2.RoofRequests(types=np.full(n, "gable", dtype=object), years=np.full(n, np.nan)))
+    attributes = {"roof_type": list(result.roof_types), "source": ["2pm"] * len(result.ids)}
+    ss, sem = result.solids, result.semantics
+    return ss, sem, result.ids, attributes, cityjson.citymodel_text(
+        ss, sem, result.ids, attributes, crs, title="test")
 
 
 def aligned_and_merged(path, ids=None, lods=None):

@@ -34,7 +34,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path.insert(0, ROOT)
 SAMPLE = os.path.join(ROOT, "..", "shared", "data", "3dbag_sample", "3dbag_b2.city.jsonl")
 
-from reconstruction import citymerge, cityjson, cityjsonseq, existing, solids  # noqa: E402
+from reconstruction import citymerge, cityjson, cityjsonseq, existing, outlines, solids, solidset  # noqa: E402
 
 
 def with_lod1(feature, header):
@@ -108,11 +108,12 @@ def generated_model(n, seed=3):
     for i in range(n):
         x0, y0 = 80000.0 + (i % 200) * 25.0, 440000.0 + (i // 200) * 30.0
         w, d = rng.uniform(5, 9), rng.uniform(10, 18)
-        rings.append(solids.clean_ring(np.array([[0, 0], [w, 0], [w, d], [0, d]]) + [x0, y0])[0])
-    ss, kept, got, _ = solids.build_solids(rings, np.zeros(n), np.full(n, 9.0), np.full(n, 3.0),
-                                           ["gable"] * n, rng.random((n, 3)))
+        rings.append(outlines.clean_ring(np.array([[0, 0], [w, 0], [w, d], [0, d]]) + [x0, y0])[0])
+    ss, kept, got, _ = solids.build_solids(solids.Buildings(
+        rings, np.zeros(n), np.full(n, 9.0), np.full(n, 3.0), np.array(["gable"] * n, dtype=object),
+        rng.random((n, 3))))
     ids = ["building_{}".format(k + 1) for k in kept]
-    return ss, solids.semantics(ss), ids, {"roof_type": list(got), "source": ["2pm"] * len(kept)}
+    return ss, solidset.semantics(ss), ids, {"roof_type": list(got), "source": ["2pm"] * len(kept)}
 
 
 def median_time(fn, runs):
