@@ -217,8 +217,7 @@ def write_footprints(grassio, output, footprints, columns, indices, extra, title
                             history=True)
 
 
-def main():
-    options, flags = OPTIONS, FLAGS
+def main(options, flags):
     from reconstruction import grassio
 
     start = time.perf_counter()
@@ -286,8 +285,8 @@ def main():
 
 
 if __name__ == "__main__":
-    OPTIONS, FLAGS = gs.parser()
+    options, flags = gs.parser()
     find_core()
     from reconstruction import grassio
 
-    sys.exit(grassio.run_main(main))
+    sys.exit(grassio.run_main(main, options, flags))

@@ -203,7 +203,7 @@ def find_core():
             return
 
 
-def main():
+def main(options, flags):
     from reconstruction import grassio
 
     grassio.register_cleanup()
@@ -251,8 +251,8 @@ def main():
         options["ground_column"], float(options["ground"]), height_range, attic_range)
     requests = lod2.requests_from_columns(columns, len(geoms), options["roof"],
                                           options["roof_column"], map_year, options["year_column"])
-    footprints = lod2.Footprints(geoms, columns.get("cat"), _column(columns, "plot_column"),
-                                 _column(columns, "source_column"))
+    footprints = lod2.Footprints(geoms, columns.get("cat"), _column(columns, options["plot_column"]),
+                                 _column(columns, options["source_column"]))
 
     prepared = lod2.prepare(footprints, heights, requests, config)
     report_footprints(prepared.report, options["ground"])
@@ -272,9 +272,8 @@ def main():
     return 0
 
 
-def _column(columns, key):
-    """The values of the column named by option ``key``, or None when it is not in the map."""
-    name = options[key]
+def _column(columns, name):
+    """The values of column ``name``, or None when it is not in the map."""
     return columns[name] if name and name in columns else None
 
 
@@ -330,4 +329,4 @@ if __name__ == "__main__":
     find_core()
     from reconstruction import grassio
 
-    sys.exit(grassio.run_main(main))
+    sys.exit(grassio.run_main(main, options, flags))

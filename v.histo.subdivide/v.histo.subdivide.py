@@ -155,13 +155,12 @@ def report(rep, aligned, calibrating):
                      "kept").format(rep.calibration_samples))
 
 
-def main():
+def main(options, flags):
     from reconstruction import contract, grassio, subdivision
     from reconstruction.errors import InputError
     from reconstruction.options import parse_number, parse_range
 
     grassio.register_cleanup()
-    options, flags = OPTIONS, FLAGS
     plots_name, output, aligned_name = options["input"], options["output"], options["aligned"]
     length = parse_range(options["length"], "length", positive=True, allow_zero=False)
     depth = parse_range(options["depth"], "depth", positive=True, allow_zero=False)
@@ -221,8 +220,8 @@ def main():
 
 
 if __name__ == "__main__":
-    OPTIONS, FLAGS = gs.parser()
+    options, flags = gs.parser()
     find_core()
     from reconstruction import grassio
 
-    sys.exit(grassio.run_main(main))
+    sys.exit(grassio.run_main(main, options, flags))
