@@ -21,7 +21,6 @@ type, roof shape, heights) before any footprint is left out, so that a
 footprint's building does not depend on the others.
 """
 
-from dataclasses import dataclass, field, replace
 from typing import NamedTuple, Optional
 
 import numpy as np
@@ -43,8 +42,7 @@ AUTO = "auto"
 # Inputs
 # ---------------------------------------------------------------------------
 
-@dataclass(frozen=True)
-class Uniform:
+class Uniform(NamedTuple):
     """Heights drawn at random per footprint, uniformly in [low, high]."""
 
     low: float
@@ -55,8 +53,7 @@ class Uniform:
         return self.low + (self.high - self.low) * uniforms
 
 
-@dataclass
-class Heights:
+class Heights(NamedTuple):
     """The heights of every footprint (m): per footprint values (nan = unknown)
     or a :class:`Uniform` range."""
 
@@ -69,8 +66,7 @@ class Heights:
     ground_default: float = 0.0
 
 
-@dataclass
-class RoofRequests:
+class RoofRequests(NamedTuple):
     """What each footprint asks of its roof."""
 
     #: per footprint, a roof type of :data:`~reconstruction.roofs.ROOF_TYPES`
@@ -81,8 +77,7 @@ class RoofRequests:
     years: np.ndarray
 
 
-@dataclass
-class Footprints:
+class Footprints(NamedTuple):
     """Footprint geometries and what is written of them."""
 
     #: shapely Polygon or MultiPolygon per footprint (None or empty: left out)
@@ -94,11 +89,10 @@ class Footprints:
     source: Optional[list] = None
 
 
-@dataclass(frozen=True)
-class Lod2Config:
+class Lod2Config(NamedTuple):
     """Parameters of the stage that are the same for every footprint."""
 
-    roof: RoofConfig = field(default_factory=RoofConfig)
+    roof: RoofConfig = RoofConfig()
     #: seed of every random draw
     seed: int = 1
     #: processes building the solids (the result does not depend on it)
@@ -120,33 +114,31 @@ class RoofFallback(NamedTuple):
     reason: str
 
 
-@dataclass
-class Lod2Report:
+class Lod2Report(NamedTuple):
     """What happened to the footprints, in counts."""
 
     #: footprints left out for an unknown, zero or negative eaves height
-    bad_eaves: int = 0
+    bad_eaves: int
     #: footprints with an unknown or negative roof height (flat roof)
-    bad_attic: int = 0
+    bad_attic: int
     #: footprints with an unknown ground elevation (on the default ground)
-    bad_ground: int = 0
+    bad_ground: int
     #: holes (inner courtyards) filled
-    holes_filled: int = 0
+    holes_filled: int
     #: footprints or polygons of footprints left out as empty or degenerate, and why
-    left_out: int = 0
-    left_out_reasons: dict = field(default_factory=dict)
+    left_out: int
+    left_out_reasons: dict
     #: footprint polygons to build on
-    rings: int = 0
-    #: polygons that gave no valid solid, even flat
+    rings: int
+    #: polygons that gave no valid solid, even flat (known after :func:`build`)
     dropped: int = 0
     #: buildings whose roof is simpler than requested
     fell_back: int = 0
     #: every roof that failed validation (a building may fall back more than once)
-    fallbacks: list = field(default_factory=list)
+    fallbacks: tuple = ()
 
 
-@dataclass
-class Prepared:
+class Prepared(NamedTuple):
     """The footprints ready to build (see :func:`prepare`)."""
 
     buildings: Buildings
@@ -162,8 +154,7 @@ class Prepared:
     report: Lod2Report
 
 
-@dataclass
-class Lod2Result:
+class Lod2Result(NamedTuple):
     """The LoD2 buildings of :func:`build_model`."""
 
     #: the valid solids (:class:`~reconstruction.solidset.SolidSet`), one per building
@@ -364,9 +355,10 @@ def build(prepared, config=None):
         SOURCE: per_building(prepared.footprints.source),
         "footprint": [cats[i] for i in fsrc],
     }
-    report = replace(prepared.report, dropped=len(buildings) - len(kept),
-                     fell_back=int(np.sum(got != buildings.roof_types[kept])),
-                     fallbacks=[RoofFallback(cats[src[f.index]], f.kind, f.reason) for f in log])
+    report = prepared.report._replace(dropped=len(buildings) - len(kept),
+                                      fell_back=int(np.sum(got != buildings.roof_types[kept])),
+                                      fallbacks=[RoofFallback(cats[src[f.index]], f.kind, f.reason)
+                                                 for f in log])
     return Lod2Result(ss, semantics(ss), ids, got, fsrc, attributes, report)
 
 

@@ -10,7 +10,6 @@ where the roofs need them in bulk (:func:`outline_facts`).
 """
 
 import math
-from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
@@ -265,8 +264,7 @@ def street_end(xy, street=None):
     return int(np.argmin(edge_lengths(xy)))
 
 
-@dataclass
-class OutlineFacts:
+class OutlineFacts(NamedTuple):
     """What the roofs need to know of footprint outlines, one entry per footprint."""
 
     #: True for a ring without a reflex vertex

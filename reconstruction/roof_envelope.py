@@ -9,7 +9,7 @@ main body behind a crow-stepped facade are envelopes.
 """
 
 import itertools
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -18,8 +18,7 @@ from .roof_model import RoofGroup
 _TOL = 1e-6
 
 
-@dataclass
-class Envelope:
+class Envelope(NamedTuple):
     """Envelope roofs of B convex footprints with the same number of vertices n."""
 
     #: (B, n, 2) the footprints (local coordinates, counter-clockwise)

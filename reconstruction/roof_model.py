@@ -1,19 +1,21 @@
 """The types roofs travel in: their parameters, one roof, and roofs in bulk.
 
+The types here and in the other files of the stage are NamedTuples, not
+dataclasses: a dataclass costs about 2 ms to define (its methods are
+compiled at import), which ``v.histo.lod2`` would pay at every run.
+
 Roofs are relative to the eaves (z = 0 along the footprint) in the local
 coordinates of their footprint (a counter-clockwise ring). Faces are rings
 of roof vertex indices oriented outwards (seen from outside,
 counter-clockwise); the first ``n`` roof vertices are the footprint's.
 """
 
-from dataclasses import dataclass
-from typing import Optional
+from typing import NamedTuple, Optional
 
 import numpy as np
 
 
-@dataclass(frozen=True)
-class RoofConfig:
+class RoofConfig(NamedTuple):
     """The roof parameters that are the same for every building."""
 
     #: minimum pitch of the hip ends (degrees)
@@ -26,8 +28,7 @@ class RoofConfig:
     thickness: float = 0.5
 
 
-@dataclass
-class Roof:
+class Roof(NamedTuple):
     """One roof: ``vertices`` (m, 3), the footprint's first, and ``faces``."""
 
     vertices: np.ndarray
@@ -43,8 +44,7 @@ class Roof:
     chains: Optional[list] = None
 
 
-@dataclass
-class RoofGroup:
+class RoofGroup(NamedTuple):
     """Roofs of footprints with the same number of vertices, as arrays.
 
     ``kind`` names the solver family that made them ("flat", "envelope",

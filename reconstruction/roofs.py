@@ -28,7 +28,6 @@ otherwise.
 """
 
 import math
-from dataclasses import dataclass, replace
 from typing import NamedTuple, Optional
 
 import numpy as np
@@ -127,8 +126,7 @@ class Facade(NamedTuple):
     step: float
 
 
-@dataclass
-class RoofPlan:
+class RoofPlan(NamedTuple):
     """Which solver family builds each roof, and its parameters."""
 
     #: the roof type each footprint gets (a stepped roof on a concave or
@@ -240,8 +238,7 @@ def _convex_slopes(kind, n, h, end, opp, end_length, u, pitch_min):
 # Solving the plan: one function per family
 # ---------------------------------------------------------------------------
 
-@dataclass
-class RoofSet:
+class RoofSet(NamedTuple):
     """The roofs of a set of footprints (see :func:`make_roofs`)."""
 
     #: the roof type each footprint really got
@@ -299,7 +296,7 @@ def _envelope_roofs(plan, footprints, attic, thickness):
             for group in stepped_arrays(np.stack([footprints[i] for i in owner]),
                                         [f.end for f in facades], env.take(bodies),
                                         [f.step for f in facades], thickness):
-                groups.append(replace(group, index=owner[group.index]))
+                groups.append(group._replace(index=owner[group.index]))
         plain = np.array([k for k, j in enumerate(jobs) if not j.body], dtype=int)
         plain = plain[env.ok[plain]]
         if len(plain):
@@ -345,5 +342,5 @@ def scale_roof(roof, height):
         return None
     v = roof.vertices.copy()
     v[:, 2] *= height / roof.zmax
-    return replace(roof, vertices=v, zmax=height)
+    return roof._replace(vertices=v, zmax=height)
 

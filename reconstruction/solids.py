@@ -10,8 +10,7 @@ mansard -> flat), and a footprint whose flat prism still fails is dropped
 and counted.
 """
 
-from dataclasses import dataclass
-from typing import NamedTuple, Optional
+from typing import NamedTuple
 
 import numpy as np
 
@@ -26,33 +25,28 @@ FALLBACK = {"stepped": "gable", "gable": "mansard", "hip": "mansard", "mansard":
             "flat": None}
 
 
-@dataclass
 class Buildings:
-    """What :func:`build_solids` builds: one entry per footprint ring."""
+    """What :func:`build_solids` builds: one entry per footprint ring.
 
-    #: cleaned counter-clockwise rings (n, 2) in absolute coordinates
-    #: (see :func:`reconstruction.outlines.clean_rings`)
-    footprints: list
-    #: terrain elevation, wall height above it and roof height above the eaves (m)
-    ground: np.ndarray
-    eaves: np.ndarray
-    attic: np.ndarray
-    #: the requested roof types
-    roof_types: np.ndarray
-    #: (B, 3) uniform numbers in [0, 1) (see :func:`reconstruction.roofs.make_roofs`)
-    uniforms: np.ndarray
-    #: optional street edge index per footprint
-    street: Optional[list] = None
+    ``footprints``: cleaned counter-clockwise rings (n, 2) in absolute
+    coordinates (see :func:`reconstruction.outlines.clean_rings`);
+    ``ground``, ``eaves``, ``attic``: terrain elevation, wall height above
+    it and roof height above the eaves (m); ``roof_types``: the requested
+    types; ``uniforms``: (B, 3) uniform numbers in [0, 1) (see
+    :func:`reconstruction.roofs.make_roofs`); ``street``: optional street
+    edge index per footprint.
+    """
 
-    def __post_init__(self):
-        self.footprints = list(self.footprints)
-        self.ground = np.asarray(self.ground, dtype=float)
-        self.eaves = np.asarray(self.eaves, dtype=float)
-        self.attic = np.asarray(self.attic, dtype=float)
-        self.roof_types = np.array(self.roof_types, dtype=object)
-        self.uniforms = np.asarray(self.uniforms, dtype=float).reshape(len(self.footprints), 3)
-        if self.street is not None:
-            self.street = list(self.street)
+    __slots__ = ("footprints", "ground", "eaves", "attic", "roof_types", "uniforms", "street")
+
+    def __init__(self, footprints, ground, eaves, attic, roof_types, uniforms, street=None):
+        self.footprints = list(footprints)
+        self.ground = np.asarray(ground, dtype=float)
+        self.eaves = np.asarray(eaves, dtype=float)
+        self.attic = np.asarray(attic, dtype=float)
+        self.roof_types = np.array(roof_types, dtype=object)
+        self.uniforms = np.asarray(uniforms, dtype=float).reshape(len(self.footprints), 3)
+        self.street = None if street is None else list(street)
 
     def __len__(self):
         return len(self.footprints)
