@@ -227,11 +227,14 @@ def main(options, flags):
 
     grassio.write_features(options["output"], result.plots, result.columns,
                            title="Generalised building plots ({})".format(methods))
-    gs.vector_history(options["output"])
+    with grassio.doing("writing the history of <{}>".format(options["output"])):
+        gs.vector_history(options["output"])
     if options["metrics"]:
-        report.write_metrics_csv(options["metrics"])
+        with grassio.doing("writing the metrics file"):
+            report.write_metrics_csv(options["metrics"])
     if options["report"]:
-        report.write_json(options["report"])
+        with grassio.doing("writing the report file"):
+            report.write_json(options["report"])
     scalars = report.scalars()
     if flags["g"]:
         for key, value in scalars.items():
