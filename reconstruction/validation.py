@@ -12,24 +12,15 @@ consistently oriented), V - E + F = 2 (one fan of faces around every vertex:
 
 import numpy as np
 
-from .rings import gather, starts
-from .solidset import face_geometry
+from .rings import components, gather, starts
+from .solidset import close_pairs, face_geometry
 
 PLANARITY_TOL = 0.001
-
-
-def _components(n, a, b):
-    """Connected component label (smallest member) of n nodes joined by edges a-b,
-    by min-label propagation (shells have a small diameter)."""
-    labels = np.arange(n)
-    while True:
-        new = labels.copy()
-        np.minimum.at(new, a, labels[b])
-        np.minimum.at(new, b, labels[a])
-        new = new[new]
-        if np.array_equal(new, labels):
-            return labels
-        labels = new
+#: a face is turned downwards when its unit normal's z is below -DOWN_TOL:
+#: walls tilted by the millimetre rounding are within 2e-3 of vertical;
+#: folded slivers of straight skeletons a fraction of a millimetre wide
+#: are turned far over (val3dity sees them cut their neighbours)
+DOWN_TOL = 0.01
 
 
 def validate(ss, tol=PLANARITY_TOL):
@@ -117,6 +108,30 @@ def validate(ss, tol=PLANARITY_TOL):
         rings = shapely.linearrings(closed, indices=ids)
         simple = shapely.is_simple(rings)
         flag(face_solid[big[~simple]], "self-intersecting ring")
+    # vertices val3dity would snap together (closer than its 1 mm snap_tol)
+    vsol_entry = face_solid[entry_face]
+    used = np.unique(ss.rings)
+    vs = np.empty(len(ss.vertices), dtype=np.int64)
+    vs[ss.rings] = vsol_entry
+    close = close_pairs(ss.vertices[used], vs[used])
+    flag(vs[used][close[:, 0]], "vertices closer than 1 mm (snapped by val3dity)")
+    # self-intersection of the shell: the faces' signed areas projected on
+    # the ground plane cover every point of it zero times in total (the shell
+    # is closed); the ground face covers the footprint -1 times, vertical
+    # walls not at all, so faces that all face upwards cover it exactly once:
+    # the roof is the graph of a function over the footprint, which meets
+    # itself and the walls only along shared edges (checked below). A face
+    # turned downwards above the ground is where a roof folds over itself or
+    # through a wall (e.g. straight skeletons of concave footprints); walls
+    # tilted by the millimetre rounding are not
+    z = ss.vertices[:, 2]
+    fz_max = np.maximum.reduceat(z[ss.rings], ss.face_start[:-1])
+    fz_min = np.minimum.reduceat(z[ss.rings], ss.face_start[:-1])
+    s_min = np.minimum.reduceat(fz_min, ss.solid_start[:-1][nf > 0])
+    zmin = np.zeros(S, dtype=z.dtype)
+    zmin[nf > 0] = s_min
+    down = (unit[:, 2] < -DOWN_TOL) & (fz_max > zmin[face_solid]) & ~degenerate
+    flag(face_solid[down], "face turned downwards above the ground (shell self-intersection)")
     # edges: every undirected edge exactly twice, in opposite directions
     a = ss.rings
     b = ss.rings[nxt]
@@ -152,7 +167,7 @@ def validate(ss, tol=PLANARITY_TOL):
          "non-manifold vertex or handle (V - E + F != 2)")
     # one connected shell
     if len(ea):
-        labels = _components(F, entry_face[ea], entry_face[eb])
+        labels = components(F, entry_face[ea], entry_face[eb])
         lo = np.minimum.reduceat(labels, ss.solid_start[:-1][nf > 0])
         hi = np.maximum.reduceat(labels, ss.solid_start[:-1][nf > 0])
         flag(np.nonzero(nf > 0)[0][lo != hi], "more than one shell")
