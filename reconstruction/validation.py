@@ -10,17 +10,54 @@ consistently oriented), V - E + F = 2 (one fan of faces around every vertex:
 (outward orientation).
 """
 
+import math
+
 import numpy as np
 
 from .rings import components, gather, starts
 from .solidset import close_pairs, face_geometry
 
 PLANARITY_TOL = 0.001
+#: largest angle (degrees) between a face's normal and its triangles' (val3dity's default)
+NORMALS_TOL = 20.0
 #: a face is turned downwards when its unit normal's z is below -DOWN_TOL:
 #: walls tilted by the millimetre rounding are within 2e-3 of vertical;
 #: folded slivers of straight skeletons a fraction of a millimetre wide
 #: are turned far over (val3dity sees them cut their neighbours)
 DOWN_TOL = 0.01
+
+
+def _bent_faces(rings, ids, pos, xy2, pts, unit, faces):
+    """Faces (of ``faces``) with a triangle of their constrained Delaunay
+    triangulation (on the projection ``xy2`` of their vertices ``pts``, ring
+    ``pos`` per vertex) whose normal deviates from the face's ``unit`` normal
+    by more than :data:`NORMALS_TOL` degrees, as val3dity tests planarity."""
+    import shapely
+
+    tris, owner = shapely.get_parts(
+        shapely.constrained_delaunay_triangles(shapely.polygons(rings)), return_index=True)
+    if not len(tris):
+        return np.zeros(0, dtype=np.int64)
+    corners = shapely.get_coordinates(tris).reshape(len(tris), 4, 2)[:, :3].reshape(-1, 2)
+    tri_face = np.repeat(ids[owner], 3)
+    # the 3D vertex of each corner: same face and the same projected point
+    mine = np.isin(pos, ids)
+    keys = np.vstack([np.column_stack([pos[mine], xy2[mine]]),
+                      np.column_stack([tri_face, corners])])
+    _, inv = np.unique(keys, axis=0, return_inverse=True)
+    inv = inv.ravel()
+    n_ring = int(mine.sum())
+    where = np.full(inv.max() + 1, -1, dtype=np.int64)
+    where[inv[:n_ring]] = np.arange(n_ring)
+    hit = where[inv[n_ring:]]
+    found = (hit >= 0).reshape(-1, 3).all(axis=1)
+    q = pts[mine][np.maximum(hit, 0)].reshape(-1, 3, 3)
+    n = np.cross(q[:, 1] - q[:, 0], q[:, 2] - q[:, 0])
+    length = np.linalg.norm(n, axis=1)
+    face_of = np.searchsorted(ids, ids[owner])
+    cos = np.abs(np.einsum("ij,ij->i", n, unit[face_of])) / np.maximum(length, 1e-300)
+    bad = found & (length > 1e-12) & (cos < math.cos(math.radians(NORMALS_TOL)))
+    return np.unique(faces[face_of[bad]])
 
 
 def validate(ss, tol=PLANARITY_TOL):
@@ -108,6 +145,12 @@ def validate(ss, tol=PLANARITY_TOL):
         rings = shapely.linearrings(closed, indices=ids)
         simple = shapely.is_simple(rings)
         flag(face_solid[big[~simple]], "self-intersecting ring")
+        # normals deviation (val3dity's 204): the triangles of each face's
+        # constrained Delaunay triangulation against the face's normal
+        j = np.nonzero(simple)[0]
+        if len(j):
+            bent = _bent_faces(rings[j], j, pos, xy2, pts, unit[big[j]], j)
+            flag(face_solid[big[bent]], "non-planar face (normals deviate > 20 degrees)")
     # vertices val3dity would snap together (closer than its 1 mm snap_tol)
     vsol_entry = face_solid[entry_face]
     used = np.unique(ss.rings)
