@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from .rings import components, gather, starts
+from .rings import components, gather, starts, unique_rows
 from .solidset import close_pairs, face_geometry
 
 PLANARITY_TOL = 0.001
@@ -42,10 +42,10 @@ def _bent_faces(rings, ids, pos, xy2, pts, unit, faces):
     tri_face = np.repeat(ids[owner], 3)
     # the 3D vertex of each corner: same face and the same projected point
     mine = np.isin(pos, ids)
-    keys = np.vstack([np.column_stack([pos[mine], xy2[mine]]),
-                      np.column_stack([tri_face, corners])])
-    _, inv = np.unique(keys, axis=0, return_inverse=True)
-    inv = inv.ravel()
+    # (projected coordinates are millimetres / 1000: exact as integers)
+    keys = np.vstack([np.column_stack([pos[mine], np.rint(xy2[mine] * 1000.0)]),
+                      np.column_stack([tri_face, np.rint(corners * 1000.0)])]).astype(np.int64)
+    _, inv = unique_rows(keys)
     n_ring = int(mine.sum())
     where = np.full(inv.max() + 1, -1, dtype=np.int64)
     where[inv[:n_ring]] = np.arange(n_ring)
@@ -153,7 +153,8 @@ def validate(ss, tol=PLANARITY_TOL):
             flag(face_solid[big[bent]], "non-planar face (normals deviate > 20 degrees)")
     # vertices val3dity would snap together (closer than its 1 mm snap_tol)
     vsol_entry = face_solid[entry_face]
-    used = np.unique(ss.rings)
+    used = np.zeros(len(ss.vertices), dtype=bool)
+    used[ss.rings] = True
     vs = np.empty(len(ss.vertices), dtype=np.int64)
     vs[ss.rings] = vsol_entry
     close = close_pairs(ss.vertices[used], vs[used])
