@@ -7,7 +7,10 @@ or degenerate (zero-area) ring, faces planar within 1 mm, every edge used
 exactly twice in opposite directions (closed, 2-manifold along edges,
 consistently oriented), V - E + F = 2 (one fan of faces around every vertex:
 2-manifold at the vertices, no handle), one connected shell, positive volume
-(outward orientation).
+(outward orientation); and, as val3dity (issue 11): no two vertices closer
+than its 1 mm snap tolerance, no face turned downwards above the ground (shell
+self-intersection), no triangle of a face's constrained Delaunay
+triangulation whose normal deviates more than 20 degrees from the face's.
 """
 
 import math
