@@ -87,3 +87,17 @@ def unique_rows(rows):
     inv = np.empty(len(rows), dtype=np.int64)
     inv[order] = group
     return srt[new], inv
+
+
+def components(n, a, b):
+    """Connected component label (smallest member) of n nodes joined by edges a-b,
+    by min-label propagation (shells have a small diameter)."""
+    labels = np.arange(n)
+    while True:
+        new = labels.copy()
+        np.minimum.at(new, a, labels[b])
+        np.minimum.at(new, b, labels[a])
+        new = new[new]
+        if np.array_equal(new, labels):
+            return labels
+        labels = new

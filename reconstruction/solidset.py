@@ -13,7 +13,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .rings import gather, next_in_ring, offsets, starts, unique_rows
+from .rings import components, gather, next_in_ring, offsets, starts, unique_rows
 
 GROUND, WALL, ROOF = 0, 1, 2
 SEMANTIC_NAMES = ("GroundSurface", "WallSurface", "RoofSurface")
@@ -144,7 +144,7 @@ def from_parts(parts, S, bad):
     local = remap[rings]
     vsolid = np.empty(len(uidx), dtype=np.int64)
     vsolid[local] = entry_solid
-    uniq, inv_u = unique_rows(np.column_stack([vsolid, allv[uidx]]))
+    uniq, inv_u = unique_rows(np.column_stack([vsolid, snap(allv[uidx], vsolid)]))
     inv = inv_u[local]
     vertices = np.ascontiguousarray(uniq[:, 1:])
     # duplicate consecutive vertices
@@ -166,6 +166,35 @@ def from_parts(parts, S, bad):
     face_start = offsets(sizes_kept).astype(np.int64)
     solid_start = offsets(np.bincount(face_solid, minlength=S)).astype(np.int64)
     return SolidSet(vertices, inv.astype(np.int64), face_start, solid_start, list(bad))
+
+
+#: vertices of a solid closer than this (mm) are one vertex: val3dity snaps
+#: them together (its ``--snap_tol``, 1 mm), which may leave a ring with
+#: consecutive equal points
+SNAP_TOL = 1.5
+
+
+def close_pairs(vertices, vsolid, tol=SNAP_TOL):
+    """Pairs ``(i, j)``, i < j, of vertices (int mm) of the same solid closer than ``tol``."""
+    from scipy.spatial import cKDTree
+
+    if len(vertices) < 2:
+        return np.zeros((0, 2), dtype=np.int64)
+    # solids apart along z (exact in float64 for 10^7 solids)
+    pts = vertices.astype(float)
+    pts[:, 2] += vsolid * 1e8
+    return cKDTree(pts).query_pairs(tol, output_type="ndarray").astype(np.int64)
+
+
+def snap(vertices, vsolid, tol=SNAP_TOL):
+    """The vertices with those of a solid closer than ``tol`` (chains of them)
+    moved onto one of them, as val3dity snaps them: the rings then lose the
+    consecutive duplicates and collapsed rings of :func:`from_parts`."""
+    pairs = close_pairs(vertices, vsolid, tol)
+    if not len(pairs):
+        return vertices
+    labels = components(len(vertices), pairs[:, 0], pairs[:, 1])
+    return vertices[labels]
 
 
 def take(ss, idx):

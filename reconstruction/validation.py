@@ -7,29 +7,60 @@ or degenerate (zero-area) ring, faces planar within 1 mm, every edge used
 exactly twice in opposite directions (closed, 2-manifold along edges,
 consistently oriented), V - E + F = 2 (one fan of faces around every vertex:
 2-manifold at the vertices, no handle), one connected shell, positive volume
-(outward orientation).
+(outward orientation); and, as val3dity (issue 11): no two vertices closer
+than its 1 mm snap tolerance, no face turned downwards above the ground (shell
+self-intersection), no triangle of a face's constrained Delaunay
+triangulation whose normal deviates more than 20 degrees from the face's.
 """
+
+import math
 
 import numpy as np
 
-from .rings import gather, starts
-from .solidset import face_geometry
+from .rings import components, gather, starts, unique_rows
+from .solidset import close_pairs, face_geometry
 
 PLANARITY_TOL = 0.001
+#: largest angle (degrees) between a face's normal and its triangles' (val3dity's default)
+NORMALS_TOL = 20.0
+#: a face is turned downwards when its unit normal's z is below -DOWN_TOL:
+#: walls tilted by the millimetre rounding are within 2e-3 of vertical;
+#: folded slivers of straight skeletons a fraction of a millimetre wide
+#: are turned far over (val3dity sees them cut their neighbours)
+DOWN_TOL = 0.01
 
 
-def _components(n, a, b):
-    """Connected component label (smallest member) of n nodes joined by edges a-b,
-    by min-label propagation (shells have a small diameter)."""
-    labels = np.arange(n)
-    while True:
-        new = labels.copy()
-        np.minimum.at(new, a, labels[b])
-        np.minimum.at(new, b, labels[a])
-        new = new[new]
-        if np.array_equal(new, labels):
-            return labels
-        labels = new
+def _bent_faces(rings, ids, pos, xy2, pts, unit, faces):
+    """Faces (of ``faces``) with a triangle of their constrained Delaunay
+    triangulation (on the projection ``xy2`` of their vertices ``pts``, ring
+    ``pos`` per vertex) whose normal deviates from the face's ``unit`` normal
+    by more than :data:`NORMALS_TOL` degrees, as val3dity tests planarity."""
+    import shapely
+
+    tris, owner = shapely.get_parts(
+        shapely.constrained_delaunay_triangles(shapely.polygons(rings)), return_index=True)
+    if not len(tris):
+        return np.zeros(0, dtype=np.int64)
+    corners = shapely.get_coordinates(tris).reshape(len(tris), 4, 2)[:, :3].reshape(-1, 2)
+    tri_face = np.repeat(ids[owner], 3)
+    # the 3D vertex of each corner: same face and the same projected point
+    mine = np.isin(pos, ids)
+    # (projected coordinates are millimetres / 1000: exact as integers)
+    keys = np.vstack([np.column_stack([pos[mine], np.rint(xy2[mine] * 1000.0)]),
+                      np.column_stack([tri_face, np.rint(corners * 1000.0)])]).astype(np.int64)
+    _, inv = unique_rows(keys)
+    n_ring = int(mine.sum())
+    where = np.full(inv.max() + 1, -1, dtype=np.int64)
+    where[inv[:n_ring]] = np.arange(n_ring)
+    hit = where[inv[n_ring:]]
+    found = (hit >= 0).reshape(-1, 3).all(axis=1)
+    q = pts[mine][np.maximum(hit, 0)].reshape(-1, 3, 3)
+    n = np.cross(q[:, 1] - q[:, 0], q[:, 2] - q[:, 0])
+    length = np.linalg.norm(n, axis=1)
+    face_of = np.searchsorted(ids, ids[owner])
+    cos = np.abs(np.einsum("ij,ij->i", n, unit[face_of])) / np.maximum(length, 1e-300)
+    bad = found & (length > 1e-12) & (cos < math.cos(math.radians(NORMALS_TOL)))
+    return np.unique(faces[face_of[bad]])
 
 
 def validate(ss, tol=PLANARITY_TOL):
@@ -117,6 +148,37 @@ def validate(ss, tol=PLANARITY_TOL):
         rings = shapely.linearrings(closed, indices=ids)
         simple = shapely.is_simple(rings)
         flag(face_solid[big[~simple]], "self-intersecting ring")
+        # normals deviation (val3dity's 204): the triangles of each face's
+        # constrained Delaunay triangulation against the face's normal
+        j = np.nonzero(simple)[0]
+        if len(j):
+            bent = _bent_faces(rings[j], j, pos, xy2, pts, unit[big[j]], j)
+            flag(face_solid[big[bent]], "non-planar face (normals deviate > 20 degrees)")
+    # vertices val3dity would snap together (closer than its 1 mm snap_tol)
+    vsol_entry = face_solid[entry_face]
+    used = np.zeros(len(ss.vertices), dtype=bool)
+    used[ss.rings] = True
+    vs = np.empty(len(ss.vertices), dtype=np.int64)
+    vs[ss.rings] = vsol_entry
+    close = close_pairs(ss.vertices[used], vs[used])
+    flag(vs[used][close[:, 0]], "vertices closer than 1 mm (snapped by val3dity)")
+    # self-intersection of the shell: the faces' signed areas projected on
+    # the ground plane cover every point of it zero times in total (the shell
+    # is closed); the ground face covers the footprint -1 times, vertical
+    # walls not at all, so faces that all face upwards cover it exactly once:
+    # the roof is the graph of a function over the footprint, which meets
+    # itself and the walls only along shared edges (checked below). A face
+    # turned downwards above the ground is where a roof folds over itself or
+    # through a wall (e.g. straight skeletons of concave footprints); walls
+    # tilted by the millimetre rounding are not
+    z = ss.vertices[:, 2]
+    fz_max = np.maximum.reduceat(z[ss.rings], ss.face_start[:-1])
+    fz_min = np.minimum.reduceat(z[ss.rings], ss.face_start[:-1])
+    s_min = np.minimum.reduceat(fz_min, ss.solid_start[:-1][nf > 0])
+    zmin = np.zeros(S, dtype=z.dtype)
+    zmin[nf > 0] = s_min
+    down = (unit[:, 2] < -DOWN_TOL) & (fz_max > zmin[face_solid]) & ~degenerate
+    flag(face_solid[down], "face turned downwards above the ground (shell self-intersection)")
     # edges: every undirected edge exactly twice, in opposite directions
     a = ss.rings
     b = ss.rings[nxt]
@@ -152,7 +214,7 @@ def validate(ss, tol=PLANARITY_TOL):
          "non-manifold vertex or handle (V - E + F != 2)")
     # one connected shell
     if len(ea):
-        labels = _components(F, entry_face[ea], entry_face[eb])
+        labels = components(F, entry_face[ea], entry_face[eb])
         lo = np.minimum.reduceat(labels, ss.solid_start[:-1][nf > 0])
         hi = np.maximum.reduceat(labels, ss.solid_start[:-1][nf > 0])
         flag(np.nonzero(nf > 0)[0][lo != hi], "more than one shell")
