@@ -110,12 +110,12 @@ class RoofRules:
                 row[sel] = k
         return row
 
-    def draw(self, n_vertices, years, attic, rng):
-        """A roof type per footprint (object array); ``rng.random(shape)`` gives
-        the uniforms (as :func:`reconstruction.roofs.draw_roof_types`, which the
-        default rules reproduce exactly)."""
+    def draw(self, n_vertices, years, attic, uniforms):
+        """A roof type per footprint (object array) from one uniform number in
+        [0, 1) per footprint (as :func:`reconstruction.roofs.draw_roof_types`,
+        which the default rules reproduce exactly)."""
         n_vertices = np.asarray(n_vertices)
-        u = rng.random(n_vertices.shape)
+        u = np.asarray(uniforms, dtype=float).reshape(n_vertices.shape)
         row = self.row_of(n_vertices, years)
         out = np.empty(n_vertices.shape, dtype=object)
         for k, rule in enumerate(self.rules):
