@@ -163,14 +163,14 @@ def test_strip_fractions_sample_in_front_of_the_edge():
 def _thesis_rings(shared_data, folder):
     from shapefiles import have_ogr2ogr, read_shapefile
 
-    from reconstruction import solids
+    from reconstruction import outlines
 
     if not have_ogr2ogr():
         pytest.skip("ogr2ogr (GDAL) is needed to read the shapefiles")
     geoms, _ = read_shapefile(os.path.join(shared_data, folder, "thesis_output",
                                            "final_all_footprints.shp"))
-    polygons, _, _, _, _ = solids.footprint_polygons(geoms)
-    rings, _ = solids.clean_rings(polygons)
+    polygons, _, _, _, _ = outlines.footprint_polygons(geoms)
+    rings, _ = outlines.clean_rings(polygons)
     return [r for r in rings if r is not None]
 
 

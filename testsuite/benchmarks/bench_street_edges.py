@@ -28,7 +28,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path[:0] = [ROOT, os.path.join(ROOT, "testsuite")]
 
 from histo_testing import timed  # noqa: E402
-from reconstruction import solids, street_edges  # noqa: E402
+from reconstruction import outlines, solids, street_edges  # noqa: E402
 from reconstruction.grid import Grid  # noqa: E402
 
 DATA = os.path.join(ROOT, "..", "shared", "data")
@@ -41,8 +41,8 @@ def thesis_footprints(folder):
 
     geoms, columns = read_shapefile(os.path.join(DATA, folder, "thesis_output",
                                                  "final_all_footprints.shp"))
-    polygons, src, _, _, _ = solids.footprint_polygons(geoms)
-    rings, _ = solids.clean_rings(polygons)
+    polygons, src, _, _, _ = outlines.footprint_polygons(geoms)
+    rings, _ = outlines.clean_rings(polygons)
     keep = [k for k, r in enumerate(rings) if r is not None]
 
     def col(name):
@@ -88,9 +88,9 @@ def main():
         n = len(rings)
         types = np.full(n, "gable", dtype=object)
         u = np.random.default_rng(0).random((n, 3))
-        s_wall, s_cpu, _ = timed(3, lambda: solids.build_solids(
+        s_wall, s_cpu, _ = timed(3, lambda: solids.build_solids(solids.Buildings(
             rings, ground, eaves, np.nan_to_num(attic), types, u,
-            street=[int(e) if e >= 0 else None for e in res.edge]))
+            street=[int(e) if e >= 0 else None for e in res.edge])))
         met = cpu < BUDGET             # CPU time: the machine may be shared
         if folder == "bxls_1924":
             ok &= met
