@@ -12,18 +12,10 @@ from hypothesis import strategies as st
 from shapely.geometry import Polygon, box
 
 from reconstruction import cityjson, outlines, roofs, solids, solidset, validation
+from reconstruction.testsuite.test_solids import l_u_t
 from val3dity import require_val3dity, val3dity_report
 
 ORIGIN = np.array([85123.4567, 446789.0123])
-
-
-def l_u_t(shape, a, b, c):
-    if shape == "L":
-        return np.array([[0, 0], [a, 0], [a, c], [c, c], [c, b], [0, b]])
-    if shape == "U":
-        return np.array([[0, 0], [a, 0], [a, b], [a - c, b], [a - c, c], [c, c], [c, b], [0, b]])
-    return np.array([[0, 0], [a, 0], [a, c], [(a + c) / 2, c], [(a + c) / 2, b],
-                     [(a - c) / 2, b], [(a - c) / 2, c], [0, c]])
 
 
 def cadastre_like(rng, n_boxes):
