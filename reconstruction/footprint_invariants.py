@@ -2,7 +2,8 @@
 
 :func:`invariant_violations` lists the footprints that break what
 :func:`reconstruction.subdivision.subdivide` guarantees (valid, inside their
-plot, convex, on the street, no sliver, no overlaps); the tests run it on
+plot, convex, on the street, fronting their plot's boundary, no sliver, no
+overlaps); the tests run it on
 every result, and on the footprints as GRASS stored them.
 """
 
@@ -12,7 +13,8 @@ from shapely.geometry import Polygon
 
 from .contract import SOURCE_PROCEDURAL
 from .convex_rings import SNAP, is_convex, is_sliver
-from .plots import CHECK_GRID, OVERLAP_TOLERANCE, exterior_lines
+from .plots import (CHECK_GRID, MIN_FRONTAGE, OVERLAP_TOLERANCE, exterior_lines, front,
+                    frontage, neighbour_index)
 from .polygons import polygon_parts
 
 
@@ -24,10 +26,13 @@ def invariant_violations(geometries, plot, source, plots_by_cat, case=None,
     Checks: valid single polygons; generated ones convex (except case 1,
     where the footprint is the plot itself, when ``case`` is given), inside their plot
     (area outside <= ``tolerance``), on its exterior boundary and no sliver
-    unless the plot is one; no two footprints overlapping by more than
+    unless the plot is one; fronting the plot's boundary (outer ring or a
+    hole, not a seam against another plot) over at least ``MIN_FRONTAGE``
+    ("no_frontage": no building locked inside the block); no two footprints overlapping by more than
     ``tolerance`` (pairs found with an STRtree).
     """
     bad = {}
+    fronts = _fronts(plots_by_cat)
 
     def count(kind, index):
         bad.setdefault(kind, []).append(index)
@@ -49,6 +54,8 @@ def invariant_violations(geometries, plot, source, plots_by_cat, case=None,
             count("sliver", i)
         if g.distance(exterior_lines(parcel)) > 10 * SNAP:
             count("no_street", i)
+        elif frontage(g, fronts[cat]) < MIN_FRONTAGE:
+            count("no_frontage", i)
     valid = [g if g is not None and g.is_valid else Polygon() for g in geometries]
     if valid:
         tree = shapely.STRtree(valid)
@@ -62,3 +69,11 @@ def invariant_violations(geometries, plot, source, plots_by_cat, case=None,
                 if area > tolerance:
                     count("overlap", (int(a), int(b)))
     return bad
+
+
+def _fronts(plots_by_cat):
+    """Each plot's :func:`~reconstruction.plots.front`, by category."""
+    cats = list(plots_by_cat)
+    plots = [plots_by_cat[c] for c in cats]
+    near = neighbour_index(plots)
+    return {c: front(p, [plots[j] for j in n]) for c, p, n in zip(cats, plots, near)}
