@@ -12,7 +12,7 @@ import shapely
 from shapely.geometry import Polygon
 
 from .contract import SOURCE_PROCEDURAL
-from .convex_rings import SNAP, is_convex, is_sliver
+from .convex_rings import SNAP, ccw_ring, has_wedge, is_convex, is_sliver, sharp_corners
 from .plots import (CHECK_GRID, MIN_FRONTAGE, OVERLAP_TOLERANCE, exterior_lines, front,
                     frontage, neighbour_index)
 from .polygons import polygon_parts
@@ -28,7 +28,8 @@ def invariant_violations(geometries, plot, source, plots_by_cat, case=None,
     (area outside <= ``tolerance``), on its exterior boundary and no sliver
     unless the plot is one; fronting the plot's boundary (outer ring or a
     hole, not a seam against another plot) over at least ``MIN_FRONTAGE``
-    ("no_frontage": no building locked inside the block); no two footprints overlapping by more than
+    ("no_frontage": no building locked inside the block); no corner under
+    ``MIN_ANGLE`` unless the plot has one there ("wedge"); no two footprints overlapping by more than
     ``tolerance`` (pairs found with an STRtree).
     """
     bad = {}
@@ -56,6 +57,8 @@ def invariant_violations(geometries, plot, source, plots_by_cat, case=None,
             count("no_street", i)
         elif frontage(g, fronts[cat]) < MIN_FRONTAGE:
             count("no_frontage", i)
+        if (case is None or case[i] != 1) and _wedge(g, parcel):
+            count("wedge", i)
     valid = [g if g is not None and g.is_valid else Polygon() for g in geometries]
     if valid:
         tree = shapely.STRtree(valid)
@@ -77,3 +80,9 @@ def _fronts(plots_by_cat):
     plots = [plots_by_cat[c] for c in cats]
     near = neighbour_index(plots)
     return {c: front(p, [plots[j] for j in n]) for c, p, n in zip(cats, plots, near)}
+
+
+def _wedge(footprint, parcel, tolerance=1e-3):
+    """Whether a footprint has a corner under ``MIN_ANGLE`` where its plot has none."""
+    ring = ccw_ring(footprint.exterior.coords)
+    return has_wedge(ring, sharp_corners(parcel) if has_wedge(ring) else (), tolerance)
