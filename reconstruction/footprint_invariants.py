@@ -29,8 +29,8 @@ def invariant_violations(geometries, plot, source, plots_by_cat, case=None,
     unless the plot is one; fronting the plot's boundary (outer ring or a
     hole, not a seam against another plot) over at least ``MIN_FRONTAGE``
     ("no_frontage": no building locked inside the block); no corner under
-    ``MIN_ANGLE`` unless the plot has one there ("wedge"); no two footprints overlapping by more than
-    ``tolerance`` (pairs found with an STRtree).
+    ``MIN_ANGLE`` unless the plot has one there ("wedge"); no two footprints
+    overlapping by more than ``tolerance`` (pairs found with an STRtree).
     """
     bad = {}
     fronts = _fronts(plots_by_cat)

@@ -36,7 +36,10 @@ alignment (Section 3.3.3):
    the plot's exterior are dropped (no building without street access).
 
 Guarantees (all tested): every footprint is a valid polygon inside its plot,
-generated footprints are convex and touch the plot's exterior, footprints
+generated footprints are convex, touch the plot's exterior and front its
+boundary (outer ring or a courtyard hole, not a seam with a touching plot:
+no street there) over at least ``MIN_FRONTAGE``, have no corner under
+``MIN_ANGLE`` unless the plot has one there (wedges are cut square), footprints
 never overlap (plots overlapping each other are made disjoint first, and
 generated footprints overlapping aligned ones are clipped or dropped), no
 generated footprint is a sliver (narrower than ``MIN_WIDTH`` or smaller than

@@ -18,9 +18,9 @@ import math
 import numpy as np
 import shapely
 
-from .convex_rings import (ccw_ring, clip_half_plane, has_wedge, is_convex, is_sliver, is_sliver_ring, merge_close,
-                           rectangle_frame, sharp_corners, signed_area, square_wedges,
-                           to_polygons)
+from .convex_rings import (ccw_ring, clip_half_plane, has_wedge, is_convex, is_sliver,
+                           is_sliver_ring, merge_close, rectangle_frame, sharp_corners,
+                           signed_area, square_wedges, to_polygons)
 from .decomposition import convex_parts, reflex_vertices
 from .plots import MIN_STREET, exterior_lines, overlay, street_edges, street_length
 from .polygons import polygon_parts
