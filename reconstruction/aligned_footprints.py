@@ -144,7 +144,7 @@ def calibrate(aligned, aligned_plots, plots, cats, length, depth, min_samples=5,
     return (float(f[0]), float(f[1])), (float(d[0]), float(d[1])), len(facades)
 
 
-def clip_generated(footprints, aligned, exterior_of):
+def clip_generated(footprints, aligned, exterior_of, seam_of=None):
     """Clip or drop generated footprints that overlap aligned footprints.
 
     What is left of a generated footprint outside the aligned ones is kept
@@ -153,7 +153,8 @@ def clip_generated(footprints, aligned, exterior_of):
     footprint's area; a footprint with no such piece is dropped.
     ``footprints`` has parallel ``geometries``, ``source`` and ``plot``
     (a :class:`reconstruction.subdivision.Subdivision`); ``exterior_of``
-    maps a plot category to its :func:`reconstruction.plots.exterior_lines`.
+    maps a plot category to its :func:`reconstruction.plots.exterior_lines`
+    (and ``seam_of`` to its :func:`reconstruction.plots.seams`).
     Returns ``(pieces, clipped, dropped)``: the Polygons that replace each
     clipped or dropped footprint (none for a dropped one), by index, and
     the two counts.
@@ -184,7 +185,8 @@ def clip_generated(footprints, aligned, exterior_of):
                 pieces.extend(convex_parts(rest))
         pieces = [r for r in pieces
                   if not is_sliver_ring(r) and abs(signed_area(r)) >= 0.25 * fp.area]
-        access = street_length(pieces, exterior_of[footprints.plot[f]])
+        access = street_length(pieces, exterior_of[footprints.plot[f]],
+                               (seam_of or {}).get(footprints.plot[f]))
         pieces = [r for r, a in zip(pieces, access) if a >= MIN_STREET]
         replace[f] = to_polygons(pieces)
     clipped = sum(bool(pieces) for pieces in replace.values())

@@ -18,6 +18,8 @@ import numpy as np
 import shapely
 from shapely.geometry import Polygon
 
+from .polygons import polygon_parts
+
 #: generated footprints narrower than this (map units) are slivers
 MIN_WIDTH = 2.0
 #: generated footprints smaller than this (square map units) are slivers
@@ -188,3 +190,66 @@ def to_polygons(rings):
     poly_offsets = np.arange(len(rings) + 1)
     return list(shapely.from_ragged_array(shapely.GeometryType.POLYGON, coords,
                                           (ring_offsets, poly_offsets)))
+
+
+#: footprints have no corner sharper than this (degrees) unless their plot has one there
+MIN_ANGLE = 20.0
+
+
+def corner_angles(ring):
+    """Interior angle (degrees) at each vertex of a counter-clockwise ring (reflex > 180)."""
+    n = len(ring)
+    out = []
+    for i in range(n):
+        (ax, ay), (px, py), (bx, by) = ring[i - 1], ring[i], ring[(i + 1) % n]
+        turn = math.atan2((px - ax) * (by - py) - (py - ay) * (bx - px),
+                          (px - ax) * (bx - px) + (py - ay) * (by - py))
+        out.append(180.0 - math.degrees(turn))
+    return out
+
+
+def sharp_corners(polygon):
+    """The vertices of a polygon (all rings) with an interior angle under ``MIN_ANGLE``."""
+    out = []
+    for part in polygon_parts(polygon):
+        for k, ring in enumerate([part.exterior, *part.interiors]):
+            r = ccw_ring(ring.coords)
+            # a hole's counter-clockwise angle is the plot's angle seen from outside
+            angles = corner_angles(r) if k == 0 else [360.0 - a for a in corner_angles(r)]
+            out.extend(p for p, a in zip(r, angles) if a < MIN_ANGLE)
+    return out
+
+
+def has_wedge(ring, keep=(), tolerance=10 * SNAP):
+    """Whether a ring has a corner under ``MIN_ANGLE`` farther than ``tolerance``
+    from every point of ``keep`` (the plot's :func:`sharp_corners`)."""
+    return any(a < MIN_ANGLE and all(math.hypot(p[0] - x, p[1] - y) > tolerance for x, y in keep)
+               for p, a in zip(ring, corner_angles(ring)))
+
+
+def square_wedges(ring, keep=(), width=MIN_WIDTH):
+    """A convex ring with its corners under ``MIN_ANGLE`` cut square, as a builder would:
+    perpendicular to the corner's bisector where the wedge is ``width`` wide.
+
+    Corners at a point of ``keep`` (the plot's own sharp corners) stay. Returns
+    the cut ring ([] when nothing but the wedge was left).
+    """
+    for _ in range(len(ring)):
+        if not ring:
+            return ring
+        angles = corner_angles(ring)
+        sharp = [i for i, a in enumerate(angles) if a < MIN_ANGLE
+                 and not any(math.hypot(ring[i][0] - x, ring[i][1] - y) <= 10 * SNAP
+                             for x, y in keep)]
+        if not sharp:
+            return ring
+        i = sharp[0]
+        (ax, ay), (px, py), (bx, by) = ring[i - 1], ring[i], ring[(i + 1) % len(ring)]
+        ua, ub = math.hypot(ax - px, ay - py), math.hypot(bx - px, by - py)
+        ux, uy = (ax - px) / ua + (bx - px) / ub, (ay - py) / ua + (by - py) / ub
+        norm = math.hypot(ux, uy)
+        ux, uy = ux / norm, uy / norm
+        reach = width / 2 / math.tan(math.radians(angles[i]) / 2)
+        # keep u . (x - p) >= reach, i.e. -u . x <= -(u . p + reach)
+        ring = clip_half_plane(ring, -ux, -uy, -(ux * px + uy * py + reach))
+    return ring

@@ -2,7 +2,8 @@
 
 :func:`invariant_violations` lists the footprints that break what
 :func:`reconstruction.subdivision.subdivide` guarantees (valid, inside their
-plot, convex, on the street, no sliver, no overlaps); the tests run it on
+plot, convex, on the street, fronting their plot's boundary, no sliver, no
+overlaps); the tests run it on
 every result, and on the footprints as GRASS stored them.
 """
 
@@ -11,8 +12,9 @@ import shapely
 from shapely.geometry import Polygon
 
 from .contract import SOURCE_PROCEDURAL
-from .convex_rings import SNAP, is_convex, is_sliver
-from .plots import CHECK_GRID, OVERLAP_TOLERANCE, exterior_lines
+from .convex_rings import SNAP, ccw_ring, has_wedge, is_convex, is_sliver, sharp_corners
+from .plots import (CHECK_GRID, MIN_FRONTAGE, OVERLAP_TOLERANCE, exterior_lines, front,
+                    frontage, neighbour_index)
 from .polygons import polygon_parts
 
 
@@ -24,10 +26,14 @@ def invariant_violations(geometries, plot, source, plots_by_cat, case=None,
     Checks: valid single polygons; generated ones convex (except case 1,
     where the footprint is the plot itself, when ``case`` is given), inside their plot
     (area outside <= ``tolerance``), on its exterior boundary and no sliver
-    unless the plot is one; no two footprints overlapping by more than
-    ``tolerance`` (pairs found with an STRtree).
+    unless the plot is one; fronting the plot's boundary (outer ring or a
+    hole, not a seam against another plot) over at least ``MIN_FRONTAGE``
+    ("no_frontage": no building locked inside the block); no corner under
+    ``MIN_ANGLE`` unless the plot has one there ("wedge"); no two footprints
+    overlapping by more than ``tolerance`` (pairs found with an STRtree).
     """
     bad = {}
+    fronts = _fronts(plots_by_cat)
 
     def count(kind, index):
         bad.setdefault(kind, []).append(index)
@@ -49,6 +55,10 @@ def invariant_violations(geometries, plot, source, plots_by_cat, case=None,
             count("sliver", i)
         if g.distance(exterior_lines(parcel)) > 10 * SNAP:
             count("no_street", i)
+        elif frontage(g, fronts[cat]) < MIN_FRONTAGE:
+            count("no_frontage", i)
+        if (case is None or case[i] != 1) and _wedge(g, parcel):
+            count("wedge", i)
     valid = [g if g is not None and g.is_valid else Polygon() for g in geometries]
     if valid:
         tree = shapely.STRtree(valid)
@@ -62,3 +72,17 @@ def invariant_violations(geometries, plot, source, plots_by_cat, case=None,
                 if area > tolerance:
                     count("overlap", (int(a), int(b)))
     return bad
+
+
+def _fronts(plots_by_cat):
+    """Each plot's :func:`~reconstruction.plots.front`, by category."""
+    cats = list(plots_by_cat)
+    plots = [plots_by_cat[c] for c in cats]
+    near = neighbour_index(plots)
+    return {c: front(p, [plots[j] for j in n]) for c, p, n in zip(cats, plots, near)}
+
+
+def _wedge(footprint, parcel, tolerance=1e-3):
+    """Whether a footprint has a corner under ``MIN_ANGLE`` where its plot has none."""
+    ring = ccw_ring(footprint.exterior.coords)
+    return has_wedge(ring, sharp_corners(parcel) if has_wedge(ring) else (), tolerance)

@@ -80,6 +80,19 @@ def _clean(polygon, tolerance=1e-6):
         return None
     cleaned = shapely.simplify(polygon, tolerance, preserve_topology=True)
     cleaned = largest_polygon(cleaned if cleaned.is_valid else shapely.make_valid(cleaned))
+    if cleaned is not None and cleaned.interiors:
+        # a hole touching the outline or another hole becomes one self-touching ring in
+        # GRASS's topology, invalid once exported: shrink such holes 1 cm off (issue 13)
+        holes = [Polygon(h) for h in cleaned.interiors]
+        edges = [cleaned.exterior, *cleaned.interiors]
+        kept = []
+        for k, hole in enumerate(holes):
+            if min(hole.distance(e) for j, e in enumerate(edges) if j != k + 1) < 0.01:
+                shrunk = shapely.get_parts(shapely.buffer(hole, -0.01, join_style="mitre"))
+                kept.extend(h for h in shrunk if h.geom_type == "Polygon" and not h.is_empty)
+            else:
+                kept.append(hole)
+        cleaned = Polygon(cleaned.exterior, [h.exterior for h in kept])
     return shapely.orient_polygons(cleaned) if cleaned is not None else None
 
 

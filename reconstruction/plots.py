@@ -118,8 +118,52 @@ def exterior_lines(polygon):
     return shapely.linestrings(rings[0].coords)
 
 
-def street_edges(rings, exterior):
-    """For each ring, which of its edges lie on the exterior (endpoints and midpoint on it).
+#: the least length (m) of a footprint's boundary on its plot's boundary (outer ring or hole)
+MIN_FRONTAGE = 0.5
+
+
+def neighbour_index(plots):
+    """For each plot, the indices of the other plots it touches (an STRtree query)."""
+    out = [[] for _ in plots]
+    if not out:
+        return out
+    plots = np.array(plots, dtype=object)
+    tree = shapely.STRtree(plots)
+    left, right = tree.query(plots, predicate="dwithin", distance=SNAP * 10)
+    for a, b in zip(left, right):
+        if a != b:
+            out[int(a)].append(int(b))
+    return out
+
+
+def seams(plots, neighbours, k):
+    """The boundaries of the plots touching plot ``k`` (None when none does).
+
+    A plot that lost area to an overlapping neighbour (:func:`prepare_plots`)
+    has a seam along it: no street, and a building there would be locked in.
+    """
+    if not neighbours[k]:
+        return None
+    return shapely.union_all([shapely.boundary(plots[j]) for j in neighbours[k]])
+
+
+def front(plot, neighbours):
+    """The plot's boundary (outer rings and holes) not against one of the
+    ``neighbours`` (plots), buffered by a few ``SNAP`` to measure :func:`frontage` on."""
+    lines = shapely.boundary(plot)
+    if neighbours:
+        lines = shapely.difference(lines, shapely.buffer(shapely.union_all(neighbours), SNAP * 5))
+    return shapely.buffer(lines, SNAP * 10)
+
+
+def frontage(footprint, front_area):
+    """Length of a footprint's boundary on its plot's :func:`front`."""
+    return float(shapely.intersection(shapely.boundary(footprint), front_area).length)
+
+
+def street_edges(rings, exterior, seam=None):
+    """For each ring, which of its edges lie on the exterior (endpoints and midpoint on it)
+    and not all along ``seam`` (see :func:`seams`).
 
     Returns one ``(on_street, lengths)`` pair of arrays per ring.
     """
@@ -134,11 +178,14 @@ def street_edges(rings, exterior):
     on = shapely.distance(shapely.points(probe), exterior) <= SNAP * 10
     n = len(pts)
     edge = on[:n] & on[nxt] & on[n:]
+    if seam is not None:
+        on = shapely.distance(shapely.points(probe), seam) <= SNAP * 10
+        edge &= ~(on[:n] & on[nxt] & on[n:])
     lengths = np.hypot(*(pts[nxt] - pts).T)
     return [(edge[offsets[k]:offsets[k + 1]], lengths[offsets[k]:offsets[k + 1]])
             for k in range(len(rings))]
 
 
-def street_length(rings, exterior):
-    """Length of each ring's boundary that lies on the exterior."""
-    return [float(length[edge].sum()) for edge, length in street_edges(rings, exterior)]
+def street_length(rings, exterior, seam=None):
+    """Length of each ring's boundary that lies on the exterior (not along ``seam``)."""
+    return [float(length[edge].sum()) for edge, length in street_edges(rings, exterior, seam)]

@@ -36,7 +36,10 @@ alignment (Section 3.3.3):
    the plot's exterior are dropped (no building without street access).
 
 Guarantees (all tested): every footprint is a valid polygon inside its plot,
-generated footprints are convex and touch the plot's exterior, footprints
+generated footprints are convex, touch the plot's exterior and front its
+boundary (outer ring or a courtyard hole, not a seam with a touching plot:
+no street there) over at least ``MIN_FRONTAGE``, have no corner under
+``MIN_ANGLE`` unless the plot has one there (wedges are cut square), footprints
 never overlap (plots overlapping each other are made disjoint first, and
 generated footprints overlapping aligned ones are clipped or dropped), no
 generated footprint is a sliver (narrower than ``MIN_WIDTH`` or smaller than
@@ -59,6 +62,7 @@ from dataclasses import dataclass, field
 from typing import Optional
 
 import numpy as np
+from shapely.geometry import Polygon
 
 from .aligned_footprints import (AlignedRepairs, assign_plots, attach_to_plots, calibrate,
                                  clip_generated, prepare_aligned)
@@ -71,7 +75,7 @@ from .footprint_invariants import invariant_violations
 from .noding import node_footprints
 from .options import parse_number, parse_range
 from .plots import (CHECK_GRID, CLIP_AREA, MIN_STREET, OVERLAP_TOLERANCE, PlotRepairs,
-                    exterior_lines, prepare_plots)
+                    exterior_lines, front, frontage, neighbour_index, prepare_plots, seams)
 from .polygons import polygon_parts
 from .subdivision_cases import STREET_TURN, subdivide_plot
 
@@ -211,16 +215,25 @@ def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_thre
             if part.area > OVERLAP_TOLERANCE:
                 result.add(part, aligned_plots[i], CASE_ALIGNED, SOURCE_ALIGNED, i)
     seed = 0 if seed is None else int(seed)
-    exterior_of = {}
-    for cat, geom in zip(cats, geoms):
+    exterior_of, seam_of = {}, {}
+    neighbours = neighbour_index(geoms)
+    for k, (cat, geom) in enumerate(zip(cats, geoms)):
         exterior_of[cat] = exterior_lines(geom)
+        # no street along a seam with a touching plot: no building locked in there
+        seam_of[cat] = seams(geoms, neighbours, k)
         rng = plot_rng(seed, cat)
-        for poly, case in subdivide_plot(geom, length, depth, area_threshold, rng, decompose):
+        plot_front = front(geom, [geoms[j] for j in neighbours[k]]) if neighbours[k] else None
+        for poly, case in subdivide_plot(geom, length, depth, area_threshold, rng, decompose,
+                                         seam_of[cat]):
+            # an edge only partly along a seam counts as street above: measure what is left
+            if plot_front is not None and frontage(
+                    poly if not isinstance(poly, list) else Polygon(poly), plot_front) < MIN_STREET:
+                continue
             result.add(poly, cat, case)
     rings = [i for i, g in enumerate(result.geometries) if isinstance(g, list)]
     for i, poly in zip(rings, to_polygons([result.geometries[i] for i in rings])):
         result.geometries[i] = poly
-    pieces, clipped, dropped = clip_generated(result, aligned_geoms, exterior_of)
+    pieces, clipped, dropped = clip_generated(result, aligned_geoms, exterior_of, seam_of)
     if pieces:
         result = result.replaced(pieces)
     result.geometries = node_footprints(result.geometries)

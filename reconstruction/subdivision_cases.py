@@ -18,8 +18,9 @@ import math
 import numpy as np
 import shapely
 
-from .convex_rings import (ccw_ring, clip_half_plane, is_sliver, is_sliver_ring, merge_close,
-                           rectangle_frame, signed_area, to_polygons)
+from .convex_rings import (ccw_ring, clip_half_plane, has_wedge, is_convex, is_sliver,
+                           is_sliver_ring, merge_close, rectangle_frame, sharp_corners,
+                           signed_area, square_wedges, to_polygons)
 from .decomposition import convex_parts, reflex_vertices
 from .plots import MIN_STREET, exterior_lines, overlay, street_edges, street_length
 from .polygons import polygon_parts
@@ -256,11 +257,21 @@ def _convex_cells(ring, street, length, depth, area_threshold, rng):
     return 4, cells
 
 
-def subdivide_plot(plot, length, depth, area_threshold, rng, decompose=True):
+def _square(cells, part):
+    """Cells with their wedges cut square (:func:`square_wedges`), slivers left out."""
+    keep = sharp_corners(part)
+    cut = [square_wedges(c, keep) for c in cells]
+    return [c for c, old in zip(cut, cells) if c and (c is old or not is_sliver_ring(c))]
+
+
+def subdivide_plot(plot, length, depth, area_threshold, rng, decompose=True, seam=None):
     """Footprints of one valid plot (Polygon or MultiPolygon) as ``[(footprint, case)]``.
 
     A footprint is a shapely Polygon or a counter-clockwise ring (list of
-    (x, y) tuples, see :func:`to_polygons`).
+    (x, y) tuples, see :func:`to_polygons`). ``seam``: the boundaries of
+    the plots touching this one (:func:`reconstruction.plots.seams`): an
+    edge along them is no street; every footprint has at least
+    ``MIN_STREET`` of street edges.
     """
     out = []
     parts = polygon_parts(plot)
@@ -277,31 +288,42 @@ def subdivide_plot(plot, length, depth, area_threshold, rng, decompose=True):
         ring = ccw_ring(part.exterior.coords)
         concave = bool(part.interiors) or bool(reflex_vertices(ring))
         if not concave:
-            street = [True] * len(ring)
+            street = ([True] * len(ring) if seam is None
+                      else list(street_edges([ring], exterior, seam)[0][0]))
             case, cells = _convex_cells(ring, street, length, depth, area_threshold, rng)
-            access = street_length(cells, exterior)
+            cells = _square(cells, part)
+            access = street_length(cells, exterior, seam)
             out.extend((c, case) for c, a in zip(cells, access) if a >= MIN_STREET)
             continue
         if decompose:
             cells = []
             subs = convex_parts(part)
-            for sub, (street, _) in zip(subs, street_edges(subs, exterior)):
+            for sub, (street, _) in zip(subs, street_edges(subs, exterior, seam)):
                 if not street.any():
                     continue
                 _, sub_cells = _convex_cells(sub, list(street), length, depth, area_threshold, rng)
                 cells.extend(sub_cells)
-            access = street_length(cells, exterior)
+            cells = _square(cells, part)
+            access = street_length(cells, exterior, seam)
             out.extend((c, 5) for c, a in zip(cells, access) if a >= MIN_STREET)
             continue
         # -c: cases 1-4 on the convex hull, cut back to the plot (may be concave)
         hull = ccw_ring(shapely.convex_hull(part).exterior.coords)
-        street = list(street_edges([hull], exterior)[0][0])
+        street = list(street_edges([hull], exterior, seam)[0][0])
         case, cells = _convex_cells(hull, street, length, depth, area_threshold, rng)
         pieces = []
+        keep = sharp_corners(part)
         for c in to_polygons(cells):
             for p in polygon_parts(overlay(shapely.intersection, c, part)):
+                ring = ccw_ring(p.exterior.coords)
+                if has_wedge(ring, keep):
+                    # cut square when convex; a concave wedge is left unbuilt
+                    ring = square_wedges(ring, keep) if is_convex(p) else []
+                    if not ring or is_sliver_ring(ring):
+                        continue
+                    p = to_polygons([ring])[0]
                 if not is_sliver(p):
                     pieces.append(p)
-        access = street_length([ccw_ring(p.exterior.coords) for p in pieces], exterior)
+        access = street_length([ccw_ring(p.exterior.coords) for p in pieces], exterior, seam)
         out.extend((p, case) for p, a in zip(pieces, access) if a >= MIN_STREET)
     return out

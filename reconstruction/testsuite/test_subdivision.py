@@ -224,6 +224,54 @@ def test_overlapping_plots_share_area_with_one_and_footprints_never_overlap():
     assert_invariants(res, plots)
 
 
+def test_no_footprint_locked_in_behind_the_seam_of_an_overlapping_plot():
+    # issue 13: the smaller plot loses the overlap; the seam between it and the
+    # larger one is no street, so no building fronts only that seam (before: 22 did)
+    plots = [box(0, 0, 60, 60), box(-5, 58, 65, 88)]
+    res = run(plots, length=(5, 5), depth=(12, 16), seed=1)
+    assert_invariants(res, plots)
+    outline = shapely.boundary(plots[1]).buffer(1e-5)
+    loser = [g for g, p in zip(res.geometries, res.plot) if p == 2]
+    assert loser
+    for g in loser:
+        assert shapely.intersection(g.boundary, outline).length >= sd.MIN_STREET
+
+
+def test_invariants_catch_a_footprint_without_frontage():
+    plot = box(0, 0, 40, 40)
+    corner_only = Polygon([(0, 0.2), (0.2, 0), (10, 10)])  # on the outline over 0.28 m
+    bad = sd.invariant_violations([corner_only], [1], [SOURCE_PROCEDURAL], {1: plot})
+    assert bad.get("no_frontage") == [0]
+    hole = Polygon([(0, 0), (40, 0), (40, 40), (0, 40)], [[(10, 10), (30, 10), (30, 30), (10, 30)]])
+    on_courtyard = box(10, 5, 30, 10)  # fronts the courtyard and touches no street
+    bad = sd.invariant_violations([on_courtyard], [1], [SOURCE_PROCEDURAL], {1: hole})
+    assert "no_frontage" not in bad
+
+
+def test_wedges_at_courtyard_corners_are_cut_square():
+    # issue 13: a block with a 37 degree corner gave footprints with corners
+    # under 20 degrees at the courtyard (4 here before)
+    plots = [Polygon([(0, 0), (120, 0), (40, 60), (0, 60)])]
+    res = run(plots, length=(5, 5), depth=(12, 16), seed=1)
+    assert_invariants(res, plots)
+    from reconstruction.convex_rings import MIN_ANGLE, ccw_ring, corner_angles
+    for g in generated(res):
+        assert min(corner_angles(ccw_ring(g.exterior.coords))) >= MIN_ANGLE
+
+
+def test_square_wedges_keeps_the_plots_own_sharp_corner():
+    from reconstruction.convex_rings import corner_angles, square_wedges
+    wedge = [(0.0, 0.0), (30.0, 0.0), (30.0, 6.0)]  # 11.3 degrees at the origin
+    cut = square_wedges(wedge)
+    assert min(corner_angles(cut)) >= 20 and Polygon(cut).area < Polygon(wedge).area
+    assert square_wedges(wedge, keep=[(0.0, 0.0)]) == wedge
+    plot = Polygon(wedge)
+    assert sd.invariant_violations([plot], [1], [SOURCE_PROCEDURAL], {1: plot}, [2]) == {}
+    inside = Polygon([(0.0, 0.0), (30.0, 0.0), (30.0, 3.0)])
+    bad = sd.invariant_violations([inside], [1], [SOURCE_PROCEDURAL], {1: box(0, 0, 30, 6)}, [2])
+    assert bad == {"wedge": [0]}
+
+
 def test_multipolygon_and_holed_plots():
     multi = MultiPolygon([box(0, 0, 50, 12), box(0, 30, 50, 42)])
     holed = Polygon([(100, 0), (180, 0), (180, 70), (100, 70)],

@@ -60,6 +60,8 @@ def check_round_trip(gs, grassio, subdivision, output, plots_name):
     cats, prepared, _ = subdivision.prepare_plots(plots, pcols["cat"])
     bad = subdivision.invariant_violations(geoms, cols[PLOT], cols[SOURCE],
                                            dict(zip(cats, prepared)), cols[CASE])
+    print("\n{}: {} footprints, invariant violations by kind: {}".format(
+        output, len(geoms), {kind: len(found) for kind, found in bad.items()}))
     assert bad == {}
     # GRASS kept every footprint as one area with its whole geometry: no piece of a
     # footprint cut off into an area of its own by unshared edges or overlaps
