@@ -3,7 +3,7 @@
 GRASS's region conventions: row 0 is the northern row, cells are
 ``nsres`` by ``ewres`` map units, ``north`` and ``west`` are the outer edges
 of the raster. :func:`reconstruction.grassio.read_raster` reads a raster in
-the current region, so ``Grid.from_region(values, grassio.region())`` places
+the current region, so ``Grid.from_region(values, gs.region())`` places
 it.
 """
 
