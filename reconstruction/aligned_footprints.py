@@ -7,7 +7,6 @@ facade length and depth ranges on them, and :func:`clip_generated` clips
 generated footprints where they overlap them.
 """
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -17,7 +16,7 @@ from .contract import SOURCE_PROCEDURAL
 from .convex_rings import MIN_AREA, ccw_ring, is_convex, is_sliver_ring, signed_area, to_polygons
 from .decomposition import convex_parts
 from .overlaps import OverlapRule, group_conflicts, resolve_overlaps
-from .plots import (CLIP_AREA, MIN_STREET, OVERLAP_TOLERANCE, exterior_lines, overlay, polygonal,
+from .plots import (CLIP_AREA, MIN_STREET, OVERLAP_TOLERANCE, overlay, polygonal,
                     street_length)
 from .polygons import polygon_parts, repair
 
@@ -101,42 +100,82 @@ def attach_to_plots(aligned, aligned_plots, plots, cats):
     return aligned, plot_of, len(without)
 
 
+#: how far (map units) from its plot's exterior an aligned footprint still fronts the
+#: street: today's footprints cross a historical plot's outline, or stop short of it,
+#: by the map's offset; back buildings stand a building's depth behind it
+STREET_TOLERANCE = 2.0
+#: the least length of the plot's exterior along a footprint that fronts the street
+MIN_STREET_RUN = 2.0
+
+
+@dataclass(frozen=True)
+class Frontage:
+    """A street-fronting footprint measured along its street: ``facade`` its extent
+    along the street, ``depth`` its extent across it."""
+
+    facade: float
+    depth: float
+
+
+def exterior_segments(plot):
+    """The segments of a plot's exterior (its outer rings) as an ``(n, 2, 2)`` array."""
+    rings = [np.asarray(p.exterior.coords)[:, :2] for p in polygon_parts(plot)]
+    return np.concatenate([np.stack([c[:-1], c[1:]], axis=1) for c in rings])
+
+
+def street_frontage(footprint, segments, tolerance=STREET_TOLERANCE):
+    """The :class:`Frontage` of a footprint on the exterior ``segments`` of its plot
+    (:func:`exterior_segments`); None when it does not front the street.
+
+    It fronts the street when an exterior segment runs along it over at least
+    :data:`MIN_STREET_RUN`, within ``tolerance`` of it (crossing it counts:
+    today's footprints and a historical map are offset; a corner that only
+    touches does not). The street's direction there is that of the segment
+    running longest along it (the longer street of a corner building).
+    """
+    zone = shapely.buffer(footprint, tolerance)
+    # a segment within the zone runs about 2 x tolerance beyond the footprint
+    run = shapely.length(shapely.intersection(shapely.linestrings(segments), zone))
+    k = int(np.argmax(run))
+    if run[k] < MIN_STREET_RUN + 2 * tolerance:
+        return None
+    along = segments[k, 1] - segments[k, 0]
+    along = along / np.hypot(*along)
+    across = np.array([-along[1], along[0]])
+    coords = np.concatenate([np.asarray(p.exterior.coords)[:, :2]
+                             for p in polygon_parts(footprint)])
+    return Frontage(float(np.ptp(coords @ along)), float(np.ptp(coords @ across)))
+
+
 def calibrate(aligned, aligned_plots, plots, cats, length, depth, min_samples=5,
               percentiles=(25, 50)):
-    """Facade length and depth ranges from aligned footprints.
+    """Facade length and depth ranges from the aligned row buildings on a street.
 
-    The facade of an aligned footprint is the side of its minimum rotated
-    rectangle nearest to its plot's exterior, its depth the other side; only
-    footprints standing on the street (that side within ``max(2, side / 5)``
-    of the exterior) count. The ranges run from the lower quartile to the
-    median (``percentiles``): the minimum rotated rectangle overstates a real
-    footprint, and corner buildings of cases 4 and 5 come out larger than
-    facade x depth; on Delft 1961 the interquartile range gives footprints
-    far too large and too few. Returns ``(length, depth, samples)``; the
-    given ranges when fewer than ``min_samples`` footprints qualify.
+    Learnt only from footprints that front the street (:func:`street_frontage`:
+    they touch their plot's outer boundary), not from back buildings and
+    annexes, which the subdivision does not make; and of those only from
+    row buildings, narrower along the street than deep: wider ones are
+    corner buildings measured along their long side, or today's buildings
+    spanning several historical ones. Facade and depth are measured along
+    the street (not on the minimum rotated rectangle, which an offset map
+    turns across it). Each range runs from the lower quartile to the median
+    (``percentiles``): the long tail of large current buildings would make
+    the upper quartile far too large. Returns ``(length, depth, samples)``;
+    the given ranges when fewer than ``min_samples`` footprints qualify.
     """
     by_cat = {c: g for c, g in zip(cats, plots)}
+    segments = {}
     facades, depths = [], []
     for geom, cat in zip(aligned, aligned_plots):
         if geom is None or cat not in by_cat:
             continue
-        rect = shapely.oriented_envelope(geom)
-        if rect.geom_type != "Polygon":
+        if cat not in segments:
+            segments[cat] = exterior_segments(by_cat[cat])
+        front = street_frontage(geom, segments[cat])
+        if front is None or front.facade > front.depth:
             continue
-        r = ccw_ring(rect.exterior.coords)[:4]
-        if len(r) < 4:
-            continue
-        exterior = exterior_lines(by_cat[cat])
-        corners = np.asarray(r)
-        mids = shapely.points((corners + np.roll(corners, -1, axis=0)) / 2)
-        d = shapely.distance(mids, exterior)
-        i = int(np.argmin(d))
-        front = math.dist(r[i], r[(i + 1) % 4])
-        side = math.dist(r[(i + 1) % 4], r[(i + 2) % 4])
-        if d[i] > max(2.0, front / 5, side / 5):
-            continue
-        facades.append(front)
-        depths.append(side)
+        facades.append(front.facade)
+        depths.append(front.depth)
     if len(facades) < min_samples:
         return length, depth, len(facades)
     f = np.percentile(facades, percentiles)
