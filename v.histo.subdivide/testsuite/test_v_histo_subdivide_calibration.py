@@ -1,0 +1,136 @@
+"""Acceptance of v.histo.subdivide's calibration flag -a on Delft 1961 (issue 14).
+
+The chain as a user runs it: today's footprints with their construction years
+(built here, :func:`histo_testing.import_delft_alignment`), v.histo.align on the
+thesis's 1961 plots, its output straight into v.histo.subdivide aligned= -a.
+The footprints are compared with the 651 footprints the thesis aligned (the
+real ones) by the issue's measure (:func:`plausibility`).
+"""
+
+import re
+
+import numpy as np
+import pytest
+import shapely
+
+from reconstruction.contract import CASE, PLOT, SOURCE, SOURCE_ALIGNED, SOURCE_PROCEDURAL
+
+pytestmark = [pytest.mark.grass, pytest.mark.acceptance]
+
+#: the kinds of :func:`reconstruction.subdivision.invariant_violations`, printed with their counts
+INVARIANTS = ("invalid", "outside", "concave", "sliver", "no_street", "no_frontage", "wedge",
+              "overlap")
+
+
+def owners(footprints, plots, cats):
+    """The category of the plot holding each footprint's representative point (None: none)."""
+    points = shapely.point_on_surface(np.array(footprints, dtype=object))
+    at, plot = shapely.STRtree(plots).query(points, predicate="within")
+    out = [None] * len(footprints)
+    for i, j in zip(at, plot):
+        out[int(i)] = cats[int(j)]
+    return out
+
+
+def plausibility(plots, cats, real, footprints):
+    """The issue's measure: over the plots at least half covered by the real footprints
+    (a footprint, real or generated, is in the plot holding its representative point),
+    the medians of (count x covered share / real count) and of (median area / median real
+    area). Returns (plots used, count ratio, area ratio)."""
+    real_in, mine_in = owners(real, plots, cats), owners(footprints, plots, cats)
+    counts, areas = [], []
+    for cat, plot in zip(cats, plots):
+        ref = [g for g, c in zip(real, real_in) if c == cat]
+        if not ref:
+            continue
+        cover = shapely.union_all(ref).intersection(plot).area / plot.area
+        if cover < 0.5:
+            continue
+        mine = [g.area for g, c in zip(footprints, mine_in) if c == cat]
+        counts.append(len(mine) * cover / len(ref))
+        areas.append(np.median(mine) / np.median([g.area for g in ref]) if mine else 0.0)
+    return len(counts), float(np.median(counts)), float(np.median(areas))
+
+
+@pytest.fixture
+def delft(mapset, shared_data):
+    """Plots, today's footprints with years, and v.histo.align's output for 1961."""
+    import grass.script as gs
+
+    from histo_testing import import_delft_alignment, key_values, run_module
+    from reconstruction import grassio, subdivision
+
+    import_delft_alignment(shared_data)
+    code, out, err = run_module("v.histo.align", flags="g", input="plots1961",
+                                footprints="current", year=1961, buffer=10, overlap=0.6,
+                                output="aligned")
+    assert code == 0, err
+    plots, columns = grassio.read_features("plots1961", "area")
+    real, _ = grassio.read_features("thesis61", "area")
+    assert len(plots) == 33 and len(real) == 651
+    return gs, grassio, subdivision, plots, columns["cat"], real, key_values(out)
+
+
+def subdivide(gs, grassio, subdivision, output, plots, cats, **options):
+    """Run the module on the 1961 plots; its footprints, columns and messages, with every
+    invariant checked on what GRASS stored (counts printed)."""
+    err = gs.read_command("v.histo.subdivide", input="plots1961", output=output,
+                          area_threshold=100, seed=1, stderr=gs.STDOUT, **options)
+    geoms, cols = grassio.read_features(output, "area")
+    # read back as multipolygons: one part is one polygon
+    geoms = [g.geoms[0] if g.geom_type == "MultiPolygon" and len(g.geoms) == 1 else g
+             for g in geoms]
+    pcats, prepared, _ = subdivision.prepare_plots(plots, cats)
+    bad = subdivision.invariant_violations(geoms, cols[PLOT], cols[SOURCE],
+                                           dict(zip(pcats, prepared)), cols[CASE])
+    assert set(bad) <= set(INVARIANTS)
+    print("{}: {} footprints ({} aligned); invariant violations: {}".format(
+        output, len(geoms), cols[SOURCE].count(SOURCE_ALIGNED),
+        ", ".join("{} {}".format(k, len(bad.get(k, ()))) for k in INVARIANTS)))
+    assert bad == {}
+    return geoms, cols, " ".join(err.split())
+
+
+def test_calibration_makes_footprints_like_the_real_ones(delft):
+    gs, grassio, subdivision, plots, cats, real, aligned = delft
+    print("\nv.histo.align: {} of {} candidates aligned".format(aligned["aligned"],
+                                                              aligned["candidates"]))
+    run = dict(gs=gs, grassio=grassio, subdivision=subdivision, plots=plots, cats=cats)
+    figures = {}
+
+    def measure(name, geoms):
+        figures[name] = plausibility(plots, cats, real, geoms)
+        print("  {}: {} plots >= half covered, median count ratio {:.2f}, median area "
+              "ratio {:.2f}".format(name, *figures[name]))
+
+    # without -a: the thesis's Delft ranges, without and with the aligned footprints
+    geoms, _, _ = subdivide(output="thesis", length="5,5", depth="12,16", **run)
+    measure("no -a, thesis ranges", geoms)
+    geoms, _, _ = subdivide(output="kept", aligned="aligned", length="5,5", depth="12,16",
+                            **run)
+    measure("no -a, thesis ranges, aligned kept", geoms)
+    # with -a: the module's output (aligned footprints kept, the rest generated)
+    geoms, cols, err = subdivide(output="calibrated", aligned="aligned", flags="a", **run)
+    found = re.search(r"Calibrated from (\d+) aligned footprints: "
+                      r"length=([\d.]+,[\d.]+) depth=([\d.]+,[\d.]+)", err)
+    assert found, err
+    print("  -a: from {} street-fronting row buildings, length={} depth={}".format(
+        *found.groups()))
+    measure("-a, aligned kept", geoms)
+    assert cols[SOURCE].count(SOURCE_PROCEDURAL) > 50
+    # what the learnt ranges make alone: every footprint generated
+    geoms, _, _ = subdivide(output="ranges", length=found.group(2), depth=found.group(3), **run)
+    measure("-a ranges, all generated", geoms)
+
+    used = {n for n, _, _ in figures.values()}
+    assert used == {15}
+    for name in ("-a, aligned kept", "-a ranges, all generated"):
+        _, count, area = figures[name]
+        assert 0.8 <= count <= 1.25, name
+        assert 0.8 <= area <= 1.25, name
+    # the learnt ranges make footprints more like the real ones than the thesis's: the
+    # area ratio rises towards 1 (the old calibration lowered it, to 0.65)
+    assert figures["-a ranges, all generated"][2] > figures["no -a, thesis ranges"][2] + 0.1
+    length = [float(v) for v in found.group(2).split(",")]
+    depth = [float(v) for v in found.group(3).split(",")]
+    assert 4 <= length[0] <= length[1] <= 9 and 10 <= depth[0] <= depth[1] <= 20
