@@ -1,10 +1,16 @@
 """Generalised plots read back valid through GRASS and v.out.ogr (issue 13), in a GRASS location."""
 
+import itertools
 import json
+import os
 import subprocess
 
+import numpy as np
 import pytest
 import shapely
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from shapely import affinity
 from shapely.geometry import Polygon, box, shape
 
 from reconstruction.generalization import generalize_plots
@@ -59,3 +65,135 @@ def test_generalised_plots_read_back_valid_through_v_out_ogr(mapset, tmp_path):
     grassio.write_features("raw", touching_plots())
     raw, _ = grassio.read_features("raw")
     assert sum(not g.is_valid for g in raw) == 2
+
+
+# ---------------------------------------------------------------------------
+# The round trip as a property: random plots whose holes and neighbours touch
+# ---------------------------------------------------------------------------
+
+def _inward_triangle(apex, inward, depth, spread):
+    """A triangle with one vertex at ``apex``, pointing into the plot along ``inward``."""
+    inward = np.asarray(inward, dtype=float) / np.hypot(*inward)
+    across = np.array([-inward[1], inward[0]])
+    base = np.asarray(apex) + depth * inward
+    return [tuple(apex), tuple(base + spread * across), tuple(base - spread * across)]
+
+
+def _through(ring, point):
+    """The ring with ``point`` inserted as a vertex on the edge it lies on: rotated, a
+    vertex on an edge would move off it by rounding, a shared vertex stays shared."""
+    ring = [tuple(map(float, c)) for c in ring]
+    p = shapely.Point(point)
+    for k in range(len(ring)):
+        a, b = ring[k], ring[(k + 1) % len(ring)]
+        if p.distance(shapely.LineString([a, b])) < 1e-9 and p.distance(shapely.Point(a)) > 1e-9 \
+                and p.distance(shapely.Point(b)) > 1e-9:
+            return ring[:k + 1] + [tuple(map(float, point))] + ring[k + 1:]
+    return ring
+
+
+@st.composite
+def hole_on_outline(draw, shared):
+    """A plot with a hole touching its outline at one point: on an edge or at a corner
+    (``shared``: the point a vertex of the outline too)."""
+    w, h = draw(st.floats(25, 60)), draw(st.floats(25, 60))
+    side, t = draw(st.integers(0, 3)), draw(st.sampled_from([0.0, 0.3, 0.5, 0.77]))
+    corners = [(0, 0), (w, 0), (w, h), (0, h)]
+    a, b = np.array(corners[side], float), np.array(corners[(side + 1) % 4], float)
+    apex = a + t * (b - a)
+    # into the plot: perpendicular to the edge, or halving the corner's right angle
+    inward = np.sign(np.array([w / 2, h / 2]) - apex) if t == 0.0 else \
+        np.array([-(b - a)[1], (b - a)[0]])
+    depth = draw(st.floats(4, min(w, h) / 2 - 2))
+    spread = draw(st.floats(1.5, 6))
+    if t == 0.0:  # inside the corner's right angle
+        spread = min(spread, 0.7 * depth)
+    else:  # off the edge's ends
+        spread = min(spread, 0.8 * min(t, 1 - t) * np.hypot(*(b - a)))
+    hole = _inward_triangle(apex, inward, depth, spread)
+    return Polygon(_through(corners, apex) if shared else corners, [hole])
+
+
+@st.composite
+def holes_touching(draw, shared):
+    """A plot with two holes touching at one point: vertex to vertex, or a vertex of one
+    on an edge of the other (``shared``: a vertex of both)."""
+    w, h = draw(st.floats(30, 60)), draw(st.floats(30, 60))
+    q = np.array([draw(st.floats(0.4, 0.6)) * w, draw(st.floats(0.4, 0.6)) * h])
+    # a vertex exactly on an edge that is not shared: an axis-parallel edge
+    angle = draw(st.floats(0, 180) if shared else st.sampled_from([0.0, 90.0, 180.0]))
+    d = np.array([np.cos(np.radians(angle)), np.sin(np.radians(angle))])
+    room = min(w, h) * 0.15  # two holes one behind the other stay inside
+    first = _inward_triangle(q, -d, draw(st.floats(3, room)), draw(st.floats(1.5, room / 2)))
+    if draw(st.booleans()):
+        second = _inward_triangle(q, d, draw(st.floats(3, room)), draw(st.floats(1.5, room / 2)))
+    else:
+        far = (np.asarray(first[1]) + np.asarray(first[2])) / 2
+        second = _inward_triangle(far, -d, draw(st.floats(3, room)),
+                                  draw(st.floats(1.5, room / 2)))
+        if shared:
+            first = _through(first, far)
+    return Polygon([(0, 0), (w, 0), (w, h), (0, h)], [first, second])
+
+
+@st.composite
+def plots_touching(draw, shared):
+    """Two plots touching at one point: corner to corner, or a corner on an edge."""
+    x1, y1 = draw(st.floats(15, 40)), draw(st.floats(15, 40))
+    a = [(0, 0), (x1, 0), (x1, y1), (0, y1)]
+    w, h = draw(st.floats(15, 40)), draw(st.floats(15, 40))
+    if draw(st.booleans()):
+        b = box(x1, y1, x1 + w, y1 + h)
+    else:
+        # a square standing on one corner on a's top edge
+        cx, r = draw(st.floats(0.3, 0.7)) * x1, w / 2
+        b = Polygon([(cx, y1), (cx + r, y1 + r), (cx, y1 + 2 * r), (cx - r, y1 + r)])
+        if shared:
+            a = _through(a, (cx, y1))
+    return [Polygon(a), b]
+
+
+@st.composite
+def touching_scenes(draw):
+    """The three kinds side by side, maybe rotated, placed in the location."""
+    angle = draw(st.sampled_from([0.0, 17.0, 45.0, 90.0]))
+    shared = angle != 0 or draw(st.booleans())
+    plots = [draw(hole_on_outline(shared)), draw(holes_touching(shared)),
+             *draw(plots_touching(shared))]
+    placed = [affinity.translate(p, dx) for p, dx in zip(plots, (0, 100, 200, 200))]
+    return [affinity.translate(affinity.rotate(p, angle, origin=(0, 0)), X + 150, Y + 150)
+            for p in placed]
+
+
+_names = itertools.count()
+
+
+@settings(max_examples=6, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@given(scene=touching_scenes(), methods=st.sampled_from([("simplify",), ("douglas",)]))
+def test_round_trip_property_every_plot_valid_after_v_out_ogr(mapset, tmp_path, scene,
+                                                                methods):
+    """Issue 13 item 1: whatever the holes and neighbours touch, every plot that
+    v.histo.generalize writes (its library call, then grassio.write_features as in its
+    main()) reads back valid through v.out.ogr and through grassio."""
+    import grass.script as gs
+
+    from reconstruction import generalize, grassio
+
+    assert all(p.is_valid for p in scene)
+    gs.run_command("g.region", n=Y + 500, s=Y - 200, e=X + 600, w=X - 200, res=1)
+    config = generalize.GeneralizeConfig(methods=methods, tolerance=0.01, min_area=1)
+    raw = generalize.raw_plots(scene, config.min_area, "scene")
+    result = generalize.generalize_map(raw, config)
+    name = "plots_{}".format(next(_names))
+    grassio.write_features(name, result.plots, result.columns)
+    path = str(tmp_path / "{}.geojson".format(name))
+    gs.run_command("v.out.ogr", input=name, output=path, format="GeoJSON", quiet=True,
+                   stderr=subprocess.DEVNULL)  # "features without category": the holes
+    exported = [shape(f["geometry"]) for f in json.load(open(path))["features"]]
+    os.remove(path)
+    assert len(exported) == len(scene)
+    assert [shapely.is_valid_reason(g) for g in exported] == ["Valid Geometry"] * len(scene)
+    read, _ = grassio.read_features(name)
+    assert len(read) == len(scene) and all(g.is_valid for g in read)
+    gs.run_command("g.remove", type="vector", name=name, flags="f", quiet=True)
