@@ -128,3 +128,15 @@ def failing_tool_env(directory, *tools):
     env = dict(os.environ)
     env["PATH"] = os.pathsep.join([str(directory), env["PATH"]])
     return env
+
+
+#: the kinds of ``reconstruction.subdivision.invariant_violations``: the acceptance runs
+#: print each with its count (0 included)
+INVARIANTS = ("invalid", "outside", "concave", "sliver", "no_street", "no_frontage", "wedge",
+              "overlap")
+
+
+def invariant_counts(bad):
+    """``invariant_violations``'s result as text: every kind with its count."""
+    kinds = INVARIANTS + tuple(sorted(set(bad) - set(INVARIANTS)))
+    return ", ".join("{} {}".format(kind, len(bad.get(kind, ()))) for kind in kinds)

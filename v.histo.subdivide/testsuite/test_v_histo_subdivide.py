@@ -55,13 +55,15 @@ def read_output(grassio, name):
 
 def check_round_trip(gs, grassio, subdivision, output, plots_name):
     """Invariants on the footprints as GRASS stored them (after v.in.ogr cleaning)."""
+    from histo_testing import invariant_counts
+
     geoms, cols = read_output(grassio, output)
     plots, pcols = grassio.read_features(plots_name)
     cats, prepared, _ = subdivision.prepare_plots(plots, pcols["cat"])
     bad = subdivision.invariant_violations(geoms, cols[PLOT], cols[SOURCE],
                                            dict(zip(cats, prepared)), cols[CASE])
     print("\n{}: {} footprints, invariant violations by kind: {}".format(
-        output, len(geoms), {kind: len(found) for kind, found in bad.items()}))
+        output, len(geoms), invariant_counts(bad)))
     assert bad == {}
     # GRASS kept every footprint as one area with its whole geometry: no piece of a
     # footprint cut off into an area of its own by unshared edges or overlaps
