@@ -100,7 +100,8 @@ class SubdivisionReport:
     plots and the aligned footprints; ``aligned_without_plot``: aligned
     footprints left out for want of a plot; ``length``, ``depth`` and
     ``area_threshold``: the parameters used (``calibrated``: ``length`` and
-    ``depth`` measured on ``calibration_samples`` aligned footprints);
+    ``depth`` measured on ``calibration_samples`` aligned row buildings
+    fronting the street, see :func:`calibrate`);
     ``generated_clipped`` / ``generated_dropped``: generated footprints
     clipped or dropped where they overlapped aligned ones; ``footprints``
     and ``generated``: how many footprints in all, and generated.
@@ -181,7 +182,8 @@ def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_thre
     most). ``length`` and ``depth``: (min, max) ranges of positive numbers
     (or "min,max" text). ``area_threshold`` defaults to the mean area of the
     aligned footprints, else 100. ``calibrate_ranges`` replaces ``length``
-    and ``depth`` by ranges measured on the aligned footprints.
+    and ``depth`` by ranges learnt from the aligned footprints that front the
+    street, not from back buildings (:func:`calibrate`).
     Returns a :class:`Subdivision`; bad parameters raise
     :class:`~reconstruction.errors.InputError`.
     """
