@@ -140,3 +140,41 @@ def invariant_counts(bad):
     """``invariant_violations``'s result as text: every kind with its count."""
     kinds = INVARIANTS + tuple(sorted(set(bad) - set(INVARIANTS)))
     return ", ".join("{} {}".format(kind, len(bad.get(kind, ()))) for kind in kinds)
+
+
+def plot_of_point(footprints, plots, cats):
+    """The category of the plot holding each footprint's representative point (None: none)."""
+    import numpy as np
+    import shapely
+
+    points = shapely.point_on_surface(np.array(footprints, dtype=object))
+    at, plot = shapely.STRtree(plots).query(points, predicate="within")
+    out = [None] * len(footprints)
+    for i, j in zip(at, plot):
+        out[int(i)] = cats[int(j)]
+    return out
+
+
+def plausibility(plots, cats, real, footprints, real_plot=None, plot=None):
+    """Footprints against real ones, over the plots at least half covered by the real ones:
+    the medians of (count x covered share / real count) and of (median area / median real
+    area). A footprint's plot is given (``real_plot``, ``plot``) or, by default, the plot
+    holding its representative point (issue 14's definition). Returns (plots used,
+    count ratio, area ratio)."""
+    import numpy as np
+    import shapely
+
+    real_plot = plot_of_point(real, plots, cats) if real_plot is None else real_plot
+    plot = plot_of_point(footprints, plots, cats) if plot is None else plot
+    counts, areas = [], []
+    for cat, parcel in zip(cats, plots):
+        ref = [g for g, c in zip(real, real_plot) if c == cat]
+        if not ref:
+            continue
+        cover = shapely.union_all(ref).intersection(parcel).area / parcel.area
+        if cover < 0.5:
+            continue
+        mine = [g.area for g, c in zip(footprints, plot) if c == cat]
+        counts.append(len(mine) * cover / len(ref))
+        areas.append(np.median(mine) / np.median([g.area for g in ref]) if mine else 0.0)
+    return len(counts), float(np.median(counts)), float(np.median(areas))

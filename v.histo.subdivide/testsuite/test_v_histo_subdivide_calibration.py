@@ -4,48 +4,16 @@ The chain as a user runs it: today's footprints with their construction years
 (built here, :func:`histo_testing.import_delft_alignment`), v.histo.align on the
 thesis's 1961 plots, its output straight into v.histo.subdivide aligned= -a.
 The footprints are compared with the 651 footprints the thesis aligned (the
-real ones) by the issue's measure (:func:`plausibility`).
+real ones) by the issue's measure (:func:`histo_testing.plausibility`).
 """
 
 import re
 
-import numpy as np
 import pytest
-import shapely
 
 from reconstruction.contract import CASE, PLOT, SOURCE, SOURCE_ALIGNED, SOURCE_PROCEDURAL
 
 pytestmark = [pytest.mark.grass, pytest.mark.acceptance]
-
-
-def owners(footprints, plots, cats):
-    """The category of the plot holding each footprint's representative point (None: none)."""
-    points = shapely.point_on_surface(np.array(footprints, dtype=object))
-    at, plot = shapely.STRtree(plots).query(points, predicate="within")
-    out = [None] * len(footprints)
-    for i, j in zip(at, plot):
-        out[int(i)] = cats[int(j)]
-    return out
-
-
-def plausibility(plots, cats, real, footprints):
-    """The issue's measure: over the plots at least half covered by the real footprints
-    (a footprint, real or generated, is in the plot holding its representative point),
-    the medians of (count x covered share / real count) and of (median area / median real
-    area). Returns (plots used, count ratio, area ratio)."""
-    real_in, mine_in = owners(real, plots, cats), owners(footprints, plots, cats)
-    counts, areas = [], []
-    for cat, plot in zip(cats, plots):
-        ref = [g for g, c in zip(real, real_in) if c == cat]
-        if not ref:
-            continue
-        cover = shapely.union_all(ref).intersection(plot).area / plot.area
-        if cover < 0.5:
-            continue
-        mine = [g.area for g, c in zip(footprints, mine_in) if c == cat]
-        counts.append(len(mine) * cover / len(ref))
-        areas.append(np.median(mine) / np.median([g.area for g in ref]) if mine else 0.0)
-    return len(counts), float(np.median(counts)), float(np.median(areas))
 
 
 @pytest.fixture
@@ -89,6 +57,8 @@ def subdivide(gs, grassio, subdivision, output, **options):
 
 
 def test_calibration_makes_footprints_like_the_real_ones(delft):
+    from histo_testing import plausibility
+
     gs, grassio, subdivision, plots, cats, real, aligned = delft
     print("\nv.histo.align: {} of {} candidates aligned".format(aligned["aligned"],
                                                               aligned["candidates"]))
