@@ -25,7 +25,7 @@
 # % description: Building plots (areas), e.g. from v.histo.generalize
 # %end
 # %option G_OPT_V_OUTPUT
-# % description: Footprints (areas) with columns plot, case, source, area
+# % description: Footprints (areas) with columns plot, pm_case, source, area
 # %end
 # %option G_OPT_V_INPUT
 # % key: aligned
