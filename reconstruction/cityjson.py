@@ -13,6 +13,7 @@ import os
 
 import numpy as np
 
+from . import safefile
 from .rings import next_in_ring, offsets, unique_rows
 from .solidset import SEMANTIC_NAMES
 
@@ -272,17 +273,10 @@ def citymodel_text(ss, semantics, ids, attributes=None, reference_system=None, t
 
 
 def write_text(path, text):
-    """Write a CityJSON document given as text: to ``path + ".part"``, then
-    renamed, so that a failure leaves no partial file (and no ``.part``)."""
-    tmp = path + ".part"
-    try:
-        with open(tmp, "w") as f:
-            f.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
+    """Write a CityJSON document given as text, whole or not at all (a unique
+    temporary file renamed into place; through a symbolic link; never over
+    something that is not a regular file: :mod:`reconstruction.safefile`)."""
+    safefile.write_text(path, text)
 
 
 def write(path, model):

@@ -217,10 +217,7 @@ def main(options, flags):
 
     grassio.require_projected()      # (a missing input map: when reading it)
     output = options["output"]
-    grassio.require_new_file(output, "output")
-    outdir = os.path.dirname(os.path.abspath(output))
-    if not os.path.isdir(outdir):
-        raise InputError("Directory of the output file '{}' does not exist".format(outdir))
+    grassio.check_outputs(options, files=("output",))
     roof = RoofConfig(pitch_min=parse_number(options["pitch_min"], "pitch_min"),
                       inset=parse_range(options["inset"], "inset", positive=True),
                       step=parse_range(options["step"], "step", positive=True, allow_zero=False),

@@ -161,6 +161,7 @@ def main(options, flags):
     from reconstruction.options import parse_number, parse_range
 
     grassio.register_cleanup()
+    grassio.check_outputs(options, vectors=("output",))
     plots_name, output, aligned_name = options["input"], options["output"], options["aligned"]
     length = parse_range(options["length"], "length", positive=True, allow_zero=False)
     depth = parse_range(options["depth"], "depth", positive=True, allow_zero=False)
