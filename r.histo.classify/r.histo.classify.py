@@ -237,6 +237,7 @@ def main(options, flags):
     config = classify.read_config(options)
     grid = classify.Grid.from_region(gs.region())
     xy, columns = grassio.read_points(options["training"])
+    grassio.require_columns(options, columns, ("class_column",), options["training"])
     training = classify.read_training(xy, columns, options["label_column"],
                                       options["class_column"], config, grid, options["training"])
 

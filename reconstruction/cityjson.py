@@ -13,6 +13,7 @@ import os
 
 import numpy as np
 
+from . import epsg as epsg_codes
 from . import safefile
 from .rings import next_in_ring, offsets, unique_rows
 from .solidset import SEMANTIC_NAMES
@@ -25,6 +26,8 @@ def crs_url(epsg):
     """The OGC URL of an EPSG code (``28992`` -> https://www.opengis.net/def/crs/EPSG/0/28992).
 
     A string that already is such a URL is returned as is; ``EPSG:7415`` works too.
+    A code that names no reference system (:func:`reconstruction.epsg.known`)
+    raises ValueError.
     """
     text = str(epsg).strip()
     if text.startswith("http://") or text.startswith("https://"):
@@ -32,6 +35,8 @@ def crs_url(epsg):
     if ":" in text:
         text = text.split(":")[-1]
     code = int(text)
+    if not epsg_codes.known(code):
+        raise ValueError("EPSG:{} is not a known reference system".format(code))
     return "https://www.opengis.net/def/crs/EPSG/0/{}".format(code)
 
 

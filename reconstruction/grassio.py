@@ -23,10 +23,11 @@ from .names import is_sql_keyword
 
 # the one error convention (run_main, doing, ...) has its own file; modules
 # reach it as grassio.run_main, grassio.doing
-from .grassrun import Terminated, doing, failure_message, finish_tool, run_main  # noqa: F401
+from .grassrun import (  # noqa: F401
+    Terminated, _tool_errors, doing, failure_message, finish_tool, run_main)
 # so have temporary maps and files, and outputs staged under a temporary name
 from .grasstemp import (  # noqa: F401
-    _cleanup, forget_temp_map, register_cleanup, staged, temp_file, temp_map)
+    _cleanup, forget_temp_map, output_name, register_cleanup, staged, temp_file, temp_map)
 # and the checks of inputs and outputs before any work
 from .grasschecks import (  # noqa: F401
     check_outputs, given, location_epsg, prefetch_checks, projection, require_columns,
@@ -66,7 +67,8 @@ def write_raster(name, values, title=None, cell=True, null=None):
 
     arr = garray.array(dtype=np.int32 if cell else np.float64)
     arr[...] = values
-    with doing("writing raster map <{}>".format(name)), staged("raster", name) as tmp:
+    with doing("writing raster map <{}>".format(output_name(name))), \
+            staged("raster", name) as tmp:
         # grass.script.array swallows r.in.bin's failure into a return code
         if arr.write(tmp, title=title, null=null, overwrite=True) != 0:
             raise CalledModuleError("r.in.bin", "r.in.bin output={}".format(name), 1)
@@ -90,8 +92,10 @@ def _read_geojson(name, layer, feature_type, where=None):
     )
     err = proc.communicate()[1]
     if proc.returncode != 0 or not os.path.exists(path):
+        if not where and vector_counts(name).get(feature_type + "s", 1) == 0:
+            return []       # v.out.ogr fails on a map without such features
         gs.fatal(_("Cannot read {} features of vector map <{}>: {}").format(
-            feature_type, name, gs.decode(err).strip()))
+            feature_type, name, _tool_errors(gs.decode(err))))
     with open(path) as f:
         data = json.load(f)
     return data.get("features", [])
@@ -178,7 +182,8 @@ def write_features(name, geometries, columns=None, snap=-1, feature_type=None,
     # Geometry only: the table is written below with quoted column names, since
     # a column (e.g. of a user's map passed through) may be an SQL keyword that
     # v.in.ogr cannot create. Written under a temporary name, renamed when complete.
-    with doing("writing vector map <{}>".format(name)), staged("vector", name, **_keyword_hooks(columns)) as tmp:
+    with doing("writing vector map <{}>".format(name)), \
+            staged("vector", name, **_keyword_hooks(columns)) as tmp:
         gs.run_command(
             "v.in.ogr", input=path, output=tmp, flags="ot", quiet=True,
             overwrite=True, **kwargs,
@@ -256,7 +261,8 @@ def write_areas(name, polygons, columns=None, cats=None, title=None, history=Fal
     path = temp_file(".txt")
     with open(path, "w") as f:
         f.write("".join(text))
-    with doing("writing vector map <{}>".format(name)), staged("vector", name, **_keyword_hooks(columns)) as tmp:
+    with doing("writing vector map <{}>".format(name)), \
+            staged("vector", name, **_keyword_hooks(columns)) as tmp:
         gs.run_command("v.in.ascii", input=path, output=tmp, format="standard", flags="nt",
                        quiet=True, overwrite=True)
         _finish_vector(tmp, cats, columns, title, history)

@@ -30,6 +30,8 @@ from .grassrun import doing, finish_tool
 _TEMP_MAPS = {"raster": set(), "vector": set()}
 _TEMP_FILES = set()
 _CLEANUP_REGISTERED = []
+#: staged temporary map -> the output it becomes (see staged)
+_STAGED = {}
 
 
 def _children(pid):
@@ -152,6 +154,11 @@ def uninterrupted():
         signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
+def output_name(name):
+    """The output that map ``name`` becomes when it is staged, else ``name`` (for messages)."""
+    return _STAGED.get(name, name)
+
+
 def rename_map(kind, temporary, name):
     """Rename temporary map ``temporary`` to ``name`` (replacing it: the parser
     has refused an existing output without --overwrite), and keep it."""
@@ -174,6 +181,7 @@ def staged(kind, name, before=None, after=None):
         yield name
         return
     temporary = temp_map(kind, "out")
+    _STAGED[temporary] = name
     yield temporary
     with uninterrupted():
         if before:

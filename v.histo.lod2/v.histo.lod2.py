@@ -243,6 +243,8 @@ def main(options, flags):
         geoms, columns = grassio.finish_read_areas(reading)
     if not geoms:
         raise InputError("Vector map <{}> has no areas".format(options["input"]))
+    grassio.require_columns(options, columns, [k for k in options if k.endswith("_column")],
+                            options["input"])
     heights = lod2.heights_from_columns(
         columns, len(geoms), options["eaves_column"], options["attic_column"],
         options["ground_column"], float(options["ground"]), height_range, attic_range)

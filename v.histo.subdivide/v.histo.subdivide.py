@@ -120,7 +120,9 @@ def read_aligned(grassio, name, plot_column):
         gs.message(_("Aligned map <{}> has no {} column: each aligned footprint goes to the plot "
                      "it overlaps most").format(name, plot_column))
         return aligned, None, columns
-    return aligned, [None if v is None else int(v) for v in columns[names[plot_column]]], columns
+    from reconstruction.options import integer_column
+
+    return aligned, integer_column(columns[names[plot_column]], plot_column, name), columns
 
 
 def report(rep, aligned, calibrating):
