@@ -202,27 +202,21 @@ def _wait_for(condition, proc, timeout=120):
     return False
 
 
-@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
-@pytest.mark.parametrize("moment", ["computing", "writing"])
-def test_an_interrupted_run_leaves_nothing_behind(mapset, signum, moment):
-    """Signals while v.histo.subdivide computes (its message says so) and while it
-    writes (its temporary output exists)."""
+def _signal_when(gs, command, options, signum, message=None, pattern=None, tmp=None):
+    """Run ``command``, send ``signum`` when it has printed ``message`` or when a
+    vector map ``pattern`` exists; check that it ends as interrupted, leaving no
+    output, no ``tmp_histo_*`` map and no temporary directory (in ``tmp``)."""
     import threading
 
-    import grass.script as gs
-
-    from reconstruction import grassio
-
-    gs.run_command("g.region", n=Y0 + 1700, s=Y0, e=X0 + 1200, w=X0, res=1)
-    grassio.write_features("many", plots(400, columns=20))
-    proc = gs.start_command("v.histo.subdivide", input="many", output="fp", stderr=subprocess.PIPE)
+    env = dict(os.environ, TMPDIR=str(tmp))
+    proc = gs.start_command(command, stderr=subprocess.PIPE, env=env, **options)
     err = []
     reader = threading.Thread(target=lambda: err.extend(gs.decode(ln) for ln in proc.stderr))
     reader.start()
-    if moment == "computing":
-        started = _wait_for(lambda: any("Subdividing" in ln for ln in err), proc)
+    if message:
+        started = _wait_for(lambda: any(message in ln for ln in err), proc)
     else:
-        started = _wait_for(lambda: gs.list_strings("vector", pattern="tmp_histo_out*"), proc)
+        started = _wait_for(lambda: gs.list_strings("vector", pattern=pattern), proc)
     assert started and proc.poll() is None, "the module ended before the signal"
     time.sleep(0.2)
     proc.send_signal(signum)
@@ -234,5 +228,32 @@ def test_an_interrupted_run_leaves_nothing_behind(mapset, signum, moment):
     assert len(error_lines(err)) == 1, err
     assert ("Terminated" if signum == signal.SIGTERM else "Interrupted") in err
     for kind in ("vector", "raster"):
-        assert gs.list_strings(kind, pattern="fp") == []
+        assert gs.list_strings(kind, pattern=options["output"]) == []
         assert gs.list_strings(kind, pattern="tmp_histo_*") == []
+    assert os.listdir(str(tmp)) == []
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+@pytest.mark.parametrize("moment", ["computing", "writing"])
+def test_an_interrupted_run_leaves_nothing_behind(mapset, tmp_path, signum, moment):
+    """Signals while v.histo.subdivide computes (its message says so) and while it
+    writes (its temporary output exists)."""
+    import grass.script as gs
+
+    from reconstruction import grassio
+
+    gs.run_command("g.region", n=Y0 + 1700, s=Y0, e=X0 + 1200, w=X0, res=1)
+    grassio.write_features("many", plots(400, columns=20))
+    _signal_when(gs, "v.histo.subdivide", dict(input="many", output="fp"), signum,
+                 message="Subdividing" if moment == "computing" else None,
+                 pattern="tmp_histo_out*", tmp=tmp_path)
+
+
+def test_sigterm_removes_generalize_temporary_maps(mapset, tmp_path):
+    """v.histo.generalize on a raster makes tmp_histo_* maps: SIGTERM removes them."""
+    import grass.script as gs
+
+    gs.run_command("g.region", n=Y0 + 800, s=Y0, e=X0 + 1200, w=X0, res=1)
+    gs.mapcalc("cls = if(row() % 40 < 30 && col() % 60 < 50, 1, 2)", quiet=True)
+    _signal_when(gs, "v.histo.generalize", dict(raster="cls", **{"class": 1}, output="gen"),
+                 signal.SIGTERM, message="Generalising", tmp=tmp_path)
