@@ -25,6 +25,7 @@ import time
 
 import grass.script as gs
 
+from . import grassrun
 from .grassrun import doing, finish_tool
 
 _TEMP_MAPS = {"raster": set(), "vector": set()}
@@ -76,12 +77,16 @@ def stop_children(timeout=5.0):
             time.sleep(0.02)
 
 
-def _cleanup():
-    if threading.current_thread() is threading.main_thread():
-        # a second Ctrl-C must not interrupt the clean-up of the first
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
-        signal.signal(signal.SIGTERM, signal.SIG_IGN)
-    stop_children()
+def _cleanup(at_exit=False):
+    """Remove the temporary maps and files. At the exit of a module (run by
+    :func:`~reconstruction.grassrun.run_main`): uninterrupted, and after
+    stopping the tools it started."""
+    if at_exit and grassrun.RUNNING:
+        if threading.current_thread() is threading.main_thread():
+            # a second Ctrl-C must not interrupt the clean-up of the first
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
+            signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        stop_children()
     for kind, names in _TEMP_MAPS.items():
         if names and os.environ.get("GISRC"):
             # silent: names of maps never made (a failure came first) only give
@@ -98,7 +103,7 @@ def _cleanup():
 
 def _ensure_cleanup():
     if not _CLEANUP_REGISTERED:
-        atexit.register(_cleanup)
+        atexit.register(_cleanup, at_exit=True)
         _CLEANUP_REGISTERED.append(True)
 
 

@@ -99,6 +99,22 @@ def test_core_grass_tools_work_on_every_vector_output(small, tmp_path):
     assert contract.CASE in grassio.column_names("footprints")
 
 
+def test_an_old_case_column_is_read_and_kept_usable(small, tmp_path):
+    """Maps of earlier runs have a column ``case``: read (and passed on) without a crash."""
+    gs, grassio = small
+    old = [box(X0 + 2, Y0 + 2, X0 + 14, Y0 + 14)]
+    grassio.write_features("old", old, {"case": [2], contract.PLOT: [1], "h_building": [6.0],
+                                        "h_attic": [3.0]})
+    code, _, err = run_module("v.histo.lod2", input="old", output=str(tmp_path / "old.json"),
+                              quiet=True)
+    assert code == 0, err
+    code, _, err = run_module("v.histo.subdivide", input="plots", aligned="old", output="fp",
+                              quiet=True)
+    assert code == 0, err
+    assert "case" in grassio.column_names("fp") and contract.CASE in grassio.column_names("fp")
+    assert grassio.read_table("fp")["case"].count(2) == 1
+
+
 # ---------------------------------------------------------------------------
 # Item 4: names and paths checked before any work
 # ---------------------------------------------------------------------------
