@@ -26,6 +26,7 @@ import time
 import grass.script as gs
 
 from . import grassrun
+from .errors import InputError
 from .grassrun import doing, finish_tool
 
 _TEMP_MAPS = {"raster": set(), "vector": set()}
@@ -165,8 +166,8 @@ def output_name(name):
 
 
 def rename_map(kind, temporary, name):
-    """Rename temporary map ``temporary`` to ``name`` (replacing it: the parser
-    has refused an existing output without --overwrite), and keep it."""
+    """Rename temporary map ``temporary`` to ``name`` (replacing it: see
+    :func:`staged` for the check of --overwrite), and keep it."""
     with doing("renaming <{}> to the output <{}>".format(temporary, name)):
         finish_tool(gs.start_command("g.rename", quiet=True, overwrite=True, stderr=gs.PIPE,
                                      **{kind: "{},{}".format(temporary, name)}), "g.rename")
@@ -185,6 +186,10 @@ def staged(kind, name, before=None, after=None):
     if is_temp_map(kind, name):
         yield name
         return
+    if not gs.overwrite() and gs.find_file(
+            name, element="cell" if kind == "raster" else kind, mapset=".")["name"]:
+        raise InputError("{} map <{}> exists; use --overwrite to replace it".format(
+            kind.capitalize(), name))
     temporary = temp_map(kind, "out")
     _STAGED[temporary] = name
     yield temporary
