@@ -48,7 +48,8 @@ def replacing(path, mode="w", encoding="utf-8", newline=None):
     directory, name = os.path.split(target)
     fd, tmp = tempfile.mkstemp(prefix=".{}.".format(name), suffix=".part", dir=directory)
     try:
-        with os.fdopen(fd, mode, **({} if "b" in mode else {"encoding": encoding, "newline": newline})) as f:
+        text = {} if "b" in mode else {"encoding": encoding, "newline": newline}
+        with os.fdopen(fd, mode, **text) as f:
             yield f
         os.chmod(tmp, _mode(target))
         os.replace(tmp, target)
