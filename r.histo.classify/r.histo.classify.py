@@ -222,6 +222,7 @@ def main(options, flags):
     from reconstruction.options import parse_list
 
     grassio.register_cleanup()
+    grassio.check_outputs(options, rasters=("output", "segments"))
     grassio.require_projected()
     inputs = parse_list(options["input"])
     if len(inputs) != 3:
@@ -236,6 +237,7 @@ def main(options, flags):
     config = classify.read_config(options)
     grid = classify.Grid.from_region(gs.region())
     xy, columns = grassio.read_points(options["training"])
+    grassio.require_columns(options, columns, ("class_column",), options["training"])
     training = classify.read_training(xy, columns, options["label_column"],
                                       options["class_column"], config, grid, options["training"])
 
@@ -253,18 +255,22 @@ def main(options, flags):
         print("\n".join(classify.tuning_table(result)))
 
     start = time.perf_counter()
-    output = options["output"]
-    grassio.write_raster(output, result.classes, title="Classified historical map", null=0)
-    with grassio.doing("writing the categories, colours and history of <{}>".format(output)):
-        gs.write_command("r.category", map=output, rules="-", separator=":", quiet=True,
-                         stdin=classify.category_rules(result.present, training.names) + "\n")
-        gs.write_command("r.colors", map=output, rules="-", quiet=True,
-                         stdin=classify.colour_rules(result.present, training.names)
-                         + "\nnv 255:255:255\n")
-        gs.run_command("r.support", map=output, source1="training points <{}>, inputs <{}>".format(
-            options["training"], ",".join(inputs)),
-            description="i.segment threshold={} minsize={}".format(*result.best_pair))
-        gs.raster_history(output, overwrite=True)
+    # written whole under a temporary name, renamed when complete
+    with grassio.staged("raster", options["output"]) as output:
+        grassio.write_raster(output, result.classes, title="Classified historical map", null=0)
+        with grassio.doing("writing the categories, colours and history of <{}>".format(
+                options["output"])):
+            gs.write_command("r.category", map=output, rules="-", separator=":", quiet=True,
+                             stdin=classify.category_rules(result.present, training.names) + "\n")
+            gs.write_command("r.colors", map=output, rules="-", quiet=True,
+                             stdin=classify.colour_rules(result.present, training.names)
+                             + "\nnv 255:255:255\n")
+            gs.run_command("r.support", map=output,
+                           source1="training points <{}>, inputs <{}>".format(
+                               options["training"], ",".join(inputs)),
+                           description="i.segment threshold={} minsize={}".format(
+                               *result.best_pair))
+            gs.raster_history(output, overwrite=True)
     if options["segments"]:
         with grassio.doing("writing the segments <{}>".format(options["segments"])):
             gs.run_command("g.rename", raster="{},{}".format(result.chosen, options["segments"]),

@@ -13,6 +13,8 @@ import os
 
 import numpy as np
 
+from . import epsg as epsg_codes
+from . import safefile
 from .rings import next_in_ring, offsets, unique_rows
 from .solidset import SEMANTIC_NAMES
 
@@ -24,6 +26,8 @@ def crs_url(epsg):
     """The OGC URL of an EPSG code (``28992`` -> https://www.opengis.net/def/crs/EPSG/0/28992).
 
     A string that already is such a URL is returned as is; ``EPSG:7415`` works too.
+    A code that names no reference system (:func:`reconstruction.epsg.known`)
+    raises ValueError.
     """
     text = str(epsg).strip()
     if text.startswith("http://") or text.startswith("https://"):
@@ -31,6 +35,8 @@ def crs_url(epsg):
     if ":" in text:
         text = text.split(":")[-1]
     code = int(text)
+    if not epsg_codes.known(code):
+        raise ValueError("EPSG:{} is not a known reference system".format(code))
     return "https://www.opengis.net/def/crs/EPSG/0/{}".format(code)
 
 
@@ -272,17 +278,10 @@ def citymodel_text(ss, semantics, ids, attributes=None, reference_system=None, t
 
 
 def write_text(path, text):
-    """Write a CityJSON document given as text: to ``path + ".part"``, then
-    renamed, so that a failure leaves no partial file (and no ``.part``)."""
-    tmp = path + ".part"
-    try:
-        with open(tmp, "w") as f:
-            f.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
+    """Write a CityJSON document given as text, whole or not at all (a unique
+    temporary file renamed into place; through a symbolic link; never over
+    something that is not a regular file: :mod:`reconstruction.safefile`)."""
+    safefile.write_text(path, text)
 
 
 def write(path, model):

@@ -11,8 +11,9 @@ PLOT = "plot"
 SOURCE = "source"
 SOURCE_PROCEDURAL = "2pm"
 SOURCE_ALIGNED = "aligned"
-#: procedural case (0-5) of v.histo.subdivide
-CASE = "case"
+#: procedural case (0-5) of v.histo.subdivide ("pm_case": 2D procedural modelling's
+#: case; not "case", an SQL keyword that core GRASS tools do not quote, issue 12)
+CASE = "pm_case"
 #: footprint area (m2)
 AREA = "area"
 #: matching similarity of an aligned footprint (v.histo.align)
@@ -32,3 +33,7 @@ HEIGHTS_NEIGHBOURS = "neighbours"
 HEIGHTS_POINTS = "points"
 HEIGHTS_RANGE = "range"
 HEIGHTS_COLUMN = "column"
+
+#: every column name above (the values are not column names): none may be an SQL
+#: keyword (reconstruction/names.py, tested)
+COLUMNS = (PLOT, SOURCE, CASE, AREA, SIMILARITY, GROUND, EAVES, ATTIC, HEIGHT_SOURCE)

@@ -19,7 +19,7 @@ from collections import Counter
 from dataclasses import asdict, dataclass
 from typing import Optional
 
-from . import assessment, generalization, shape_metrics
+from . import assessment, generalization, safefile, shape_metrics
 from .errors import InputError
 from .options import parse_list, parse_number
 
@@ -139,12 +139,12 @@ class GeneralizeReport:
                 if isinstance(v, (int, float)) or v is None}
 
     def write_json(self, path):
-        with open(path, "w") as f:
+        with safefile.replacing(path) as f:
             json.dump(self.figures(), f, indent=2)
 
     def write_metrics_csv(self, path):
         """The metrics summed and averaged after each step, one row per step."""
-        with open(path, "w", newline="") as f:
+        with safefile.replacing(path, newline="") as f:
             writer = csv.DictWriter(f, fieldnames=list(self.steps[0].keys()))
             writer.writeheader()
             for row in self.steps:

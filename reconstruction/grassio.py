@@ -9,13 +9,9 @@ which keeps categories, attribute columns and area topology (shared
 boundaries, holes) without any extra Python dependency.
 """
 
-import atexit
 import json
 import math
 import os
-import shutil
-import subprocess
-import tempfile
 import threading
 
 import numpy as np
@@ -23,160 +19,20 @@ import numpy as np
 import grass.script as gs
 from grass.exceptions import CalledModuleError
 
+from .names import is_sql_keyword
+
 # the one error convention (run_main, doing, ...) has its own file; modules
 # reach it as grassio.run_main, grassio.doing
-from .grassrun import Terminated, doing, failure_message, finish_tool, run_main  # noqa: F401
-
-_TEMP_MAPS = {"raster": set(), "vector": set()}
-_TEMP_FILES = set()
-_CLEANUP_REGISTERED = []
-
-
-def _cleanup():
-    for kind, names in _TEMP_MAPS.items():
-        if names and os.environ.get("GISRC"):
-            # silent: names of maps never made (a failure came first) only give
-            # warnings after the module's ERROR: line
-            gs.run_command(
-                "g.remove", flags="f", type=kind, name=",".join(sorted(names)),
-                quiet=True, errors="ignore", stderr=subprocess.DEVNULL,
-            )
-            names.clear()
-    for path in list(_TEMP_FILES):
-        shutil.rmtree(path, ignore_errors=True)
-        _TEMP_FILES.discard(path)
-
-
-def _ensure_cleanup():
-    if not _CLEANUP_REGISTERED:
-        atexit.register(_cleanup)
-        _CLEANUP_REGISTERED.append(True)
-
-
-def register_cleanup():
-    """Register removal of every temporary map and file at exit.
-
-    Call right after ``gs.parser()``; temporary names made by
-    :func:`temp_map` and :func:`temp_file` are then removed on success and on
-    failure alike.
-    """
-    _ensure_cleanup()
-
-
-def temp_map(kind, prefix):
-    """A unique temporary map name of ``kind`` (raster or vector), removed at exit."""
-    _ensure_cleanup()
-    name = gs.append_uuid("tmp_histo_{}".format(prefix)).replace("-", "_")
-    _TEMP_MAPS[kind].add(name)
-    return name
-
-
-def temp_file(suffix=""):
-    """A path for a temporary file (not created yet), removed at exit."""
-    _ensure_cleanup()
-    directory = tempfile.mkdtemp(prefix="histo_")
-    _TEMP_FILES.add(directory)
-    return os.path.join(directory, "data" + suffix)
-
-
-def forget_temp_map(kind, name):
-    """Keep a temporary map (e.g. after renaming it to a real output)."""
-    _TEMP_MAPS[kind].discard(name)
-
-
-# ---------------------------------------------------------------------------
-# Checks
-# ---------------------------------------------------------------------------
-
-_PROJECTION = []
-#: GRASS queries of the checks started ahead (see prefetch_checks).
-_QUERIES = {}
-
-
-def prefetch_checks():
-    """Start the GRASS query behind :func:`require_projected` (and
-    :func:`location_epsg`) now, so that it runs while the caller imports and
-    parses; the checks then take its answer."""
-    if not _PROJECTION and "proj" not in _QUERIES:
-        _QUERIES["proj"] = gs.start_command("g.proj", flags="g", stdout=gs.PIPE,
-                                            stderr=gs.PIPE)
-
-
-def _answer(key):
-    """The parsed output of a query started by :func:`prefetch_checks`, or None."""
-    proc = _QUERIES.pop(key, None)
-    if proc is None:
-        return None
-    return gs.parse_key_val(gs.decode(proc.communicate()[0]))
-
-
-def projection():
-    """The current location's projection (g.proj -g) as a dict (asked once)."""
-    if not _PROJECTION:
-        answer = _answer("proj")
-        _PROJECTION.append(answer if answer is not None else
-                           gs.parse_command("g.proj", flags="g"))
-    return _PROJECTION[0]
-
-
-def location_epsg():
-    """The current location's EPSG code, or None."""
-    proj = projection()
-    srid = proj.get("srid", "") or proj.get("epsg", "")
-    if srid:
-        code = srid.split(":")[-1]
-        if code.isdigit():
-            return int(code)
-    return None
-
-
-def require_projected():
-    """Fail unless the current location has a projected CRS in metres."""
-    proj = projection()
-    name = proj.get("name", "")
-    if proj.get("proj", "") in ("ll", "") or "lat" in name.lower() and "long" in name.lower():
-        gs.fatal(
-            _("Location is not projected: the histo modules need map units in metres "
-              "(e.g. EPSG:28992); create a projected location and import the maps there")
-        )
-    units = proj.get("units", proj.get("unit", "")).lower()
-    if units and not units.startswith("met"):
-        gs.warning(_("Map units are <{}>, not metres: sizes are taken in map units").format(units))
-
-
-def require_raster(name):
-    if not gs.find_file(name, element="cell")["fullname"]:
-        gs.fatal(_("Raster map <{}> not found").format(name))
-
-
-def require_vector(name):
-    if not gs.find_file(name, element="vector")["fullname"]:
-        gs.fatal(_("Vector map <{}> not found").format(name))
-
-
-def require_features(name, kind, key):
-    """Fail unless vector map ``name`` (given as ``key``=) holds ``kind`` (areas, points...)."""
-    require_vector(name)
-    counts = vector_counts(name)
-    if counts.get(kind, 0) == 0:
-        held = ", ".join("{} {}".format(counts.get(k, 0), k)
-                         for k in ("points", "lines", "boundaries", "centroids", "areas"))
-        gs.fatal(_("Vector map <{}> given as {}= has no {} (it holds {}): give a map of {}").format(
-            name, key, kind, held, kind))
-
-
-def require_new_file(path, option):
-    """Fail if an output file exists and --overwrite was not given."""
-    if path and os.path.exists(path) and not gs.overwrite():
-        gs.fatal(_("File '{}' given as {}= exists; use --overwrite to replace it").format(path, option))
-
-
-def vector_counts(name):
-    """Topology counts of a vector map (points, areas, ...) as integers."""
-    with doing("reading the topology of vector map <{}>".format(name)):
-        info = gs.vector_info_topo(name)
-    return {k: int(v) for k, v in info.items() if isinstance(v, (int, float))}
-
+from .grassrun import (  # noqa: F401
+    Terminated, _tool_errors, doing, failure_message, finish_tool, run_main)
+# so have temporary maps and files, and outputs staged under a temporary name
+from .grasstemp import (  # noqa: F401
+    _cleanup, forget_temp_map, output_name, register_cleanup, staged, temp_file, temp_map)
+# and the checks of inputs and outputs before any work
+from .grasschecks import (  # noqa: F401
+    check_outputs, given, location_epsg, prefetch_checks, projection, require_columns,
+    require_features, require_new_file, require_projected, require_raster, require_vector,
+    vector_counts)
 
 # ---------------------------------------------------------------------------
 # Rasters
@@ -202,7 +58,8 @@ def read_raster(name, dtype=np.float64):
 
 
 def write_raster(name, values, title=None, cell=True, null=None):
-    """Write a numpy array (current region) as a raster map.
+    """Write a numpy array (current region) as a raster map (under a temporary
+    name, renamed when complete: :func:`staged`).
 
     ``cell=True`` writes a CELL map with ``null`` as the NULL value.
     """
@@ -210,9 +67,10 @@ def write_raster(name, values, title=None, cell=True, null=None):
 
     arr = garray.array(dtype=np.int32 if cell else np.float64)
     arr[...] = values
-    with doing("writing raster map <{}>".format(name)):
+    with doing("writing raster map <{}>".format(output_name(name))), \
+            staged("raster", name) as tmp:
         # grass.script.array swallows r.in.bin's failure into a return code
-        if arr.write(name, title=title, null=null, overwrite=gs.overwrite()) != 0:
+        if arr.write(tmp, title=title, null=null, overwrite=True) != 0:
             raise CalledModuleError("r.in.bin", "r.in.bin output={}".format(name), 1)
 
 
@@ -234,8 +92,10 @@ def _read_geojson(name, layer, feature_type, where=None):
     )
     err = proc.communicate()[1]
     if proc.returncode != 0 or not os.path.exists(path):
+        if not where and vector_counts(name).get(feature_type + "s", 1) == 0:
+            return []       # v.out.ogr fails on a map without such features
         gs.fatal(_("Cannot read {} features of vector map <{}>: {}").format(
-            feature_type, name, gs.decode(err).strip()))
+            feature_type, name, _tool_errors(gs.decode(err))))
     with open(path) as f:
         data = json.load(f)
     return data.get("features", [])
@@ -292,7 +152,8 @@ def write_features(name, geometries, columns=None, snap=-1, feature_type=None,
 
     ``columns`` is a dict of column name -> sequence of values (int, float,
     str or None); the map gets a ``cat`` column from ``cats`` (default 1..n).
-    Polygons become areas with shared boundaries where they touch.
+    Polygons become areas with shared boundaries where they touch. The map is
+    written under a temporary name and renamed when complete (:func:`staged`).
     ``history``: record the module's command line in the map's history
     (as ``gs.vector_history``, in the same v.support run as the title).
     """
@@ -302,8 +163,9 @@ def write_features(name, geometries, columns=None, snap=-1, feature_type=None,
     n = len(geometries)
     cats = list(cats) if cats is not None else list(range(1, n + 1))
     if n == 0:  # v.in.ogr cannot import nothing: an empty map with its (empty) table
-        gs.run_command("v.edit", map=name, tool="create", quiet=True, overwrite=gs.overwrite())
-        _finish_vector(name, cats, columns, title, history)
+        with staged("vector", name, **_keyword_hooks(columns)) as tmp:
+            gs.run_command("v.edit", map=tmp, tool="create", quiet=True, overwrite=True)
+            _finish_vector(tmp, cats, columns, title, history)
         return name
     features = []
     for i, geom in enumerate(geometries):
@@ -318,13 +180,15 @@ def write_features(name, geometries, columns=None, snap=-1, feature_type=None,
     if feature_type:
         kwargs["type"] = feature_type
     # Geometry only: the table is written below with quoted column names, since
-    # domain names such as "case" are SQL keywords that v.in.ogr cannot create.
-    with doing("writing vector map <{}>".format(name)):
+    # a column (e.g. of a user's map passed through) may be an SQL keyword that
+    # v.in.ogr cannot create. Written under a temporary name, renamed when complete.
+    with doing("writing vector map <{}>".format(name)), \
+            staged("vector", name, **_keyword_hooks(columns)) as tmp:
         gs.run_command(
-            "v.in.ogr", input=path, output=name, flags="ot", quiet=True,
-            overwrite=gs.overwrite(), **kwargs,
+            "v.in.ogr", input=path, output=tmp, flags="ot", quiet=True,
+            overwrite=True, **kwargs,
         )
-        _finish_vector(name, cats, columns, title, history)
+        _finish_vector(tmp, cats, columns, title, history)
     return name
 
 
@@ -397,10 +261,11 @@ def write_areas(name, polygons, columns=None, cats=None, title=None, history=Fal
     path = temp_file(".txt")
     with open(path, "w") as f:
         f.write("".join(text))
-    with doing("writing vector map <{}>".format(name)):
-        gs.run_command("v.in.ascii", input=path, output=name, format="standard", flags="nt",
-                       quiet=True, overwrite=gs.overwrite())
-        _finish_vector(name, cats, columns, title, history)
+    with doing("writing vector map <{}>".format(name)), \
+            staged("vector", name, **_keyword_hooks(columns)) as tmp:
+        gs.run_command("v.in.ascii", input=path, output=tmp, format="standard", flags="nt",
+                       quiet=True, overwrite=True)
+        _finish_vector(tmp, cats, columns, title, history)
     return name
 
 
@@ -454,7 +319,7 @@ def _sqlite_path(database):
 def _write_table(name, cats, columns):
     """Create the attribute table of a new map in one transaction and link it.
 
-    Column names are quoted (domain names such as "case" are SQL keywords).
+    Column names are quoted (a user's column passed through may be an SQL keyword).
     With GRASS's default SQLite driver the rows go in through Python's
     sqlite3 (a tenth of the time of db.execute on 17,000 rows); other
     drivers get the same statements through db.execute.
@@ -496,8 +361,46 @@ def _write_table(name, cats, columns):
             f.write("\n".join(lines) + "\n")
         gs.run_command("db.execute", input=sql, driver=connection["driver"],
                        database=connection["database"], quiet=True)
+    _connect(name, table, connection)
+
+
+def _connect(name, table, connection):
     gs.run_command("v.db.connect", map=name, table=table, key="cat", layer=1, flags="o",
                    driver=connection["driver"], database=connection["database"], quiet=True)
+
+
+def _keyword_hooks(columns):
+    """:func:`staged`'s hooks for a map with a column named by an SQL keyword,
+    which g.rename cannot copy (it creates the table unquoted): the table is
+    unlinked before the renaming, then renamed (quoted SQL) and linked again."""
+    if not any(is_sql_keyword(c) for c in columns):
+        return {}
+    tables = []
+
+    def before(temporary):
+        tables.append(temporary)
+        gs.run_command("v.db.connect", map=temporary, layer=1, flags="d", quiet=True)
+
+    def after(name):
+        connection = gs.db_connection(force=True)
+        statements = ['DROP TABLE IF EXISTS "{}"'.format(name),
+                      'ALTER TABLE "{}" RENAME TO "{}"'.format(tables[0], name)]
+        if connection["driver"] == "sqlite":
+            import sqlite3
+
+            db = sqlite3.connect(_sqlite_path(connection["database"]))
+            try:
+                with db:
+                    for statement in statements:
+                        db.execute(statement)
+            finally:
+                db.close()
+        else:
+            gs.write_command("db.execute", input="-", driver=connection["driver"],
+                             database=connection["database"], quiet=True,
+                             stdin=";\n".join(statements) + ";\n")
+        _connect(name, name, connection)
+    return {"before": before, "after": after}
 
 
 def column_names(name, layer=1):

@@ -44,6 +44,11 @@ class doing:
         return False
 
 
+#: non-empty while :func:`run_main` runs a module (the clean-up at exit then also
+#: stops the tools the module started, see reconstruction.grasstemp)
+RUNNING = []
+
+
 class Terminated(KeyboardInterrupt):
     """SIGTERM, raised in the main thread by :func:`run_main`'s handler, so that
     the module ends and cleans up as after Ctrl-C."""
@@ -103,6 +108,7 @@ def run_main(main, *args):
     """
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGTERM, _terminate)
+    RUNNING.append(main)
     try:
         return main(*args)
     except (InputError, CalledModuleError, KeyboardInterrupt, MemoryError, OSError) as error:

@@ -78,3 +78,24 @@ def processes(nprocs, cores=None):
     if nprocs <= 0:
         nprocs = cores + nprocs
     return max(1, nprocs)
+
+
+def integer_column(values, column, map_name):
+    """The values of attribute column ``column`` of map ``map_name`` as ints
+    (None stays None): a value that is not a whole number (``1.5``, text)
+    raises InputError instead of being truncated."""
+    out = []
+    for value in values:
+        if value is None or value == "":
+            out.append(None)
+            continue
+        try:
+            number = float(value)
+            whole = number == int(number)
+        except (TypeError, ValueError, OverflowError):
+            whole = False
+        if not whole:
+            raise InputError("Column <{}> of vector map <{}> must hold whole numbers, found "
+                             "<{}>".format(column, map_name, value))
+        out.append(int(number))
+    return out

@@ -227,9 +227,9 @@ def main(options, flags):
     grassio.prefetch_checks()
     import numpy as np
 
-    from reconstruction import alignment, contract
+    from reconstruction import alignment, contract, safefile
 
-    grassio.require_new_file(options["report"], "report")
+    grassio.check_outputs(options, vectors=("output", "unmatched"), files=("report",))
     config = parse_config(options, flags)
     name = options["footprints"]
     columns, column, years, footprints = read_footprints(
@@ -267,7 +267,7 @@ def main(options, flags):
                          {contract.SIMILARITY: np.round(result.best_similarity, 4).tolist()},
                          "Candidate footprints of <{}> matching no plot".format(name))
     if options["report"]:
-        with open(options["report"], "w") as f:
+        with safefile.replacing(options["report"]) as f:
             json.dump(alignment.report_json(result, config, plot_columns["cat"]), f, indent=2)
 
     gs.verbose(_("Timing (s): read {:.2f}, align {:.2f}, write {:.2f}").format(

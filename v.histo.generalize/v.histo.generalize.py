@@ -195,8 +195,7 @@ def main(options, flags):
     grassio.register_cleanup()
     grassio.require_projected()
     config = generalize.read_config(options, flags)
-    for key in ("metrics", "report"):
-        grassio.require_new_file(options[key], key)
+    grassio.check_outputs(options, vectors=("output",), files=("metrics", "report"))
     if options["gt_points"]:
         grassio.require_features(options["gt_points"], "points", "gt_points")
     if options["gt_polygons"]:

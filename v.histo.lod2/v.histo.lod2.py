@@ -217,10 +217,7 @@ def main(options, flags):
 
     grassio.require_projected()      # (a missing input map: when reading it)
     output = options["output"]
-    grassio.require_new_file(output, "output")
-    outdir = os.path.dirname(os.path.abspath(output))
-    if not os.path.isdir(outdir):
-        raise InputError("Directory of the output file '{}' does not exist".format(outdir))
+    grassio.check_outputs(options, files=("output",))
     roof = RoofConfig(pitch_min=parse_number(options["pitch_min"], "pitch_min"),
                       inset=parse_range(options["inset"], "inset", positive=True),
                       step=parse_range(options["step"], "step", positive=True, allow_zero=False),
@@ -246,6 +243,8 @@ def main(options, flags):
         geoms, columns = grassio.finish_read_areas(reading)
     if not geoms:
         raise InputError("Vector map <{}> has no areas".format(options["input"]))
+    grassio.require_columns(options, columns, [k for k in options if k.endswith("_column")],
+                            options["input"])
     heights = lod2.heights_from_columns(
         columns, len(geoms), options["eaves_column"], options["attic_column"],
         options["ground_column"], float(options["ground"]), height_range, attic_range)

@@ -25,7 +25,7 @@
 # % description: Building plots (areas), e.g. from v.histo.generalize
 # %end
 # %option G_OPT_V_OUTPUT
-# % description: Footprints (areas) with columns plot, case, source, area
+# % description: Footprints (areas) with columns plot, pm_case, source, area
 # %end
 # %option G_OPT_V_INPUT
 # % key: aligned
@@ -120,7 +120,9 @@ def read_aligned(grassio, name, plot_column):
         gs.message(_("Aligned map <{}> has no {} column: each aligned footprint goes to the plot "
                      "it overlaps most").format(name, plot_column))
         return aligned, None, columns
-    return aligned, [None if v is None else int(v) for v in columns[names[plot_column]]], columns
+    from reconstruction.options import integer_column
+
+    return aligned, integer_column(columns[names[plot_column]], plot_column, name), columns
 
 
 def report(rep, aligned, calibrating):
@@ -161,6 +163,7 @@ def main(options, flags):
     from reconstruction.options import parse_number, parse_range
 
     grassio.register_cleanup()
+    grassio.check_outputs(options, vectors=("output",))
     plots_name, output, aligned_name = options["input"], options["output"], options["aligned"]
     length = parse_range(options["length"], "length", positive=True, allow_zero=False)
     depth = parse_range(options["depth"], "depth", positive=True, allow_zero=False)

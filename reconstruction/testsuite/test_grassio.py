@@ -164,7 +164,9 @@ def test_checks_take_the_answers_of_queries_started_ahead(io):
     io.prefetch_checks()
     io.require_projected()
     assert io.location_epsg() == 28992
-    assert not io._QUERIES
+    from reconstruction import grasschecks
+
+    assert not grasschecks._QUERIES
 
 
 def test_reading_a_missing_map_fails_as_require_vector(io):

@@ -160,8 +160,10 @@ def test_nprocs_default_and_negative_give_the_same_file(footprints, tmp_path):
 
 def test_ranges_take_precedence_over_columns(footprints, tmp_path):
     out = str(tmp_path / "r.json")
+    # (the footprints' own eaves column, h_building, is there: the ranges win; a
+    # column option naming a missing column is an error, issue 12)
     rc, _, err = run(input=footprints, output=out, height="6.7,17", attic="2.6,6",
-                     eaves_column="nonexistent", roof="gable", crs="7415")
+                     roof="gable", crs="7415")
     assert rc == 0, err
     model = load(out)
     assert model["metadata"]["referenceSystem"].endswith("/EPSG/0/7415")

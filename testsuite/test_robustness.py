@@ -1,0 +1,275 @@
+"""Bad input and interruptions across the five modules (issue 12, items 3 to 7).
+
+Module runs in a temporary location: core GRASS tools work on every vector
+output (no SQL keyword among the columns), output names and paths are
+checked before any work, files are replaced whole (through a symbolic link,
+never over a device), wrong column values and options fail clearly, and an
+interrupted run (SIGINT, SIGTERM) leaves no output and no ``tmp_histo_*``
+map, with one ``ERROR:`` line and no traceback.
+"""
+
+import os
+import signal
+import subprocess
+import time
+
+import pytest
+from shapely.geometry import box
+
+from histo_testing import run_module
+
+from reconstruction import contract, names
+
+pytestmark = pytest.mark.grass
+
+X0, Y0 = 84000.0, 446000.0
+
+
+def plots(n, columns=10):
+    """``n`` plots of 55 x 35 m in rows (each gives about 20 footprints)."""
+    return [box(X0 + (i % columns) * 60, Y0 + (i // columns) * 40,
+                X0 + (i % columns) * 60 + 55, Y0 + (i // columns) * 40 + 35) for i in range(n)]
+
+
+@pytest.fixture
+def small(mapset):
+    """Six plots, a current footprint (built 1900) in each of the first four and one
+    outside them, and
+    footprints with heights for v.histo.lod2."""
+    import grass.script as gs
+
+    from reconstruction import grassio
+
+    gs.run_command("g.region", n=Y0 + 100, s=Y0 - 10, e=X0 + 400, w=X0 - 10, res=1)
+    grassio.write_features("plots", plots(6))
+    current = [box(X0 + i * 60 + 2, Y0 + 2, X0 + i * 60 + 14, Y0 + 14) for i in range(4)]
+    grassio.write_features("current", current + [box(X0 + 370, Y0 + 50, X0 + 385, Y0 + 65)],
+                           {"bouwjaar": [1900] * 5})     # the last one on no plot
+    grassio.write_features("houses", current, {"h_building": [6.0] * 4, "h_attic": [3.0] * 4})
+    return gs, grassio
+
+
+def error_lines(err):
+    return [ln for ln in err.splitlines() if ln.startswith("ERROR:")]
+
+
+def fails(module, message, **options):
+    """Run ``module``: it fails with one ERROR: line holding ``message``."""
+    code, _, err = run_module(module, quiet=True, **options)
+    assert code == 1, err
+    assert "Traceback" not in err
+    lines = error_lines(err)
+    assert len(lines) == 1 and message in " ".join(err.split()), err
+    return err
+
+
+# ---------------------------------------------------------------------------
+# Item 3: core GRASS tools on every vector output
+# ---------------------------------------------------------------------------
+
+def test_core_grass_tools_work_on_every_vector_output(small, tmp_path):
+    gs, grassio = small
+    for module, options in [
+            ("v.histo.generalize", dict(input="plots", output="generalized")),
+            ("v.histo.align", dict(input="plots", footprints="current", year=1950,
+                                   output="aligned", unmatched="unmatched")),
+            ("v.histo.subdivide", dict(input="plots", aligned="aligned", output="footprints"))]:
+        code, _, err = run_module(module, quiet=True, **options)
+        assert code == 0, err
+    for name in ("generalized", "aligned", "unmatched", "footprints"):
+        columns = grassio.column_names(name)
+        assert all(names.column_name_problem(c) is None for c in columns), (name, columns)
+        rows = len(grassio.read_table(name)["cat"])
+        assert rows > 0, name
+        first = min(grassio.read_table(name)["cat"])
+        gs.run_command("g.copy", vector="{},{}_copy".format(name, name), quiet=True)
+        assert grassio.column_names(name + "_copy") == columns
+        assert len(grassio.read_table(name + "_copy")["cat"]) == rows
+        gs.run_command("v.extract", input=name, output=name + "_one", quiet=True,
+                       where="cat = {}".format(first))
+        assert grassio.column_names(name + "_one") == columns
+        column = [c for c in columns if c != "cat"][0]
+        gs.run_command("v.db.renamecolumn", map=name + "_copy",
+                       column="{},{}_new".format(column, column), quiet=True)
+        assert column + "_new" in grassio.column_names(name + "_copy")
+        path = str(tmp_path / (name + ".gpkg"))
+        gs.run_command("v.out.ogr", input=name, output=path, format="GPKG", quiet=True,
+                       stderr=subprocess.DEVNULL)
+        assert os.path.getsize(path) > 0
+    assert contract.CASE in grassio.column_names("footprints")
+
+
+def test_an_old_case_column_is_read_and_kept_usable(small, tmp_path):
+    """Maps of earlier runs have a column ``case``: read (and passed on) without a crash."""
+    gs, grassio = small
+    old = [box(X0 + 2, Y0 + 2, X0 + 14, Y0 + 14)]
+    grassio.write_features("old", old, {"case": [2], contract.PLOT: [1], "h_building": [6.0],
+                                        "h_attic": [3.0]})
+    code, _, err = run_module("v.histo.lod2", input="old", output=str(tmp_path / "old.json"),
+                              quiet=True)
+    assert code == 0, err
+    code, _, err = run_module("v.histo.subdivide", input="plots", aligned="old", output="fp",
+                              quiet=True)
+    assert code == 0, err
+    assert "case" in grassio.column_names("fp") and contract.CASE in grassio.column_names("fp")
+    assert grassio.read_table("fp")["case"].count(2) == 1
+
+
+# ---------------------------------------------------------------------------
+# Item 4: names and paths checked before any work
+# ---------------------------------------------------------------------------
+
+@pytest.mark.parametrize("module, options, message", [
+    ("v.histo.subdivide", dict(input="plots", output="a.b"), "cannot name a vector map"),
+    ("v.histo.subdivide", dict(input="plots", output="select"), "SQL keyword"),
+    ("v.histo.generalize", dict(input="plots", output="g1", report="/nonexistent/r.json"),
+     "directory '/nonexistent' does not exist"),
+    ("v.histo.generalize", dict(input="plots", output="g2", metrics="/dev/full", overwrite=True),
+     "is not a regular file"),
+    ("v.histo.align", dict(input="plots", footprints="current", year=1950, output="same",
+                           unmatched="same"), "name the same output"),
+    ("v.histo.align", dict(input="plots", footprints="current", year=1950, output="1961"),
+     "cannot name a vector map"),
+    ("r.histo.classify", dict(input="r,g,b", training="t", output="a/b"),
+     "cannot name a raster map"),
+    ("v.histo.lod2", dict(input="houses", output="/nonexistent/x.json"),
+     "directory '/nonexistent' does not exist"),
+])
+def test_outputs_are_checked_before_any_work(small, module, options, message):
+    gs, grassio = small
+    fails(module, message, **options)
+    assert not gs.list_strings("vector", pattern="g[12]")
+    assert not gs.list_strings("vector", pattern="tmp_histo_*")
+
+
+# ---------------------------------------------------------------------------
+# Item 6: file outputs
+# ---------------------------------------------------------------------------
+
+def test_file_outputs_go_through_links_never_over_devices(small, tmp_path):
+    gs, grassio = small
+    target = tmp_path / "model.json"
+    target.write_text("old")
+    link = tmp_path / "link.json"
+    link.symlink_to(target)
+    part = tmp_path / "model.json.part"
+    part.write_text("someone's file")
+    code, _, err = run_module("v.histo.lod2", input="houses", output=str(link), overwrite=True,
+                              quiet=True)
+    assert code == 0, err
+    assert link.is_symlink() and target.read_text().startswith("{")
+    assert part.read_text() == "someone's file"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["link.json", "model.json",
+                                                         "model.json.part"]
+    fails("v.histo.lod2", "is not a regular file", input="houses", output="/dev/full",
+          overwrite=True)
+    fails("v.histo.lod2", "exists", input="houses", output=str(link))
+
+
+# ---------------------------------------------------------------------------
+# Item 7: wrong input
+# ---------------------------------------------------------------------------
+
+@pytest.mark.parametrize("value", [1.5, "two"])
+def test_a_plot_column_holding_no_whole_number_fails(small, value):
+    gs, grassio = small
+    grassio.write_features("odd", [box(X0 + 2, Y0 + 2, X0 + 14, Y0 + 14)],
+                           {contract.PLOT: [value]})
+    fails("v.histo.subdivide", "Column <plot> of vector map <odd> must hold whole numbers",
+          input="plots", aligned="odd", output="fp")
+
+
+def test_column_options_name_existing_columns_when_given(small):
+    fails("v.histo.lod2", "Column <nothere> given as plot_column= is not in vector map <houses>",
+          input="houses", output="/tmp/never_written.json", plot_column="nothere")
+    fails("v.histo.lod2", "given as source_c", input="houses",
+          output="/tmp/never_written.json", source_c="nothere")
+    assert not os.path.exists("/tmp/never_written.json")
+
+
+def test_unknown_epsg_code_fails(small, tmp_path):
+    fails("v.histo.lod2", "Option crs= must be an EPSG code", input="houses",
+          output=str(tmp_path / "x.json"), crs="999999999")
+    code, _, err = run_module("v.histo.lod2", input="houses", output=str(tmp_path / "x.json"),
+                              crs="7415", quiet=True)
+    assert code == 0, err
+
+
+def test_an_empty_training_map_gives_one_error_line(small):
+    gs, grassio = small
+    for band in "rgb":
+        gs.mapcalc("{} = 100".format(band), quiet=True)
+    gs.run_command("v.edit", map="empty", tool="create", quiet=True)
+    fails("r.histo.classify", "Training map <empty> has no", input="r,g,b", training="empty",
+          output="cls")
+
+
+# ---------------------------------------------------------------------------
+# Item 5: interruptions
+# ---------------------------------------------------------------------------
+
+def _wait_for(condition, proc, timeout=120):
+    """Wait until ``condition()`` holds (True), or the run ends."""
+    end = time.time() + timeout
+    while time.time() < end and proc.poll() is None:
+        if condition():
+            return True
+        time.sleep(0.05)
+    return False
+
+
+def _signal_when(gs, command, options, signum, message=None, pattern=None, tmp=None):
+    """Run ``command``, send ``signum`` when it has printed ``message`` or when a
+    vector map ``pattern`` exists; check that it ends as interrupted, leaving no
+    output, no ``tmp_histo_*`` map and no temporary directory (in ``tmp``)."""
+    import threading
+
+    env = dict(os.environ, TMPDIR=str(tmp))
+    proc = gs.start_command(command, stderr=subprocess.PIPE, env=env, **options)
+    err = []
+    reader = threading.Thread(target=lambda: err.extend(gs.decode(ln) for ln in proc.stderr))
+    reader.start()
+    if message:
+        started = _wait_for(lambda: any(message in ln for ln in err), proc)
+    else:
+        started = _wait_for(lambda: gs.list_strings("vector", pattern=pattern), proc)
+    assert started and proc.poll() is None, "the module ended before the signal"
+    time.sleep(0.2)
+    proc.send_signal(signum)
+    proc.wait(timeout=60)
+    reader.join()
+    err = "".join(err)
+    assert proc.returncode != 0, err
+    assert "Traceback" not in err
+    assert len(error_lines(err)) == 1, err
+    assert ("Terminated" if signum == signal.SIGTERM else "Interrupted") in err
+    for kind in ("vector", "raster"):
+        assert gs.list_strings(kind, pattern=options["output"]) == []
+        assert gs.list_strings(kind, pattern="tmp_histo_*") == []
+    assert os.listdir(str(tmp)) == []
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+@pytest.mark.parametrize("moment", ["computing", "writing"])
+def test_an_interrupted_run_leaves_nothing_behind(mapset, tmp_path, signum, moment):
+    """Signals while v.histo.subdivide computes (its message says so) and while it
+    writes (its temporary output exists)."""
+    import grass.script as gs
+
+    from reconstruction import grassio
+
+    gs.run_command("g.region", n=Y0 + 1700, s=Y0, e=X0 + 1200, w=X0, res=1)
+    grassio.write_features("many", plots(400, columns=20))
+    _signal_when(gs, "v.histo.subdivide", dict(input="many", output="fp"), signum,
+                 message="Subdividing" if moment == "computing" else None,
+                 pattern="tmp_histo_out*", tmp=tmp_path)
+
+
+def test_sigterm_removes_generalize_temporary_maps(mapset, tmp_path):
+    """v.histo.generalize on a raster makes tmp_histo_* maps: SIGTERM removes them."""
+    import grass.script as gs
+
+    gs.run_command("g.region", n=Y0 + 800, s=Y0, e=X0 + 1200, w=X0, res=1)
+    gs.mapcalc("cls = if(row() % 40 < 30 && col() % 60 < 50, 1, 2)", quiet=True)
+    _signal_when(gs, "v.histo.generalize", dict(raster="cls", **{"class": 1}, output="gen"),
+                 signal.SIGTERM, message="Generalising", tmp=tmp_path)
