@@ -338,7 +338,8 @@ def main(options, flags):
                                            lod2_output.footprint_ids(columns, options["id_column"]))
     with grassio.doing("writing '{}'".format(output)):
         written = lod2_output.write_model(result, footprints, request, match)
-    report_output(written, result.roof_counts(), output)
+    counts = result.roof_counts()
+    report_output(written, counts, output)
     if flags["v"]:
         report_validity(result, validation.validate(result.solids), counts)
     return 0

@@ -110,9 +110,11 @@ def check_merged(doc, sample, schemas, generated=3):
 @pytest.mark.parametrize("form", FORMS)
 def test_acceptance_copies_both_bag_buildings(aligned, sample, schemas, tmp_path, form):
     out = str(tmp_path / "merged.city.json")
-    rc, _, err = run(input=aligned, output=out, existing=os.path.join(sample, form),
-                     id_column="pand_id", crs=7415, roof="gable")
+    rc, stdout, err = run(flags="v", input=aligned, output=out,
+                          existing=os.path.join(sample, form), id_column="pand_id", crs=7415,
+                          roof="gable")
     assert rc == 0, err
+    assert "percent_valid=100.00" in stdout
     assert "2 of 3 aligned footprints copied from the existing model (2 matched by id, " \
            "0 by geometry)" in err
     assert "1 aligned footprints matched no building of the existing model and are " \
