@@ -11,8 +11,9 @@ The sequence, after the buildings are built (:func:`reconstruction.lod2.build`):
    footprint when the map has no source column, e.g. v.histo.align's output
    itself); each is matched by id, then by geometry
    (:func:`reconstruction.existing.match`);
-3. :func:`write_model`: the generated buildings of matched footprints
-   left out, the matched buildings copied
+3. :func:`build`: the footprints that are not copied built
+   (:func:`reconstruction.lod2.build`);
+4. :func:`write_model`: the matched buildings copied
    (:func:`reconstruction.citymerge.copy_buildings`, with the footprint's
    ``plot``, ``source`` and ``footprint`` as attributes where the building
    has none of its own), the model written as one CityJSON file
@@ -32,6 +33,7 @@ import numpy as np
 from . import citygeometry, citymerge, cityjson, cityjsonseq, existing
 from .contract import PLOT, SOURCE, SOURCE_ALIGNED
 from .errors import InputError
+from .solids import Buildings, build_solids
 from .solidset import semantics, take
 
 FORMATS = ("cityjson", "cityjsonseq")
@@ -190,6 +192,39 @@ def match_existing(model, request, footprints, ids=None):
     matches = existing.match(model, polygons, ids=chosen, prefix=request.prefix,
                              min_overlap=request.min_overlap)
     return ExistingMatch(model, request, todo, matches)
+
+
+def without_copied(prepared, match):
+    """The :class:`~reconstruction.lod2.Prepared` footprints without those
+    that ``match`` (an :class:`ExistingMatch` or None) copies: they are not built."""
+    if match is None:
+        return prepared
+    copied = np.nonzero(match.building(len(prepared.footprints.geometries)) >= 0)[0]
+    keep = np.nonzero(~np.isin(prepared.source, copied))[0]
+    if len(keep) == len(prepared.source):
+        return prepared
+    b = prepared.buildings
+    parts = {}
+    for name in Buildings.__slots__:
+        value = getattr(b, name)
+        parts[name] = None if value is None else (
+            value[keep] if isinstance(value, np.ndarray) else [value[i] for i in keep.tolist()])
+    return prepared._replace(buildings=Buildings(**parts), source=prepared.source[keep],
+                             part=prepared.part[keep],
+                             report=prepared.report._replace(rings=len(keep)))
+
+
+def build(prepared, config, match=None):
+    """:func:`reconstruction.lod2.build` of the footprints that ``match`` does
+    not copy; an empty result when it copies every one."""
+    from . import lod2
+
+    prepared = without_copied(prepared, match)
+    if len(prepared.buildings) or match is None or not len(match.matches.matched):
+        return lod2.build(prepared, config)
+    ss, _, _, _ = build_solids(Buildings([], [], [], [], [], np.zeros((0, 3))))
+    return lod2.Lod2Result(ss, semantics(ss), [], np.zeros(0, dtype=object),
+                           np.zeros(0, dtype=np.int64), {}, prepared.report)
 
 
 def without_footprints(result, footprints):

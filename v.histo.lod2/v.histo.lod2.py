@@ -328,14 +328,13 @@ def main(options, flags):
 
     prepared = lod2.prepare(footprints, heights, requests, config)
     report_footprints(prepared.report, options["ground"])
+    match = None if model is None else lod2_output.match_existing(
+        model, wanted, footprints, lod2_output.footprint_ids(columns, options["id_column"]))
+    prepared = lod2_output.without_copied(prepared, match)     # the copied are not built
     if prepared.report.rings:
         gs.message(_("Building {} solids...").format(prepared.report.rings))
-    result = lod2.build(prepared, config)
+    result = lod2_output.build(prepared, config, match)
     report_build(result.report)
-    match = None
-    if model is not None:
-        match = lod2_output.match_existing(model, wanted, footprints,
-                                           lod2_output.footprint_ids(columns, options["id_column"]))
     with grassio.doing("writing '{}'".format(output)):
         written = lod2_output.write_model(result, footprints, request, match)
     counts = result.roof_counts()
@@ -374,8 +373,8 @@ def report_output(written, counts, output):
     if written.match is not None:
         m = written.match
         gs.message(_("{} of {} aligned footprints copied from the existing model ({} matched by "
-                     "id, {} by geometry); {} generated buildings replaced").format(
-            written.copied, written.candidates, m.by_id, m.by_geometry, written.replaced))
+                     "id, {} by geometry)").format(written.copied, written.candidates, m.by_id,
+                                                   m.by_geometry))
         if m.ids_not_found:
             gs.warning(_("{} building ids matched no object of the existing model (tried by "
                          "geometry)").format(m.ids_not_found))

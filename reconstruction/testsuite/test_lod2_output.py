@@ -129,3 +129,29 @@ def test_render_of_the_written_model(tmp_path, monkeypatch):
     assert sorted(os.listdir(tmp_path)) == ["m.city.jsonl", "m.png"]
     with open(request.path) as f:
         assert len(cityjsonseq.collect(io.StringIO(f.read()))["CityObjects"]) == 4
+
+
+def test_copied_footprints_are_not_built(sample, tmp_path):
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    fps = existing.footprints(model)
+    polygons = [fps.geometry(model.buildings.index(b)) for b in BAG]
+    wanted = lod2_output.ExistingRequest("m")
+    for extra, built_ids in ((BOXES[:1], ["building_3"]), ([], [])):
+        footprints = lod2.Footprints(polygons + extra, source=["aligned"] * (2 + len(extra)))
+        prepared = lod2.prepare(footprints, lod2.Heights(eaves=6.0, attic=3.0),
+                                lod2.RoofRequests(np.full(len(polygons + extra), "hip"),
+                                                  np.full(len(polygons + extra), np.nan)))
+        match = lod2_output.match_existing(model, wanted, footprints)
+        assert match.matches.report.by_geometry == 2
+        less = lod2_output.without_copied(prepared, match)
+        assert less.report.rings == len(built_ids) == len(less.buildings)
+        result = lod2_output.build(prepared, lod2.Lod2Config(), match)
+        assert result.ids == built_ids
+        report = lod2_output.write_model(result, footprints, lod2_output.OutputRequest(
+            str(tmp_path / "m.city.json"), reference_system=28992), match)
+        assert (report.generated, report.copied, report.replaced) == (len(built_ids), 2, 0)
+    assert lod2_output.without_copied(prepared, None) is prepared
+    with pytest.raises(InputError, match="No footprint left"):
+        lod2_output.build(lod2.prepare(lod2.Footprints([None]), lod2.Heights(6.0, 3.0),
+                                       lod2.RoofRequests(np.array(["hip"]), np.array([np.nan]))),
+                          lod2.Lod2Config())

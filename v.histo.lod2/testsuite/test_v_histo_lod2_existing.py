@@ -96,7 +96,7 @@ def check_merged(doc, sample, schemas, generated=3):
         assert objects[oid]["attributes"]["identificatie"] == oid
         assert objects[oid]["attributes"]["source"] == "aligned"
     gen = [obj for oid, obj in objects.items() if oid not in BAG and not obj.get("parents")]
-    assert {g["lod"] for obj in gen for g in obj["geometry"]} == {"2.0"}
+    assert {g["lod"] for obj in gen for g in obj["geometry"]} == ({"2.0"} if generated else set())
     assert doc["metadata"]["referenceSystem"].endswith("/7415")
     original = citygeometry.resolved(load(os.path.join(sample, FORMS[0])))
     merged = citygeometry.resolved(doc)
@@ -309,3 +309,16 @@ def test_bad_inputs_fail_cleanly(aligned, sample, tmp_path, case, message):
             assert f.read() == "keep"
     else:
         assert not os.path.exists(png)
+
+
+@pytest.mark.acceptance
+def test_copied_footprints_are_not_built_even_all_of_them(mapset, sample, schemas, tmp_path):
+    props = [{"h_building": 6.0, "h_attic": 3.0, "source": "aligned"}] * 2
+    name = import_footprints("only", tmp_path, sample_footprints(sample), props)
+    out = str(tmp_path / "only.city.json")
+    rc, stdout, err = run(flags="v", input=name, output=out,
+                          existing=os.path.join(sample, FORMS[1]))
+    assert rc == 0, err
+    assert "Building" not in err and "2 buildings written" in err
+    assert "percent_valid=100.00" in stdout
+    check_merged(load(out), sample, schemas, generated=0)
