@@ -194,6 +194,23 @@ def match_existing(model, request, footprints, ids=None):
     return ExistingMatch(model, request, todo, matches)
 
 
+def attribute_columns(match, count, names=None):
+    """The attributes of the existing building matched with each of ``count``
+    footprints, as columns: name -> one value per footprint (None where it
+    matched nothing or the building lacks it); ``names``: the attributes
+    wanted (None: every one the matched buildings have). With the 3D BAG's
+    heights (``b3_h_maaiveld``, ``b3_h_50p``/``b3_h_dak_50p`` ...) these are
+    measured heights of the aligned footprints:
+    ``heights.measured_heights(attribute_columns(match, n))``."""
+    building = match.building(count)
+    attrs = [None if b < 0 else
+             match.model.objects[match.model.buildings[b]].get("attributes") or {}
+             for b in building.tolist()]
+    if names is None:
+        names = list(dict.fromkeys(k for a in attrs if a for k in a))
+    return {name: [None if a is None else a.get(name) for a in attrs] for name in names}
+
+
 def without_copied(prepared, match):
     """The :class:`~reconstruction.lod2.Prepared` footprints without those
     that ``match`` (an :class:`ExistingMatch` or None) copies: they are not built."""

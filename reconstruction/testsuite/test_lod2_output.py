@@ -155,3 +155,20 @@ def test_copied_footprints_are_not_built(sample, tmp_path):
         lod2_output.build(lod2.prepare(lod2.Footprints([None]), lod2.Heights(6.0, 3.0),
                                        lod2.RoofRequests(np.array(["hip"]), np.array([np.nan]))),
                           lod2.Lod2Config())
+
+
+def test_the_matched_buildings_heights_are_measured_heights(sample):
+    from reconstruction import heights
+
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    fps = existing.footprints(model)
+    polygons = [BOXES[0]] + [fps.geometry(model.buildings.index(b)) for b in BAG]
+    footprints = lod2.Footprints(polygons, source=["aligned"] * 3)
+    match = lod2_output.match_existing(model, lod2_output.ExistingRequest("m"), footprints)
+    columns = lod2_output.attribute_columns(match, 3)
+    assert columns["b3_h_maaiveld"][0] is None and columns["identificatie"][1:] == list(BAG)
+    measured = heights.measured_heights(columns)
+    assert np.isnan(measured.eaves[0]) and measured.known[1:].all()
+    assert measured.ground[2] == pytest.approx(-0.077)
+    assert lod2_output.attribute_columns(match, 3, ["b3_h_dak_max"]) == {
+        "b3_h_dak_max": [None] + [model.objects[b]["attributes"]["b3_h_dak_max"] for b in BAG]}

@@ -121,16 +121,13 @@ def generated_model(n, seed=3):
     return ss, solidset.semantics(ss), ids, {"roof_type": list(got), "source": ["2pm"] * len(kept)}
 
 
-def generated_result(gen, n_aligned):
-    """A :class:`~reconstruction.lod2.Lod2Result` of the generated buildings
-    ``gen`` (as :func:`generated_model` makes them) and the footprints of
-    v.histo.lod2 for it: the generated ones, then ``n_aligned`` aligned ones
-    (left to the existing model; their generated buildings are not built)."""
+def generated_result(gen):
+    """The :class:`~reconstruction.lod2.Lod2Result` of the generated buildings
+    ``gen`` (as :func:`generated_model` makes them); the aligned footprints
+    are not built (v.histo.lod2 leaves the copied ones out)."""
     ss, sem, ids, attrs = gen
-    n = len(ids)
-    result = lod2.Lod2Result(ss, sem, ids, np.array(attrs["roof_type"], dtype=object),
-                             np.arange(n), attrs, None)
-    return result
+    return lod2.Lod2Result(ss, sem, ids, np.array(attrs["roof_type"], dtype=object),
+                           np.arange(len(ids)), attrs, None)
 
 
 def verdict(ok):
@@ -239,10 +236,10 @@ def main():
         assert len(back["CityObjects"]) == len(gen[2]) + 2 * len(copied)
 
         # the module's output side, as v.histo.lod2 existing= runs it
-        result = generated_result(gen, len(aligned))
+        result = generated_result(gen)
         n = len(gen[2])
-        footprints = lod2.Footprints([None] * n + aligned, source=["2pm"] * n +
-                                     ["aligned"] * len(aligned), cats=list(range(1, n + 1 + len(aligned))))
+        footprints = lod2.Footprints([None] * n + aligned, cats=list(range(1, n + len(aligned) + 1)),
+                                     source=["2pm"] * n + ["aligned"] * len(aligned))
         wanted = lod2_output.ExistingRequest(single)
         all_ids = [None] * n + bag_ids
 
