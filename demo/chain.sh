@@ -100,10 +100,12 @@ if have vector plots && implemented v.histo.subdivide; then
 fi
 
 # ---------------------------------------------------------------------------
-# 6. LoD2 buildings with roofs, written as CityJSON
+# 6. LoD2 buildings with roofs, written as CityJSON, and a picture of them
+#    over the map (model.png, rendered off-screen)
 # ---------------------------------------------------------------------------
 if have vector footprints && implemented v.histo.lod2; then
-    v.histo.lod2 -v input=footprints output="$OUT/model.city.json" height=$HEIGHT \
+    v.histo.lod2 -v render="$OUT/model.png" map=$MAP.red,$MAP.green,$MAP.blue \
+        input=footprints output="$OUT/model.city.json" height=$HEIGHT \
         attic=$ATTIC year=$YEAR seed=$SEED
 fi
 

@@ -119,13 +119,26 @@ def citymodel(ss, semantics, ids, attributes=None, reference_system=None, title=
     }
 
 
+#: the four ASCII digits of 0000-9999, each as one uint32 (see :func:`_int_text`)
+_QUADS = []
+
+
+def _quads():
+    if not _QUADS:
+        n = np.arange(10000)
+        digits = np.stack([n // 1000, n // 100 % 10, n // 10 % 10, n % 10], axis=1) + 48
+        _QUADS.append(np.ascontiguousarray(digits.astype(np.uint8)).view(np.uint32).ravel())
+    return _QUADS[0]
+
+
 def _int_text(values, prefix, table):
     """Decimal text of non-negative integers, each after its separator
     ``table[prefix[i]]``, built in numpy (as ``json.dumps`` writes ints).
 
     Every value gets a row of characters (separator, then its digits right
-    aligned); the text is the row-major selection of the characters in use.
-    Returns the text and the offset in it of each value's separator.
+    aligned, written four at a time from a table of 0000-9999); the text is
+    the row-major selection of the characters in use. Returns the text and
+    the offset in it of each value's separator.
     """
     values = np.asarray(values, dtype=np.int64)
     if len(values) == 0:
@@ -136,25 +149,30 @@ def _int_text(values, prefix, table):
     seps = [t.encode("ascii") for t in table]
     sep_len = np.array([len(t) for t in seps], dtype=np.int64)
     S, W = int(sep_len.max()), len(str(top))
-    chars = np.zeros((len(values), S + W), dtype=np.uint8)
-    sep_chars = np.zeros((len(seps), S), dtype=np.uint8)
+    SB, WB = -(-S // 4), -(-W // 4)           # 4-character blocks of separator, digits
+    width = 4 * (SB + WB)
+    chars = np.empty((len(values), SB + WB), dtype=np.uint32)
+    sep_chars = np.zeros((len(seps), 4 * SB), dtype=np.uint8)
     for code, sep in enumerate(seps):
         sep_chars[code, :len(sep)] = np.frombuffer(sep, dtype=np.uint8)
-    chars[:, :S] = sep_chars[prefix]
-    rest = values.astype(np.int32 if top < 2 ** 31 else np.int64)
-    for j in range(S + W - 1, S - 1, -1):
-        rest, chars[:, j] = np.divmod(rest, 10)
-    chars[:, S:] += 48
-    digits = np.ones(len(values), dtype=np.int64)
-    k = 10
-    while k <= top:
-        digits += values >= k
-        k *= 10
+    chars[:, :SB] = sep_chars.view(np.uint32)[prefix]
+    quads = _quads()
+    rest = values.astype(np.int32) if top < 2 ** 31 else values.copy()
+    block = np.empty_like(rest)
+    for j in range(SB + WB - 1, SB - 1, -1):
+        np.divmod(rest, 10000, out=(rest, block))
+        chars[:, j] = quads[block]
+    digits = np.searchsorted(10 ** np.arange(1, W, dtype=np.int64), values, side="right") + 1
     lead = sep_len[prefix]
-    col = np.arange(S + W)[None, :]
-    used = (col < lead[:, None]) | (col >= S + W - digits[:, None])
+    col = np.arange(width)
+    masks = np.zeros((S + 1, W + 1, width), dtype=bool)
+    for n in range(S + 1):
+        for d in range(W + 1):
+            masks[n, d] = (col < n) | (col >= width - d)
+    used = masks[lead, digits]
     size = lead + digits
-    return chars[used].tobytes().decode("ascii"), np.cumsum(size) - size
+    text = chars.view(np.uint8).reshape(len(values), width)[used].tobytes().decode("ascii")
+    return text, np.cumsum(size) - size
 
 
 def _pieces(text, offsets, first):

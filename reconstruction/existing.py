@@ -448,13 +448,21 @@ class Matches:
     ``building``: index into ``model.buildings`` (-1: none, to be generated);
     ``by_id``: matched by its id; ``overlap``: intersection over union of
     the footprints (nan for id matches without footprint overlap measured);
-    ``heights``: the measured heights (:class:`MeasuredHeights`).
+    ``model``: the model matched with. :attr:`heights`: the measured heights
+    (:class:`MeasuredHeights`), read from the attributes when first asked for.
     """
     building: np.ndarray
     by_id: np.ndarray
     overlap: np.ndarray
     report: MatchReport
-    heights: MeasuredHeights
+    model: ExistingModel = field(default=None, repr=False)
+
+    @property
+    def heights(self):
+        """The :class:`MeasuredHeights` of the matched buildings, per footprint."""
+        if not hasattr(self, "_heights"):
+            self._heights = measured_heights(self.model, self.building)
+        return self._heights
 
     @property
     def matched(self):
@@ -605,5 +613,4 @@ def match(model, polygons, ids=None, prefix=None, min_overlap=0.5, fps=None):
     report = MatchReport(footprints=n, by_id=int(by_id.sum()),
                          by_geometry=int(((building >= 0) & ~by_id).sum()),
                          unmatched=int((building < 0).sum()), ids_not_found=int(missing))
-    return Matches(building=building, by_id=by_id, overlap=overlap, report=report,
-                   heights=measured_heights(model, building))
+    return Matches(building=building, by_id=by_id, overlap=overlap, report=report, model=model)

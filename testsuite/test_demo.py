@@ -19,7 +19,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DIST = os.environ.get("HISTO_DIST", os.path.join(ROOT, "dist"))
 RUN_DEMO = os.path.join(ROOT, "demo", "run_demo.sh")
 OUTPUT_FILES = ("generalize.json", "generalize_metrics.csv", "align.json", "model.city.json",
-                "map.png", "classes.png", "plots.png")
+                "model.png", "map.png", "classes.png", "plots.png")
 
 pytestmark = pytest.mark.grass
 
@@ -169,6 +169,9 @@ def test_demo_pictures_and_report_of_outputs(demo):
 
         model = json.loads((out / "model.city.json").read_text())
         assert model["type"] == "CityJSON" and len(model["CityObjects"]) > 0
+        # the picture of the model: red roofs (issue 17)
+        assert _png_size(out / "model.png") == (1600, 1200)
+        assert str(out / "model.png") in demo["stdout"]
 
 
 def test_demo_picture_shows_the_map(demo):

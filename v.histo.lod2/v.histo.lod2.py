@@ -164,6 +164,77 @@
 # % required: no
 # %end
 
+# %option G_OPT_F_INPUT
+# % key: existing
+# % required: no
+# % description: Existing 3D city model (CityJSON 2.0 or 1.1, or CityJSONSeq .city.jsonl, e.g. the 3D BAG): the aligned footprints that match one of its buildings get that building, copied
+# % guisection: Existing model
+# %end
+
+# %option G_OPT_DB_COLUMN
+# % key: id_column
+# % description: Column of the footprints with the building id matched with the existing model's object ids (e.g. pand_id)
+# % required: no
+# % guisection: Existing model
+# %end
+
+# %option
+# % key: id_prefix
+# % type: string
+# % description: Prefix that makes an id of id_column an object id (e.g. NL.IMBAG.Pand.); default: the part of the object id after its last dot, without leading zeros
+# % required: no
+# % guisection: Existing model
+# %end
+
+# %option
+# % key: overlap
+# % type: double
+# % description: Least intersection over union of an aligned footprint and an existing building's footprint to match them by geometry (where ids are absent or match nothing)
+# % answer: 0.5
+# % guisection: Existing model
+# %end
+
+# %option
+# % key: existing_lod
+# % type: string
+# % description: LoDs of the existing buildings to copy (e.g. 2.2, or 1.2,2.2, or all); default: each building's highest
+# % required: no
+# % multiple: yes
+# % guisection: Existing model
+# %end
+
+# %option
+# % key: format
+# % type: string
+# % description: Format of the output file: one CityJSON file, or CityJSONSeq (one CityJSONFeature per line, streamed)
+# % options: cityjson,cityjsonseq
+# % answer: cityjson
+# % guisection: Output
+# %end
+
+# %option G_OPT_F_OUTPUT
+# % key: render
+# % required: no
+# % description: PNG picture of the model, rendered off-screen (roofs red, walls white; copied buildings blue)
+# % guisection: Output
+# %end
+
+# %option
+# % key: view
+# % type: double
+# % key_desc: azimuth,elevation
+# % description: Where the picture is seen from: azimuth (degrees clockwise from north) and elevation (degrees above the horizon)
+# % answer: 210,35
+# % guisection: Output
+# %end
+
+# %option G_OPT_R_INPUTS
+# % key: map
+# % required: no
+# % description: Red, green and blue rasters of the historical map, draped on the ground of the picture
+# % guisection: Output
+# %end
+
 # %option G_OPT_DB_COLUMN
 # % key: plot_column
 # % description: Column with the building plot of each footprint (written as attribute plot)
@@ -210,7 +281,7 @@ def main(options, flags):
     # GRASS exports the footprints while the inputs are checked
     reading = grassio.start_read_areas(options["input"], layer=options["layer"])
     grassio.prefetch_checks()
-    from reconstruction import cityjson, lod2, validation
+    from reconstruction import cityjson, lod2, lod2_output, validation
     from reconstruction.errors import InputError
     from reconstruction.options import parse_number, parse_range, processes
     from reconstruction.roof_model import RoofConfig
@@ -238,6 +309,7 @@ def main(options, flags):
         except ValueError:
             raise InputError("Option crs= must be an EPSG code (e.g. 7415, EPSG:7415) or an OGC "
                              "URL, not <{}>".format(options["crs"])) from None
+    request, wanted, model = prepare_output(options, crs)
 
     with grassio.doing("reading the footprints <{}>".format(options["input"])):
         geoms, columns = grassio.finish_read_areas(reading)
@@ -255,20 +327,67 @@ def main(options, flags):
 
     prepared = lod2.prepare(footprints, heights, requests, config)
     report_footprints(prepared.report, options["ground"])
+    match = None if model is None else lod2_output.match_existing(
+        model, wanted, footprints, lod2_output.footprint_ids(columns, options["id_column"]))
+    prepared = lod2_output.without_copied(prepared, match)     # the copied are not built
     if prepared.report.rings:
         gs.message(_("Building {} solids...").format(prepared.report.rings))
-    result = lod2.build(prepared, config)
+    result = lod2_output.build(prepared, config, match)
     report_build(result.report)
-    text = lod2.citymodel_text(result, crs, title="LoD2 model from <{}>".format(options["input"]))
     with grassio.doing("writing '{}'".format(output)):
-        cityjson.write_text(output, text)
-
+        written = lod2_output.write_model(result, footprints, request, match)
     counts = result.roof_counts()
-    gs.message(_("{} buildings written to '{}': {}").format(
-        len(result.ids), output, ", ".join("{} {}".format(v, k) for k, v in counts.items() if v)))
+    report_output(written, counts, output)
     if flags["v"]:
         report_validity(result, validation.validate(result.solids), counts)
     return 0
+
+
+def prepare_output(options, crs):
+    """The output and existing-model requests of the options, with the
+    existing model read and the map rasters of the picture (early: a wrong
+    file or map fails before the buildings are built)."""
+    from reconstruction import grassio, grassmaps, lod2_output
+
+    request, wanted = lod2_output.requests_from_options(
+        options, crs, title="LoD2 model from <{}>".format(options["input"]))
+    grassio.require_new_file(request.render, "render")
+    if options["map"] and not request.render:
+        gs.warning(_("map= is drawn only in the picture of render=: ignored"))
+    elif options["map"]:
+        request.map_image = grassmaps.read_map_image(options["map"].split(","))
+    model = None
+    if wanted is not None:
+        gs.message(_("Reading the existing model '{}'...").format(wanted.path))
+        with grassio.doing("reading the existing model '{}'".format(wanted.path)):
+            model = lod2_output.read_existing(wanted, grassio.location_epsg())
+    return request, wanted, model
+
+
+def report_output(written, counts, output):
+    """Say what was written: generated buildings (by roof type), copied ones, the picture."""
+    gs.message(_("{} buildings written to '{}': {}").format(
+        written.generated + written.copied, output,
+        ", ".join("{} {}".format(v, k) for k, v in counts.items() if v)))
+    if written.match is not None:
+        m = written.match
+        gs.message(_("{} of {} aligned footprints copied from the existing model ({} matched by "
+                     "id, {} by geometry)").format(written.copied, written.candidates, m.by_id,
+                                                   m.by_geometry))
+        if m.ids_not_found:
+            gs.warning(_("{} building ids matched no object of the existing model (tried by "
+                         "geometry)").format(m.ids_not_found))
+        if m.unmatched:
+            gs.warning(_("{} aligned footprints matched no building of the existing model and "
+                         "are generated").format(m.unmatched))
+        if written.copy.lod_fallback:
+            gs.warning(_("{} copied buildings have none of the LoDs of existing_lod= and are "
+                         "copied at their highest").format(written.copy.lod_fallback))
+        if written.copy.skipped_geometries:
+            gs.warning(_("{} geometries of copied buildings (templates or unknown types) are left "
+                         "out").format(written.copy.skipped_geometries))
+    if written.rendered:
+        gs.message(_("Picture written to '{}'").format(written.rendered))
 
 
 def _column(columns, name):

@@ -177,6 +177,22 @@ def test_integer_text_as_json_dumps():
         cityjson._int_text(np.array([1, -1]), np.zeros(2, dtype=np.int64), [","])
 
 
+def test_integer_text_of_every_width_and_separator():
+    """Four digits at a time: every number of digits (1 to 18, across 2**31),
+    separators of 0 to 9 characters, as str() and the table give them."""
+    rng = np.random.default_rng(5)
+    table = ["", ",", "]],[[", "]]]],[[[[", "[[[["]
+    values = np.concatenate([[0, 9, 10, 9999, 10000, 2 ** 31 - 1, 2 ** 31, 10 ** 17],
+                             10 ** rng.integers(0, 18, 2000) + rng.integers(0, 10, 2000)])
+    prefix = rng.integers(0, len(table), len(values))
+    text, offsets = cityjson._int_text(values, prefix, table)
+    pieces = [table[p] + str(v) for p, v in zip(prefix.tolist(), values.tolist())]
+    assert text == "".join(pieces)
+    assert offsets.tolist() == np.cumsum([0] + [len(p) for p in pieces[:-1]]).tolist()
+    small = np.array([7, 0, 42])
+    assert cityjson._int_text(small, np.array([1, 1, 1]), table)[0] == ",7,0,42"
+
+
 def test_write_text_leaves_no_partial_file(tmp_path):
     path = tmp_path / "m.city.json"
     cityjson.write_text(str(path), '{"type":"CityJSON"}')

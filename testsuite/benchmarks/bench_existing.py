@@ -11,7 +11,11 @@ The existing model is synthesised from the 3D BAG sample
 (``--buildings`` in all, as CityJSONSeq and as one CityJSON file). The
 aligned footprints are the ground surfaces of those buildings (every one
 matches), plus ``--generated`` footprints that are built (gable roofs) as
-v.histo.lod2 builds them. Prints the median of ``--runs`` runs of each step.
+v.histo.lod2 builds them. Prints the median of ``--runs`` runs of each step
+(wall and CPU time: the machine is shared, CPU time is the steadier figure),
+the load average before and after, and whether each goal is met; also the
+module's whole output side (``lod2_output.write_model``: match, copy,
+merge, write) in both formats.
 
 Pure library code; runs with ``python3`` from the checkout or inside the
 GRASS session of ``run_all.sh``:
@@ -34,7 +38,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path.insert(0, ROOT)
 SAMPLE = os.path.join(ROOT, "..", "shared", "data", "3dbag_sample", "3dbag_b2.city.jsonl")
 
-from reconstruction import citymerge, cityjson, cityjsonseq, existing, outlines, solids, solidset  # noqa: E402
+from reconstruction import (citymerge, cityjson, cityjsonseq, existing, lod2, lod2_output,  # noqa: E402
+                            outlines, solids, solidset)
 
 
 def with_lod1(feature, header):
@@ -116,6 +121,19 @@ def generated_model(n, seed=3):
     return ss, solidset.semantics(ss), ids, {"roof_type": list(got), "source": ["2pm"] * len(kept)}
 
 
+def generated_result(gen):
+    """The :class:`~reconstruction.lod2.Lod2Result` of the generated buildings
+    ``gen`` (as :func:`generated_model` makes them); the aligned footprints
+    are not built (v.histo.lod2 leaves the copied ones out)."""
+    ss, sem, ids, attrs = gen
+    return lod2.Lod2Result(ss, sem, ids, np.array(attrs["roof_type"], dtype=object),
+                           np.arange(len(ids)), attrs, None)
+
+
+def verdict(ok):
+    return "goal met" if ok else "goal NOT met"
+
+
 def median_time(fn, runs):
     """Median wall time and median CPU time of the process (the machine is
     shared: CPU time is the steadier figure)."""
@@ -153,6 +171,7 @@ def main():
     if not os.path.exists(SAMPLE):
         print("skipped: the 3D BAG sample is not at '{}'".format(SAMPLE))
         return 0
+    print("load average before: {:.2f} {:.2f} {:.2f}".format(*os.getloadavg()))
     with tempfile.TemporaryDirectory() as folder:
         single, seq = synthesise(folder, args.buildings, args.lod1)
         print("existing model: {} buildings, {:.1f} MB (CityJSON), {:.1f} MB (CityJSONSeq)".format(
@@ -204,15 +223,46 @@ def main():
             with open(out + "l", "w") as f:
                 cityjsonseq.write(f, *gen, 28992, title="bench", copied=c)
 
+        single_cpu = seq_cpu = 0.0
         for label, c in (("{} generated".format(len(gen[2])), None),
                          ("{} generated + {} copied".format(len(gen[2]), len(copied)), copied)):
             t_single = median_time(lambda: write_single(c), args.runs)
             t_seq = median_time(lambda: write_seq(c), args.runs)
+            single_cpu, seq_cpu = single_cpu + t_single.cpu, seq_cpu + t_seq.cpu
             print("write {}: single file {}, CityJSONSeq {} ({})".format(
                 label, t_single, t_seq, t_seq.ratio(t_single)))
         with open(out + "l") as f:
             back = cityjsonseq.collect(f)
         assert len(back["CityObjects"]) == len(gen[2]) + 2 * len(copied)
+
+        # the module's output side, as v.histo.lod2 existing= runs it
+        result = generated_result(gen)
+        n = len(gen[2])
+        footprints = lod2.Footprints([None] * n + aligned, cats=list(range(1, n + len(aligned) + 1)),
+                                     source=["2pm"] * n + ["aligned"] * len(aligned))
+        wanted = lod2_output.ExistingRequest(single)
+        all_ids = [None] * n + bag_ids
+
+        def output_side(fmt, with_existing):
+            request = lod2_output.OutputRequest(out + "." + fmt, fmt, 28992, "bench")
+            match = None
+            if with_existing:
+                match = lod2_output.match_existing(model, wanted, footprints, all_ids)
+            return lod2_output.write_model(result, footprints, request, match)
+
+        assert output_side("cityjsonseq", True).copied == args.buildings
+        for fmt in lod2_output.FORMATS:
+            t_plain = median_time(lambda: output_side(fmt, False), args.runs)
+            t_with = median_time(lambda: output_side(fmt, True), args.runs)
+            extra = t_with - t_plain
+            print("v.histo.lod2 output side, format={}: {} generated {}, with existing= "
+                  "(by id) {}: existing= adds {} = {} the read".format(
+                      fmt, n, t_plain, t_with, extra, extra.ratio(t_read)))
+        print("merging adds at most one read (CPU, by id): {} ({:.2f} x); "
+              "CityJSONSeq no slower than one file (CPU): {}".format(
+                  verdict(t_id.cpu <= t_read.cpu), t_id.cpu / t_read.cpu,
+                  verdict(seq_cpu <= single_cpu * 1.02)))
+    print("load average after: {:.2f} {:.2f} {:.2f}".format(*os.getloadavg()))
     return 0
 
 

@@ -1,0 +1,345 @@
+"""The output side of v.histo.lod2: merge an existing city model, write
+CityJSON or CityJSONSeq, render a picture (issue 17).
+
+The sequence, after the buildings are built (:func:`reconstruction.lod2.build`):
+
+1. :func:`read_existing` (before building, so that a wrong file fails
+   fast): the existing model (:func:`reconstruction.existing.read_model`),
+   its reference system checked against the location's;
+2. :func:`match_existing`: the candidates are the footprints whose source
+   is ``aligned`` (:data:`~reconstruction.contract.SOURCE_ALIGNED`; every
+   footprint when the map has no source column, e.g. v.histo.align's output
+   itself); each is matched by id, then by geometry
+   (:func:`reconstruction.existing.match`);
+3. :func:`build`: the footprints that are not copied built
+   (:func:`reconstruction.lod2.build`);
+4. :func:`write_model`: the matched buildings copied
+   (:func:`reconstruction.citymerge.copy_buildings`, with the footprint's
+   ``plot``, ``source`` and ``footprint`` as attributes where the building
+   has none of its own), the model written as one CityJSON file
+   (:func:`reconstruction.citymerge.merge`) or as CityJSONSeq
+   (:func:`reconstruction.cityjsonseq.write`), to a ``.part`` file renamed
+   when complete; then, if asked, the picture
+   (:func:`reconstruction.render.render`).
+"""
+
+import json
+import os
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+from . import citygeometry, citymerge, cityjson, cityjsonseq, existing
+from .contract import PLOT, SOURCE, SOURCE_ALIGNED
+from .errors import InputError
+from .solids import Buildings, build_solids
+from .solidset import semantics, take
+
+FORMATS = ("cityjson", "cityjsonseq")
+
+
+@dataclass
+class ExistingRequest:
+    """What to copy from an existing model: ``path``; ``prefix`` put before
+    a footprint's id to make an object id (None: the automatic rule of
+    :mod:`reconstruction.existing`); ``min_overlap``: least intersection over
+    union of a match by geometry; ``lods``: None (each building's highest),
+    "all" or a list of LoD strings."""
+    path: str
+    prefix: Optional[str] = None
+    min_overlap: float = 0.5
+    lods: object = None
+
+
+@dataclass
+class OutputRequest:
+    """Where and how the model is written: ``path``, ``format`` (one of
+    :data:`FORMATS`), ``reference_system`` (EPSG code or URL, or None),
+    ``title``; ``render``: path of a PNG picture (None: none), its ``view``
+    (:class:`~reconstruction.render.View`) and ``map_image``
+    (:class:`~reconstruction.render.MapImage` or None)."""
+    path: str
+    format: str = "cityjson"
+    reference_system: object = None
+    title: Optional[str] = None
+    render: Optional[str] = None
+    view: object = None
+    map_image: object = None
+
+
+@dataclass
+class ExistingMatch:
+    """The existing model and the building matched with every footprint.
+
+    ``candidates``: the footprints that may be copied (indices);
+    ``matches``: :class:`~reconstruction.existing.Matches` of the candidates.
+    """
+    model: existing.ExistingModel
+    request: ExistingRequest
+    candidates: np.ndarray
+    matches: existing.Matches
+
+    def building(self, count):
+        """Per footprint (``count`` of them) the index of its existing building, -1 for none."""
+        out = np.full(count, -1, dtype=np.int64)
+        out[self.candidates] = self.matches.building
+        return out
+
+
+@dataclass
+class OutputReport:
+    """What was written: ``generated`` and ``copied`` buildings (top-level
+    objects), generated buildings left out because their footprint was
+    copied, the copy's :class:`~reconstruction.citymerge.CopyReport` and the
+    match's :class:`~reconstruction.existing.MatchReport` (None without an
+    existing model), the picture's path."""
+    generated: int
+    copied: int = 0
+    replaced: int = 0
+    copy: Optional[citymerge.CopyReport] = None
+    match: Optional[existing.MatchReport] = None
+    rendered: Optional[str] = None
+    candidates: int = 0
+    notes: list = field(default_factory=list)
+
+
+def parse_lods(text):
+    """The ``existing_lod=`` option: None (empty: each building's highest), "all",
+    or a list of LoD strings ("1.2", "2.2")."""
+    if text is None or not str(text).strip():
+        return None
+    values = [v.strip() for v in str(text).split(",") if v.strip()]
+    if [v.lower() for v in values] == ["all"]:
+        return "all"
+    bad = [v for v in values if citygeometry.lod_value(v) < 0]
+    if bad:
+        raise InputError("Option existing_lod= must be LoDs such as 2.2 or 1.2,2.2, or all, "
+                         "not <{}>".format(text))
+    return values
+
+
+def parse_format(text):
+    """The ``format=`` option (default cityjson)."""
+    value = (text or FORMATS[0]).strip().lower()
+    if value not in FORMATS:
+        raise InputError("Option format= must be one of {}, not <{}>".format(
+            ", ".join(FORMATS), text))
+    return value
+
+
+def requests_from_options(options, reference_system=None, title=None):
+    """The :class:`OutputRequest` and :class:`ExistingRequest` (None without
+    ``existing=``) of v.histo.lod2's options (a dict of their texts)."""
+    from .options import parse_number
+    from .render import parse_view
+
+    request = OutputRequest(path=options["output"], format=parse_format(options.get("format")),
+                            reference_system=reference_system, title=title,
+                            render=options.get("render") or None,
+                            view=parse_view(options.get("view")))
+    if not options.get("existing"):
+        for key in ("id_column", "id_prefix", "existing_lod"):
+            if options.get(key):
+                raise InputError("Option {}= needs existing= (the model to copy buildings "
+                                 "from)".format(key))
+        return request, None
+    overlap = parse_number(options.get("overlap") or "0.5", "overlap", minimum=0,
+                           allow_minimum=False, maximum=1)
+    return request, ExistingRequest(path=options["existing"],
+                                    prefix=options.get("id_prefix") or None,
+                                    min_overlap=overlap, lods=parse_lods(options.get("existing_lod")))
+
+
+def footprint_ids(columns, name):
+    """The values of the id column ``name`` (None when no column is given)."""
+    if not name:
+        return None
+    if name not in columns:
+        raise InputError("Column <{}> (id_column=, the building ids) not found in the input "
+                         "map; available: {}".format(name, ", ".join(sorted(columns))))
+    return columns[name]
+
+
+def read_existing(request, location_epsg=None):
+    """The existing model of ``request`` (:class:`ExistingRequest`), read and
+    checked: InputError for a file that is not CityJSON (2.0, 1.1 or
+    CityJSONSeq) and for a reference system that disagrees with the location's."""
+    if not 0 < request.min_overlap <= 1:
+        raise InputError("The least overlap must be in (0, 1], not {}".format(
+            request.min_overlap))
+    model = existing.read_model(request.path)
+    existing.check_reference_system(model, location_epsg)
+    return model
+
+
+def candidates(source, count):
+    """Indices of the footprints that may be copied: source ``aligned``
+    (every footprint when ``source`` is None: the map has no source column)."""
+    if source is None:
+        return np.arange(count)
+    return np.array([i for i, s in enumerate(source) if str(s).strip() == SOURCE_ALIGNED]
+                    if count else [], dtype=np.int64)
+
+
+def match_existing(model, request, footprints, ids=None):
+    """:class:`ExistingMatch` of the footprints (a
+    :class:`~reconstruction.lod2.Footprints`) with the buildings of
+    ``model``; ``ids``: one building id per footprint (the ``id_column``), or None."""
+    todo = candidates(footprints.source, len(footprints.geometries))
+    polygons = [footprints.geometries[i] for i in todo.tolist()]
+    chosen = None if ids is None else [ids[i] for i in todo.tolist()]
+    matches = existing.match(model, polygons, ids=chosen, prefix=request.prefix,
+                             min_overlap=request.min_overlap)
+    return ExistingMatch(model, request, todo, matches)
+
+
+def attribute_columns(match, count, names=None):
+    """The attributes of the existing building matched with each of ``count``
+    footprints, as columns: name -> one value per footprint (None where it
+    matched nothing or the building lacks it); ``names``: the attributes
+    wanted (None: every one the matched buildings have). With the 3D BAG's
+    heights (``b3_h_maaiveld``, ``b3_h_50p``/``b3_h_dak_50p`` ...) these are
+    measured heights of the aligned footprints:
+    ``heights.measured_heights(attribute_columns(match, n))``."""
+    building = match.building(count)
+    attrs = [None if b < 0 else
+             match.model.objects[match.model.buildings[b]].get("attributes") or {}
+             for b in building.tolist()]
+    if names is None:
+        names = list(dict.fromkeys(k for a in attrs if a for k in a))
+    return {name: [None if a is None else a.get(name) for a in attrs] for name in names}
+
+
+def without_copied(prepared, match):
+    """The :class:`~reconstruction.lod2.Prepared` footprints without those
+    that ``match`` (an :class:`ExistingMatch` or None) copies: they are not built."""
+    if match is None:
+        return prepared
+    copied = np.nonzero(match.building(len(prepared.footprints.geometries)) >= 0)[0]
+    keep = np.nonzero(~np.isin(prepared.source, copied))[0]
+    if len(keep) == len(prepared.source):
+        return prepared
+    b = prepared.buildings
+    parts = {}
+    for name in Buildings.__slots__:
+        value = getattr(b, name)
+        parts[name] = None if value is None else (
+            value[keep] if isinstance(value, np.ndarray) else [value[i] for i in keep.tolist()])
+    return prepared._replace(buildings=Buildings(**parts), source=prepared.source[keep],
+                             part=prepared.part[keep],
+                             report=prepared.report._replace(rings=len(keep)))
+
+
+def build(prepared, config, match=None):
+    """:func:`reconstruction.lod2.build` of the footprints that ``match`` does
+    not copy; an empty result when it copies every one."""
+    from . import lod2
+
+    prepared = without_copied(prepared, match)
+    if len(prepared.buildings) or match is None or not len(match.matches.matched):
+        return lod2.build(prepared, config)
+    ss, _, _, _ = build_solids(Buildings([], [], [], [], [], np.zeros((0, 3))))
+    return lod2.Lod2Result(ss, semantics(ss), [], np.zeros(0, dtype=object),
+                           np.zeros(0, dtype=np.int64), {}, prepared.report)
+
+
+def without_footprints(result, footprints):
+    """A :class:`~reconstruction.lod2.Lod2Result` without the buildings of
+    the footprints ``footprints`` (indices)."""
+    drop = np.isin(result.footprint, np.asarray(footprints, dtype=np.int64))
+    if not drop.any():
+        return result
+    keep = np.nonzero(~drop)[0]
+    ss = take(result.solids, keep)
+    attributes = {k: _pick(v, keep) for k, v in result.attributes.items()}
+    return result._replace(solids=ss, semantics=semantics(ss), ids=[result.ids[i] for i in keep],
+                           roof_types=np.asarray(result.roof_types)[keep],
+                           footprint=np.asarray(result.footprint)[keep], attributes=attributes)
+
+
+def _pick(values, keep):
+    if isinstance(values, np.ndarray):
+        return values[keep]
+    return [values[i] for i in keep.tolist()]
+
+
+def copy_matched(match, footprints, count):
+    """The matched buildings (:class:`~reconstruction.citymerge.CopiedBuildings`),
+    in footprint order, with their footprint's plot, source and category as
+    attributes where they have none of their own."""
+    building = match.building(count)
+    matched = np.nonzero(building >= 0)[0]
+    cats = footprints.cats if footprints.cats is not None else list(range(1, count + 1))
+    attributes = {"footprint": [cats[i] for i in matched.tolist()]}
+    for name, values in ((PLOT, footprints.plot), (SOURCE, footprints.source)):
+        if values is not None:
+            attributes[name] = [values[i] for i in matched.tolist()]
+    return citymerge.copy_buildings(match.model, building[matched], lods=match.request.lods,
+                                    attributes=attributes)
+
+
+def _atomic_write(path, write):
+    """``write(f)`` into ``path + ".part"``, renamed to ``path`` when complete."""
+    tmp = path + ".part"
+    try:
+        with open(tmp, "w", encoding="utf-8") as f:
+            write(f)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
+
+
+def _single_text(result, copied, request):
+    text = cityjson.citymodel_text(result.solids, result.semantics, result.ids,
+                                   result.attributes, request.reference_system,
+                                   title=request.title)
+    return citymerge.merge(text, copied) if copied is not None else text
+
+
+def write_model(result, footprints, request, match=None):
+    """Write the model of a :class:`~reconstruction.lod2.Lod2Result` (and the
+    buildings ``match`` copies, an :class:`ExistingMatch` or None) as
+    ``request`` (:class:`OutputRequest`) says; returns an :class:`OutputReport`."""
+    fmt = parse_format(request.format)
+    copied, report = None, OutputReport(generated=len(result.ids))
+    if match is not None:
+        count = len(footprints.geometries)
+        building = match.building(count)
+        before = len(result.ids)
+        result = without_footprints(result, np.nonzero(building >= 0)[0])
+        copied = copy_matched(match, footprints, count)
+        report = OutputReport(generated=len(result.ids), copied=len(copied),
+                              replaced=before - len(result.ids), copy=copied.report,
+                              match=match.matches.report, candidates=len(match.candidates))
+    text = None
+    if fmt == "cityjson":
+        text = _single_text(result, copied, request)
+        cityjson.write_text(request.path, text)
+    else:
+        _atomic_write(request.path, lambda f: cityjsonseq.write(
+            f, result.solids, result.semantics, result.ids, result.attributes,
+            request.reference_system, request.title, copied=copied))
+    if request.render:
+        document = json.loads(text if text is not None else _single_text(result, copied, request))
+        render_model(document, request, copied.ids if copied is not None else ())
+        report.rendered = request.render
+    return report
+
+
+def render_model(document, request, copied=()):
+    """The PNG picture of a CityJSON document (dict) at ``request.render``,
+    written to a temporary name and renamed when complete."""
+    from . import render
+
+    root, ext = os.path.splitext(request.render)
+    tmp = root + ".part" + (ext or ".png")
+    try:
+        render.render(document, tmp, request.view, map_image=request.map_image, copied=copied)
+        os.replace(tmp, request.render)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
