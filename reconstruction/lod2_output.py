@@ -18,19 +18,18 @@ The sequence, after the buildings are built (:func:`reconstruction.lod2.build`):
    ``plot``, ``source`` and ``footprint`` as attributes where the building
    has none of its own), the model written as one CityJSON file
    (:func:`reconstruction.citymerge.merge`) or as CityJSONSeq
-   (:func:`reconstruction.cityjsonseq.write`), to a ``.part`` file renamed
-   when complete; then, if asked, the picture
+   (:func:`reconstruction.cityjsonseq.write`), whole or not at all
+   (:mod:`reconstruction.safefile`); then, if asked, the picture
    (:func:`reconstruction.render.render`).
 """
 
 import json
-import os
 from dataclasses import dataclass, field
 from typing import Optional
 
 import numpy as np
 
-from . import citygeometry, citymerge, cityjson, cityjsonseq, existing
+from . import citygeometry, citymerge, cityjson, cityjsonseq, existing, safefile
 from .contract import PLOT, SOURCE, SOURCE_ALIGNED
 from .errors import InputError
 from .solids import Buildings, build_solids
@@ -279,19 +278,6 @@ def copy_matched(match, footprints, count):
                                     attributes=attributes)
 
 
-def _atomic_write(path, write):
-    """``write(f)`` into ``path + ".part"``, renamed to ``path`` when complete."""
-    tmp = path + ".part"
-    try:
-        with open(tmp, "w", encoding="utf-8") as f:
-            write(f)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
-
-
 def _single_text(result, copied, request):
     text = cityjson.citymodel_text(result.solids, result.semantics, result.ids,
                                    result.attributes, request.reference_system,
@@ -319,9 +305,9 @@ def write_model(result, footprints, request, match=None):
         text = _single_text(result, copied, request)
         cityjson.write_text(request.path, text)
     else:
-        _atomic_write(request.path, lambda f: cityjsonseq.write(
-            f, result.solids, result.semantics, result.ids, result.attributes,
-            request.reference_system, request.title, copied=copied))
+        with safefile.replacing(request.path) as f:
+            cityjsonseq.write(f, result.solids, result.semantics, result.ids, result.attributes,
+                              request.reference_system, request.title, copied=copied)
     if request.render:
         document = json.loads(text if text is not None else _single_text(result, copied, request))
         render_model(document, request, copied.ids if copied is not None else ())
@@ -334,12 +320,5 @@ def render_model(document, request, copied=()):
     written to a temporary name and renamed when complete."""
     from . import render
 
-    root, ext = os.path.splitext(request.render)
-    tmp = root + ".part" + (ext or ".png")
-    try:
+    with safefile.replacing_path(request.render, suffix=".png") as tmp:
         render.render(document, tmp, request.view, map_image=request.map_image, copied=copied)
-        os.replace(tmp, request.render)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise

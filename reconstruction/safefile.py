@@ -39,24 +39,34 @@ def _mode(target):
 
 
 @contextlib.contextmanager
-def replacing(path, mode="w", encoding="utf-8", newline=None):
-    """``with replacing(path) as f: f.write(...)``: the file object of a temporary
-    file beside ``path``'s target, renamed over it when the block ends without
-    an exception (removed otherwise). ``mode``: ``"w"`` (text) or ``"wb"``;
-    ``encoding`` and ``newline`` as for ``open`` (text only)."""
+def replacing_path(path, suffix=""):
+    """``with replacing_path(path) as tmp: writer(tmp)``: a unique temporary
+    file name beside ``path``'s target (ending in ``suffix``, e.g. ``".png"``
+    for a writer that goes by the extension), renamed over the target when the
+    block ends without an exception (removed otherwise)."""
     target = target_of(path)
     directory, name = os.path.split(target)
-    fd, tmp = tempfile.mkstemp(prefix=".{}.".format(name), suffix=".part", dir=directory)
+    fd, tmp = tempfile.mkstemp(prefix=".{}.".format(name), suffix=".part" + suffix, dir=directory)
+    os.close(fd)
     try:
-        text = {} if "b" in mode else {"encoding": encoding, "newline": newline}
-        with os.fdopen(fd, mode, **text) as f:
-            yield f
+        yield tmp
         os.chmod(tmp, _mode(target))
         os.replace(tmp, target)
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
             os.remove(tmp)
         raise
+
+
+@contextlib.contextmanager
+def replacing(path, mode="w", encoding="utf-8", newline=None):
+    """``with replacing(path) as f: f.write(...)``: the file object of a temporary
+    file beside ``path``'s target, renamed over it when the block ends without
+    an exception (removed otherwise). ``mode``: ``"w"`` (text) or ``"wb"``;
+    ``encoding`` and ``newline`` as for ``open`` (text only)."""
+    text = {} if "b" in mode else {"encoding": encoding, "newline": newline}
+    with replacing_path(path) as tmp, open(tmp, mode, **text) as f:
+        yield f
 
 
 def write_text(path, text):

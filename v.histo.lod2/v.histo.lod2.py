@@ -288,7 +288,7 @@ def main(options, flags):
 
     grassio.require_projected()      # (a missing input map: when reading it)
     output = options["output"]
-    grassio.check_outputs(options, files=("output",))
+    grassio.check_outputs(options, files=("output", "render"))
     roof = RoofConfig(pitch_min=parse_number(options["pitch_min"], "pitch_min"),
                       inset=parse_range(options["inset"], "inset", positive=True),
                       step=parse_range(options["step"], "step", positive=True, allow_zero=False),
@@ -351,7 +351,6 @@ def prepare_output(options, crs):
 
     request, wanted = lod2_output.requests_from_options(
         options, crs, title="LoD2 model from <{}>".format(options["input"]))
-    grassio.require_new_file(request.render, "render")
     if options["map"] and not request.render:
         gs.warning(_("map= is drawn only in the picture of render=: ignored"))
     elif options["map"]:

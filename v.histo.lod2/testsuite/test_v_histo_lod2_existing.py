@@ -262,7 +262,7 @@ def with_reference_system(sample, tmp_path, code):
     ("missing_file", "Cannot read the existing model"),
     ("other_crs", "EPSG:31370) does not agree with the location's (EPSG:28992)"),
     ("crs_option", "does not agree with the generated model's"),
-    ("missing_id_column", "Column <no_such_id> (id_column="),
+    ("missing_id_column", "Column <no_such_id> given as id_column="),
     ("prefix_without_existing", "Option id_prefix= needs existing="),
     ("bad_lod", "Option existing_lod= must be LoDs"),
     ("bad_overlap", "Option overlap= must be at most 1"),
