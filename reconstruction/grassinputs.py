@@ -64,3 +64,18 @@ def read_grid(name, bounds, margin):
         finally:
             gs.del_temp_region()
     return Grid.from_region(values, region)
+
+
+def raster_labels(name):
+    """Category label -> category value of a raster (r.category), empty when it has none."""
+    with doing("reading the categories of raster map <{}>".format(name)):
+        text = gs.read_command("r.category", map=name, separator="tab", quiet=True)
+    out = {}
+    for line in text.splitlines():
+        value, _, label = line.partition("\t")
+        if label.strip():
+            try:
+                out[label.strip()] = int(float(value))
+            except ValueError:
+                continue
+    return out
