@@ -59,8 +59,26 @@ def _on_edge(points, a, b, tol=2e-3):
     return bool(np.all(np.abs(side) < tol) and np.all(along > -tol) and np.all(along < ln + tol))
 
 
+def _rise(wall, a, b, level):
+    """Length along the edge a -> b over which ``wall`` (k, 3) rises above ``level``:
+    the extent of its vertices above it and of its boundary's crossings of it."""
+    u = (b - a)[:2] / max(float(np.hypot(*(b - a)[:2])), 1e-12)
+    p, q = wall, np.roll(wall, -1, axis=0)
+    dz = q[:, 2] - p[:, 2]
+    cross = (p[:, 2] - level) * (q[:, 2] - level) < 0
+    t = (level - p[cross, 2]) / dz[cross]
+    pts = np.concatenate([wall[wall[:, 2] > level, :2],
+                          p[cross, :2] + t[:, None] * (q[cross, :2] - p[cross, :2])])
+    if len(pts) < 2:
+        return 0.0
+    along = (pts - a[:2]) @ u
+    return float(along.max() - along.min())
+
+
 def ends_of(ring, walls, roofs, eaves_z, tol=0.05):
-    """The edges of ``ring`` with a roof end: {edge: "wall" | "hip"}."""
+    """The edges of ``ring`` with a roof end: {edge: "wall" | "hip"}. A wall
+    end rises above the eaves over at least half the edge (a gable end, a
+    stepped facade; not the side of a stepped facade, flush with the party wall)."""
     n = len(ring)
     out = {}
     eaves_faces = []
@@ -68,11 +86,13 @@ def ends_of(ring, walls, roofs, eaves_z, tol=0.05):
         low = np.abs(face[:, 2] - eaves_z) < tol
         if low.sum() >= 2:
             eaves_faces.append((face, _pitch(face)))
-    shallow = min((p for _, p in eaves_faces), default=None)
+    # the long faces: the shallowest sloped face (flat pieces at the eaves are no faces of it)
+    shallow = min((p for _, p in eaves_faces if p > 1.0), default=None)
     for k in range(n):
         a, b = ring[k], ring[(k + 1) % n]
         for w in walls:
-            if w[:, 2].max() > eaves_z + tol and _on_edge(w, a, b):
+            if w[:, 2].max() > eaves_z + tol and _on_edge(w, a, b) and \
+                    _rise(w, a, b, eaves_z + tol) >= 0.5 * np.hypot(*(b - a)[:2]):
                 out[k] = "wall"
                 break
         if k in out or shallow is None:
