@@ -8,6 +8,9 @@ resolution over the footprints' extent grown by a margin (a temporary
 region; the user's region is left alone).
 """
 
+import os
+import shutil
+
 import numpy as np
 
 import grass.script as gs
@@ -17,33 +20,76 @@ from .grassrun import doing
 from .grid import Grid
 
 
-def read_points_3d(name, layer=-1):
-    """The points of vector map ``name`` as an (N, 3) array of x, y, z.
+def start_read_points(name, layer=-1):
+    """Start exporting the points of vector map ``name`` in the background (a
+    million points take seconds); :func:`finish_read_points` waits for them.
+    None when ``name`` is empty."""
+    if not name:
+        return None
+    from . import grassio
 
-    Raises :class:`InputError` when the map is 2D (no heights) or has no points.
+    outdir = os.path.dirname(grassio.temp_file())     # removed at exit, whatever happens
+    os.makedirs(outdir, exist_ok=True)
+    procs = {}
+    for key, (cmd, kw) in {
+            "points": ("v.out.ascii", dict(input=name, layer=layer, type="point",
+                                           format="point", separator="space")),
+            "topo": ("v.info", dict(map=name, flags="t"))}.items():
+        with open(os.path.join(outdir, key), "wb") as out, \
+                open(os.path.join(outdir, key + ".err"), "wb") as err:
+            procs[key] = gs.start_command(cmd, quiet=True, stdout=out, stderr=err, **kw)
+    return {"name": name, "dir": outdir, "procs": procs}
+
+
+def finish_read_points(job):
+    """The points of a :func:`start_read_points` job as an (N, 3) array of x, y, z.
+
+    Raises :class:`InputError` when the map is missing, 2D (no heights) or has no points.
     """
+    if job is None:
+        return None
+    name, outdir = job["name"], job["dir"]
+    try:
+        text = {}
+        for key, proc in job["procs"].items():
+            proc.wait()
+            with open(os.path.join(outdir, key), "rb") as f:
+                text[key] = gs.decode(f.read())
+            if proc.returncode != 0:
+                if not gs.find_file(name, element="vector")["fullname"]:
+                    raise InputError("Vector map <{}> not found".format(name))
+                with open(os.path.join(outdir, key + ".err"), "rb") as f:
+                    raise InputError("Cannot read the points <{}>: {}".format(
+                        name, gs.decode(f.read()).strip()))
+    finally:
+        shutil.rmtree(outdir, ignore_errors=True)
+    info = gs.parse_key_val(text["topo"])
+    if int(info.get("map3d", 0)) != 1:
+        raise InputError("Vector map <{}> is 2D: give 3D points (e.g. v.in.pdal, or "
+                         "v.in.ascii -z)".format(name))
+    if int(info.get("points", 0)) == 0:
+        raise InputError("Vector map <{}> has no points".format(name))
+    return parse_points(text["points"])
+
+
+def read_points_3d(name, layer=-1):
+    """The points of vector map ``name`` as an (N, 3) array of x, y, z (see
+    :func:`finish_read_points`)."""
     with doing("reading the 3D points <{}>".format(name)):
-        info = gs.vector_info_topo(name)
-        if int(info.get("map3d", 0)) != 1:
-            raise InputError("Vector map <{}> is 2D: give 3D points (e.g. v.in.pdal, or "
-                             "v.in.ascii -z)".format(name))
-        if int(info.get("points", 0)) == 0:
-            raise InputError("Vector map <{}> has no points".format(name))
-        text = gs.read_command("v.out.ascii", input=name, layer=layer, type="point",
-                               format="point", separator="space", quiet=True)
-    return parse_points(text)
+        return finish_read_points(start_read_points(name, layer))
 
 
 def parse_points(text):
     """x, y, z of ``v.out.ascii format=point`` lines (``x y z [cat]``) as (N, 3)."""
-    lines = text.splitlines()
-    if not lines:
+    first = text[:text.find("\n")] if "\n" in text else text
+    width = len(first.split())
+    if not width:
         return np.zeros((0, 3))
-    width = len(lines[0].split())
-    values = np.array(text.split(), dtype=float)
-    if width < 3 or values.size % width:
+    values = np.fromstring(text, sep=" ")
+    if width < 3 or values.size % width or values.size // width != text.count("\n") + \
+            (0 if text.endswith("\n") else 1):
         # points with and without categories mixed: line by line
-        rows = [ln.split()[:3] for ln in lines if len(ln.split()) >= 3]
+        rows = [ln.split()[:3] for ln in text.splitlines() if len(ln.split()) >= 3]
         return np.array(rows, dtype=float).reshape(-1, 3)
     return values.reshape(-1, width)[:, :3]
 

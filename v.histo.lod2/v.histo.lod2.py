@@ -314,7 +314,10 @@ def main(options, flags):
     # GRASS exports the footprints while the inputs are checked
     reading = grassio.start_read_areas(options["input"], layer=options["layer"])
     grassio.prefetch_checks()
-    from reconstruction import cityjson, lod2, lod2_inputs, validation
+    from reconstruction import cityjson, grassinputs, lod2, lod2_inputs, validation
+    # and the points (a million take seconds)
+    points = {k: grassinputs.start_read_points(options[k])
+              for k in ("ground_points", "building_points")}
     from reconstruction.errors import InputError
     from reconstruction.options import parse_number, parse_range, processes
     from reconstruction.roof_model import RoofConfig
@@ -354,7 +357,7 @@ def main(options, flags):
         raise InputError("Vector map <{}> has no areas".format(options["input"]))
     plot = _column(columns, options["plot_column"])
     found = lod2_inputs.footprint_heights(geoms, columns, plot, height_options(
-        options, geoms, height_range, attic_range))
+        options, points, geoms, height_range, attic_range))
     report_heights(found.report, options)
     requests = lod2.requests_from_columns(columns, len(geoms), options["roof"],
                                           options["roof_column"], map_year, options["year_column"])
@@ -383,16 +386,18 @@ def main(options, flags):
     return 0
 
 
-def height_options(options, geoms, height_range, attic_range):
+def height_options(options, points, geoms, height_range, attic_range):
     """The :class:`~reconstruction.lod2_inputs.HeightOptions` of the options,
-    with the points, rasters and maps they name read."""
+    with the points (``points``: option -> reading job), rasters and maps they name read."""
     from reconstruction import grassinputs, grassio, lod2_inputs, neighbourhood
     from reconstruction.options import parse_number
 
     percentile = parse_number(options["ground_percentile"], "ground_percentile", minimum=0)
-    ground_points = elevation = aligned = plots = building_points = None
-    if options["ground_points"]:
-        ground_points = grassinputs.read_points_3d(options["ground_points"])
+    elevation = aligned = plots = None
+    with grassio.doing("reading the 3D points"):
+        ground_points, building_points = (grassinputs.finish_read_points(points[k])
+                                          for k in ("ground_points", "building_points"))
+    if ground_points is not None:
         if options["elevation"]:
             gs.warning(_("Both ground_points= and elevation= given: the ground comes from the "
                          "points"))
@@ -409,8 +414,6 @@ def height_options(options, geoms, height_range, attic_range):
             p_geoms, p_columns = grassio.read_areas(options["plots"])
         key = options["plot_column"] if options["plot_column"] in p_columns else "cat"
         plots = neighbourhood.Plots(p_geoms, p_columns[key])
-    if options["building_points"]:
-        building_points = grassinputs.read_points_3d(options["building_points"])
     if (plots is not None) and aligned is None and building_points is None:
         gs.warning(_("plots= is used only with aligned= or building_points="))
     return lod2_inputs.HeightOptions(
