@@ -188,7 +188,7 @@ def _plot_of(geoms, plots):
     return out
 
 
-def _measured(geoms, ground, plot, opts, report):
+def _measured(geoms, ground, opts, report):
     """Eaves, attic (NaN: unknown) and labels of the footprints from aligned
     footprints and building points, then the donors to append."""
     n = len(geoms)
@@ -237,7 +237,7 @@ def footprint_heights(geometries, columns, plot=None, options=None):
     ground, report = _ground(geoms, columns, opts)
     source = np.full(n, HEIGHTS_COLUMN, dtype=object)
     if opts.aligned is not None or opts.building_points is not None:
-        eaves, attic, label, (dg, de, da, dp) = _measured(geoms, ground, plot, opts, report)
+        eaves, attic, label, (dg, de, da, dp) = _measured(geoms, ground, opts, report)
         plot = np.full(n, None, dtype=object) if plot is None else np.asarray(plot, dtype=object)
         r = nb.infer_heights(list(geoms) + list(dg), np.concatenate([eaves, de]),
                              np.concatenate([attic, da]), plot=np.concatenate([plot, dp]),

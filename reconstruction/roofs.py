@@ -226,7 +226,7 @@ def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None
 
 
 def _free(shared, edge):
-    """True when ``edge`` (-1: none) exists and is not among the ``shared`` ones (None: none are)."""
+    """True when ``edge`` (-1: none) exists and is not ``shared`` (None: no edge is)."""
     return edge >= 0 and (shared is None or edge >= len(shared) or not shared[edge])
 
 
