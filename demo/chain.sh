@@ -25,8 +25,10 @@ MAP=map                 # prefix of the map: rasters map.red/.green/.blue, vecto
 BUILDING=1              # label of the building class in the training points
 REMOVE=2,6              # classes printed over the map (text, symbols): filled from around
 MIN_AREA=100            # building plots below this (m²) are specks, not plots
-HEIGHT=6.7,17           # eaves height range (m above ground), the thesis's values
-ATTIC=2.6,6             # roof height range above the eaves (m)
+HEIGHT=6.7,17           # eaves height range (m above ground), the thesis's values, without
+                        # aligned footprints
+ATTIC=2.6,6             # roof height range above the eaves (m), without aligned footprints
+STREET_CLASSES=3,4      # classes of the water and the streets in the training points
 YEAR=1900               # the map's year: older current buildings may still stand; roof odds
 
 HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -101,12 +103,24 @@ fi
 
 # ---------------------------------------------------------------------------
 # 6. LoD2 buildings with roofs, written as CityJSON, and a picture of them
-#    over the map (model.png, rendered off-screen)
+#    over the map (model.png, rendered off-screen). Heights: the aligned
+#    footprints' measured ones (today's 3D BAG attributes), the others'
+#    inferred from them (the robust neighbourhood rule, the plots for the
+#    thesis's fallback); without aligned footprints, drawn from the ranges.
+#    Gable ends and stepped facades go on the street edge, found with the
+#    classified map's streets and water.
 # ---------------------------------------------------------------------------
 if have vector footprints && implemented v.histo.lod2; then
-    v.histo.lod2 -v render="$OUT/model.png" map=$MAP.red,$MAP.green,$MAP.blue \
-        input=footprints output="$OUT/model.city.json" height=$HEIGHT \
-        attic=$ATTIC year=$YEAR seed=$SEED
+    HEIGHTS="height=$HEIGHT attic=$ATTIC"
+    if [ -n "$(g.list type=vector pattern=aligned)" ]; then
+        HEIGHTS="aligned=aligned plots=plots"
+    fi
+    STREETS=
+    if [ -n "$(g.list type=raster pattern=${MAP}_classes)" ]; then
+        STREETS="streets=${MAP}_classes street_classes=$STREET_CLASSES"
+    fi
+    v.histo.lod2 -v input=footprints output="$OUT/model.city.json" $HEIGHTS $STREETS \
+        year=$YEAR seed=$SEED render="$OUT/model.png" map=$MAP.red,$MAP.green,$MAP.blue
 fi
 
 # ---------------------------------------------------------------------------

@@ -99,6 +99,8 @@ class Lod2Config(NamedTuple):
     nprocs: int = 1
     #: year of the map, written as attribute ``map_year``
     map_year: Optional[int] = None
+    #: the roof choice (:class:`~reconstruction.roof_rules.RoofRules`); None: the default
+    rules: object = None
 
 
 # ---------------------------------------------------------------------------
@@ -152,6 +154,8 @@ class Prepared(NamedTuple):
     cats: list
     footprints: Footprints
     report: Lod2Report
+    #: more attributes to write: (name, values per building of ``buildings``) pairs
+    extra: tuple = ()
 
 
 class Lod2Result(NamedTuple):
@@ -284,7 +288,8 @@ def prepare(footprints, heights, requests, config=None):
         ground = np.where(bad_ground, float(heights.ground_default), ground)
     rings, src, part, holes, left_out, reasons = _footprint_rings(footprints.geometries, bad_eaves)
     nverts = np.array([len(r) for r in rings])
-    drawn = draw_roof_types(nverts, np.asarray(requests.years)[src], attic[src], u_type[src])
+    draw = draw_roof_types if config.rules is None else config.rules.draw
+    drawn = draw(nverts, np.asarray(requests.years)[src], attic[src], u_type[src])
     types = np.where(requested[src] == AUTO, drawn, requested[src])
     report = Lod2Report(bad_eaves=int(bad_eaves.sum()), bad_attic=int(bad_attic.sum()),
                         bad_ground=int(bad_ground.sum()), holes_filled=holes, left_out=left_out,
@@ -355,6 +360,8 @@ def build(prepared, config=None):
         SOURCE: per_building(prepared.footprints.source),
         "footprint": [cats[i] for i in fsrc],
     }
+    for name, values in prepared.extra:
+        attributes[name] = [values[j] for j in kept]
     report = prepared.report._replace(dropped=len(buildings) - len(kept),
                                       fell_back=int(np.sum(got != buildings.roof_types[kept])),
                                       fallbacks=[RoofFallback(cats[src[f.index]], f.kind, f.reason)

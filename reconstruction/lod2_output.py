@@ -220,14 +220,19 @@ def without_copied(prepared, match):
     if len(keep) == len(prepared.source):
         return prepared
     b = prepared.buildings
-    parts = {}
-    for name in Buildings.__slots__:
-        value = getattr(b, name)
-        parts[name] = None if value is None else (
-            value[keep] if isinstance(value, np.ndarray) else [value[i] for i in keep.tolist()])
+    parts = {name: _subset(getattr(b, name), keep) for name in Buildings.__slots__}
     return prepared._replace(buildings=Buildings(**parts), source=prepared.source[keep],
                              part=prepared.part[keep],
+                             extra=tuple((name, _subset(values, keep))
+                                         for name, values in prepared.extra),
                              report=prepared.report._replace(rings=len(keep)))
+
+
+def _subset(values, keep):
+    """The entries ``keep`` of per-building ``values`` (an array, a list or None)."""
+    if values is None:
+        return None
+    return values[keep] if isinstance(values, np.ndarray) else [values[i] for i in keep.tolist()]
 
 
 def build(prepared, config, match=None):

@@ -140,11 +140,24 @@ class RoofPlan(NamedTuple):
     facades: dict
     #: concave roofs, in footprint order
     skeleton: list
+    #: footprint -> its ends: ``(edge, "gable" | "hip" | "stepped")`` pairs, the
+    #: edges with a vertical gable end, a hip end steeper than the long faces
+    #: or a crow-stepped facade
+    ends: dict
 
 
-def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None):
+def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None, shared=None):
     """The :class:`RoofPlan` of footprints (local coordinates, counter-clockwise
-    rings); arguments as :func:`make_roofs`."""
+    rings); arguments as :func:`make_roofs`.
+
+    No end goes on a shared edge (``shared``), as a builder would do it: a
+    gable or stepped roof whose far end (opposite the street edge) is shared
+    with the neighbour behind gets a hip there at the pitch of its long faces
+    (a front gable with a hipped back, the common Dutch town house), so no
+    gable wall and no steep end stands against the neighbour; a hip roof's
+    shared end takes the long faces' pitch too; a stepped facade needs a free
+    street end (else the roof is a gable); a gable with both ends shared is a
+    hip at one pitch; a concave gable keeps its free arm ends only."""
     config = config or RoofConfig()
     B = len(footprints)
     kinds = list(roof_types)
@@ -154,10 +167,11 @@ def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None
     attic = np.asarray(attic, dtype=float)
     flat = np.array([k == "flat" for k in roof_types], dtype=bool) | (attic <= 1e-3)
     bodies = _stepped_bodies(footprints, roof_types, flat, facts, config.thickness)
-    plan = RoofPlan(kinds, {}, [], {}, [])
+    plan = RoofPlan(kinds, {}, [], {}, [], {})
     for i, (xy, kind) in enumerate(zip(footprints, roof_types)):
         h = float(attic[i])
         n = len(xy)
+        mask = None if shared is None else shared[i]
         if flat[i]:
             plan.flat.setdefault(n, []).append(i)
             continue
@@ -173,30 +187,47 @@ def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None
                 pitch = np.full(n, math.degrees(math.atan2(h, ins)))
                 plan.skeleton.append(SkeletonJob(i, xy, pitch, h))
             continue
-        if kind == "stepped" and i in bodies:
-            body, opp = bodies[i]
+        opp = opp_all[i]
+        if kind == "stepped" and i in bodies and _free(mask, end):
+            body, body_opp = bodies[i]
             slopes = np.ones(len(body))
             slopes[0] = np.inf
-            if opp >= 0:
-                slopes[opp] = np.inf
+            plan.ends[i] = [(end, "stepped")]
+            if body_opp >= 0 and _free(mask, opp):
+                slopes[body_opp] = np.inf
+                plan.ends[i].append((opp, "gable"))
             s_lo, s_hi = config.step
             plan.facades[i] = Facade(end, s_lo + (s_hi - s_lo) * uniforms[i, 2])
             plan.envelope.append(EnvelopeJob(i, body, slopes, None, body=True))
             continue
         if kind == "stepped":
             kind = "gable"
-        kinds[i] = kind
         if convex:
-            slopes = _convex_slopes(kind, n, h, end, opp_all[i], float(facts.end_length[i]),
+            if kind == "gable" and not _free(mask, end) and not _free(mask, opp):
+                kind = "hip"                 # no free end: one pitch all round
+            slopes = _convex_slopes(kind, n, h, end if _free(mask, end) else -1,
+                                    opp if _free(mask, opp) else -1, float(facts.end_length[i]),
                                     uniforms[i, 0], config.pitch_min)
             plan.envelope.append(EnvelopeJob(i, xy, slopes, None))
+            ends = [(e, kind) for e in (end, opp) if _free(mask, e) and slopes[e] > 1.0 + 1e-9]
         else:
             pitch = np.full(n, 45.0)
+            ends = []
             if kind == "gable":
-                ends = end_edges(xy) or [end]
-                pitch[ends] = 90.0
+                ends = [(e, "gable") for e in (end_edges(xy) or [end]) if _free(mask, e)]
+                pitch[[e for e, _ in ends]] = 90.0
+                if not ends:
+                    kind = "hip"
             plan.skeleton.append(SkeletonJob(i, xy, pitch, None))
+        kinds[i] = kind
+        if ends:
+            plan.ends[i] = ends
     return plan
+
+
+def _free(shared, edge):
+    """True when ``edge`` (-1: none) exists and is not ``shared`` (None: no edge is)."""
+    return edge >= 0 and (shared is None or edge >= len(shared) or not shared[edge])
 
 
 def _stepped_bodies(footprints, roof_types, flat, facts, thickness):
@@ -219,18 +250,14 @@ def _convex_slopes(kind, n, h, end, opp, end_length, u, pitch_min):
     quadrilateral steeper (between ``pitch_min`` and 89 degrees, drawn by
     ``u``), gable ends vertical."""
     slopes = np.ones(n)
+    ends = [e for e in (end, opp) if e >= 0]
     if kind == "hip" and n == 4:
         p_long = math.degrees(math.atan2(h, end_length / 2.0))
         low = min(max(pitch_min, p_long), 89.0)
         p_end = low + (89.0 - low) * u
-        ratio = math.tan(math.radians(p_end)) / math.tan(math.radians(p_long))
-        slopes[end] = ratio
-        if opp >= 0:
-            slopes[opp] = ratio
+        slopes[ends] = math.tan(math.radians(p_end)) / math.tan(math.radians(p_long))
     elif kind == "gable":
-        slopes[end] = np.inf
-        if opp >= 0:
-            slopes[opp] = np.inf
+        slopes[ends] = np.inf
     return slopes
 
 
@@ -259,20 +286,22 @@ class RoofSet(NamedTuple):
         return out
 
 
-def make_roofs(footprints, roof_types, attic, uniforms, street=None, config=None):
+def make_roofs(footprints, roof_types, attic, uniforms, street=None, config=None, shared=None):
     """Roofs of footprints (local coordinates, counter-clockwise rings).
 
     ``roof_types``: a type per footprint; ``attic``: roof heights above the
     eaves; ``uniforms``: (B, 3) uniform numbers in [0, 1) per footprint (hip
     end pitch, mansard inset, crow-step height), so that the result does not
     depend on the order of work; ``street``: optional street edge index per
-    footprint; ``config``: the :class:`~reconstruction.roof_model.RoofConfig`.
-    Returns the :class:`RoofSet`; a roof that could not be built is in no
+    footprint; ``config``: the :class:`~reconstruction.roof_model.RoofConfig`;
+    ``shared``: optional per footprint a boolean array, True for its edges
+    shared with a neighbour (see :func:`plan_roofs`). Returns the
+    :class:`RoofSet`; a roof that could not be built is in no
     group and None (the caller falls back to a simpler type).
     """
     config = config or RoofConfig()
     attic = np.asarray(attic, dtype=float)
-    plan = plan_roofs(footprints, roof_types, attic, uniforms, config, street)
+    plan = plan_roofs(footprints, roof_types, attic, uniforms, config, street, shared)
     groups = _envelope_roofs(plan, footprints, attic, config.thickness)
     groups.extend(_flat_roofs(plan, footprints))
     single = [None] * len(footprints)

@@ -34,12 +34,16 @@ class Buildings:
     it and roof height above the eaves (m); ``roof_types``: the requested
     types; ``uniforms``: (B, 3) uniform numbers in [0, 1) (see
     :func:`reconstruction.roofs.make_roofs`); ``street``: optional street
-    edge index per footprint.
+    edge index per footprint; ``shared``: optional per footprint a boolean
+    array, True for its edges shared with a neighbour (no gable end, hip end
+    or stepped facade goes there).
     """
 
-    __slots__ = ("footprints", "ground", "eaves", "attic", "roof_types", "uniforms", "street")
+    __slots__ = ("footprints", "ground", "eaves", "attic", "roof_types", "uniforms", "street",
+                 "shared")
 
-    def __init__(self, footprints, ground, eaves, attic, roof_types, uniforms, street=None):
+    def __init__(self, footprints, ground, eaves, attic, roof_types, uniforms, street=None,
+                 shared=None):
         self.footprints = list(footprints)
         self.ground = np.asarray(ground, dtype=float)
         self.eaves = np.asarray(eaves, dtype=float)
@@ -47,6 +51,7 @@ class Buildings:
         self.roof_types = np.array(roof_types, dtype=object)
         self.uniforms = np.asarray(uniforms, dtype=float).reshape(len(self.footprints), 3)
         self.street = None if street is None else list(street)
+        self.shared = None if shared is None else list(shared)
 
     def __len__(self):
         return len(self.footprints)
@@ -60,7 +65,8 @@ class Buildings:
 
         return Buildings(pick(self.footprints), self.ground[idx], self.eaves[idx],
                          self.attic[idx], self.roof_types[idx], self.uniforms[idx],
-                         None if self.street is None else pick(self.street))
+                         None if self.street is None else pick(self.street),
+                         None if self.shared is None else pick(self.shared))
 
 
 class Fallback(NamedTuple):
@@ -284,7 +290,7 @@ def _build(buildings, config):
     again with the next type of :data:`FALLBACK` for the roofs that failed."""
     B = len(buildings)
     footprints = buildings.footprints
-    street = buildings.street
+    street, shared = buildings.street, buildings.shared
     origins = np.array([xy[0] for xy in footprints], dtype=float).reshape(B, 2)
     local = [xy - o for xy, o in zip(footprints, origins)]
     types = buildings.roof_types.copy()
@@ -296,7 +302,8 @@ def _build(buildings, config):
     while len(todo):
         T = len(todo)
         roofs = make_roofs([local[i] for i in todo], types[todo], attic[todo], uniforms[todo],
-                           None if street is None else [street[i] for i in todo], config)
+                           None if street is None else [street[i] for i in todo], config,
+                           None if shared is None else [shared[i] for i in todo])
         types[todo] = roofs.kinds
         inbulk = np.zeros(T, dtype=bool)
         for g in roofs.groups:

@@ -36,6 +36,27 @@ def run_in_latlong(dbase, name, *command):
     return location, proc
 
 
+def timed_children(runs, fn):
+    """As :func:`timed` for work done by child processes (GRASS modules): the
+    median wall time, the median CPU time of the children (user + system) and
+    the last result."""
+    import resource
+    import statistics
+    import time
+
+    def children():
+        r = resource.getrusage(resource.RUSAGE_CHILDREN)
+        return r.ru_utime + r.ru_stime
+
+    wall, cpu, result = [], [], None
+    for _ in range(runs):
+        w, c = time.perf_counter(), children()
+        result = fn()
+        wall.append(time.perf_counter() - w)
+        cpu.append(children() - c)
+    return statistics.median(wall), statistics.median(cpu), result
+
+
 def timed(runs, fn):
     """Run ``fn()`` ``runs`` times: the median wall time, the median CPU time
     (which a busy shared machine inflates less) and the last result."""

@@ -1004,9 +1004,31 @@ def write_to_grass(smap, prefix="map"):
                            cats=cats)
     current = smap.current
     grassio.write_features(names["current"], current.polygons,
-                           {"bouwjaar": current.years, "identificatie": current.ids},
+                           {"bouwjaar": current.years, "identificatie": current.ids,
+                            **measured_heights(smap)},
                            title="Current building footprints over the synthetic map")
     return names
+
+
+def measured_heights(smap):
+    """Heights measured today on the current footprints, as the 3D BAG (2025)
+    publishes them (absolute, m): ``b3_h_maaiveld`` ground, ``b3_h_50p`` and
+    ``b3_h_70p`` roof percentiles, ``b3_h_nok`` the ridge. Houses of 6.7-12 m
+    eaves and 2.6-6 m roofs (the thesis's ranges), one 30 m tower among
+    them; the ground slopes gently. Drawn from their own random stream, so the
+    map and the footprints do not change with them."""
+    rng = np.random.default_rng([smap.seed, 16])
+    n = len(smap.current.polygons)
+    centres = np.array([[p.centroid.x, p.centroid.y] for p in smap.current.polygons]).reshape(-1, 2)
+    ground = 0.5 + 0.002 * centres[:, 0] + 0.001 * centres[:, 1] if n else np.zeros(0)
+    eaves = rng.uniform(6.7, 12.0, n)
+    attic = rng.uniform(2.6, 6.0, n)
+    if n:
+        eaves[n // 2], attic[n // 2] = 26.0, 4.0          # a church tower
+    d = 0.3 * attic                   # so that p50 - 1.25 (p70 - p50) = the eaves
+    rows = {"b3_h_maaiveld": ground, "b3_h_50p": ground + eaves + d,
+            "b3_h_70p": ground + eaves + 1.8 * d, "b3_h_nok": ground + eaves + attic}
+    return {k: [round(float(v), 2) for v in values] for k, values in rows.items()}
 
 
 def main(argv=None):

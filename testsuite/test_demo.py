@@ -172,6 +172,14 @@ def test_demo_pictures_and_report_of_outputs(demo):
         # the picture of the model: red roofs (issue 17)
         assert _png_size(out / "model.png") == (1600, 1200)
         assert str(out / "model.png") in demo["stdout"]
+        attrs = [o["attributes"] for o in model["CityObjects"].values()]
+        if "aligned" in vectors:
+            # measured heights on the aligned footprints, the others' from them (issue 16)
+            assert {"measured", "neighbours"} <= {a["height_source"] for a in attrs}
+        if _implemented("r.histo.classify"):
+            # street edges facing the classified map's streets (case 5) among the others
+            cases = [a["street_case"] for a in attrs]
+            assert cases.count(5) > 0.2 * len(cases)
 
 
 def test_demo_picture_shows_the_map(demo):

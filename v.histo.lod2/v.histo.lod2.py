@@ -84,6 +84,72 @@
 # % guisection: Heights
 # %end
 
+# %option G_OPT_V_INPUT
+# % key: ground_points
+# % label: 3D ground points (e.g. a LiDAR ground class from v.in.pdal or v.in.ascii -z)
+# % description: The ground of a footprint is a percentile of the points in it buffered by 0.5 m, the buffer grown where there are none (takes precedence over ground_column)
+# % required: no
+# % guisection: Heights
+# %end
+
+# %option G_OPT_R_ELEV
+# % description: Terrain (DTM) raster: the ground of a footprint is a percentile of its cells in it buffered by 0.5 m (used without ground_points)
+# % required: no
+# % guisection: Heights
+# %end
+
+# %option
+# % key: ground_percentile
+# % type: double
+# % description: Percentile of the ground points or cells that is the ground of a footprint
+# % options: 0-50
+# % answer: 20
+# % guisection: Heights
+# %end
+
+# %option G_OPT_V_INPUT
+# % key: aligned
+# % label: Aligned footprints with measured heights (e.g. v.histo.align's output with 3D BAG attributes)
+# % description: Footprints that are aligned footprints get their measured heights, the others heights inferred from them by height_rule (takes precedence over eaves_column and attic_column)
+# % required: no
+# % guisection: Heights
+# %end
+
+# %option
+# % key: height_columns
+# % type: string
+# % label: Measured height columns of the aligned footprints
+# % description: thesis: roof-0.25, roof-0.99, ground-0.2; 3dbag: b3_h_maaiveld, b3_h_50p, b3_h_70p, b3_h_nok or b3_h_max (2025); 3dbag-2024: b3_h_dak_50p, b3_h_dak_70p, b3_h_dak_max; auto: the first present
+# % options: auto,thesis,3dbag,3dbag-2024
+# % answer: auto
+# % guisection: Heights
+# %end
+
+# %option G_OPT_V_INPUT
+# % key: plots
+# % description: Building plots (areas) for the plot-level neighbourhood analysis; their plot_column (else their category) is the footprints' plot
+# % required: no
+# % guisection: Heights
+# %end
+
+# %option G_OPT_V_INPUT
+# % key: building_points
+# % label: 3D building (roof) points: eaves and roof top from their 25th and 99th percentiles per footprint
+# % description: The shortened version: footprints without points get heights inferred from those with (takes precedence over eaves_column and attic_column)
+# % required: no
+# % guisection: Heights
+# %end
+
+# %option
+# % key: height_rule
+# % type: string
+# % description: How heights are inferred from measured footprints
+# % options: robust,plot
+# % descriptions: robust;weighted median of the nearby measured footprints without outliers (towers), by size;plot;the thesis's: median of the plot's measured footprints, else of the neighbouring plots'
+# % answer: robust
+# % guisection: Heights
+# %end
+
 # %option
 # % key: roof
 # % type: string
@@ -147,6 +213,44 @@
 # % type: double
 # % description: Thickness of the crow-stepped facade (m)
 # % answer: 0.5
+# % guisection: Roofs
+# %end
+
+# %option G_OPT_R_INPUT
+# % key: streets
+# % label: Classified map (r.histo.classify's output) showing the streets
+# % description: The street edge of a footprint is the unshared edge with most street or water cells in the 3 m in front of it; the thesis's four cases decide where none or several have
+# % required: no
+# % guisection: Roofs
+# %end
+
+# %option
+# % key: street_classes
+# % type: string
+# % description: Street and water classes of the streets map (numbers or category labels)
+# % multiple: yes
+# % required: no
+# % guisection: Roofs
+# %end
+
+# %option G_OPT_V_INPUT
+# % key: street_areas
+# % description: Street areas (polygons; buffer street lines first), used as streets is (without streets)
+# % required: no
+# % guisection: Roofs
+# %end
+
+# %option G_OPT_F_INPUT
+# % key: rules
+# % label: Roof rules file (CSV or JSON): weights per period and footprint shape
+# % description: Rows: from,to,shape,flat,hip,gable,mansard,stepped in percent, each row summing to 100 (default: the thesis's Table B.1 with hip roofs on n-sided footprints)
+# % required: no
+# % guisection: Roofs
+# %end
+
+# %flag
+# % key: s
+# % description: Do not look for street edges: gable ends and stepped facades on the shortest edge
 # % guisection: Roofs
 # %end
 
@@ -281,10 +385,14 @@ def main(options, flags):
     # GRASS exports the footprints while the inputs are checked
     reading = grassio.start_read_areas(options["input"], layer=options["layer"])
     grassio.prefetch_checks()
-    from reconstruction import cityjson, lod2, lod2_output, validation
+    from reconstruction import cityjson, grassinputs, lod2, lod2_inputs, lod2_output, validation
+    # and the points (a million take seconds)
+    points = {k: grassinputs.start_read_points(options[k])
+              for k in ("ground_points", "building_points")}
     from reconstruction.errors import InputError
     from reconstruction.options import parse_number, parse_range, processes
     from reconstruction.roof_model import RoofConfig
+    from reconstruction.roof_rules import read_rules
 
     grassio.require_projected()      # (a missing input map: when reading it)
     output = options["output"]
@@ -298,7 +406,8 @@ def main(options, flags):
     attic_range = parse_range(options["attic"], "attic", positive=True)
     map_year = int(options["year"]) if options["year"] else None
     config = lod2.Lod2Config(roof, seed=int(options["seed"]), map_year=map_year,
-                             nprocs=processes(options["nprocs"]))
+                             nprocs=processes(options["nprocs"]),
+                             rules=read_rules(options["rules"]) if options["rules"] else None)
     crs = options["crs"] or grassio.location_epsg()
     if crs is None:
         gs.warning(_("The location has no EPSG code and crs= is not given: the CityJSON "
@@ -317,15 +426,20 @@ def main(options, flags):
         raise InputError("Vector map <{}> has no areas".format(options["input"]))
     grassio.require_columns(options, columns, [k for k in options if k.endswith("_column")],
                             options["input"])
-    heights = lod2.heights_from_columns(
-        columns, len(geoms), options["eaves_column"], options["attic_column"],
-        options["ground_column"], float(options["ground"]), height_range, attic_range)
+    plot = _column(columns, options["plot_column"])
+    found = lod2_inputs.footprint_heights(geoms, columns, plot, height_options(
+        options, points, geoms, height_range, attic_range))
+    report_heights(found.report, options)
     requests = lod2.requests_from_columns(columns, len(geoms), options["roof"],
                                           options["roof_column"], map_year, options["year_column"])
-    footprints = lod2.Footprints(geoms, columns.get("cat"), _column(columns, options["plot_column"]),
+    footprints = lod2.Footprints(geoms, columns.get("cat"), plot,
                                  _column(columns, options["source_column"]))
 
-    prepared = lod2.prepare(footprints, heights, requests, config)
+    prepared = lod2.prepare(footprints, found.heights, requests, config)
+    prepared = lod2_inputs.with_height_source(prepared, found.source)
+    if not flags["s"]:
+        prepared, edges = lod2_inputs.with_street_edges(prepared, street_options(options, geoms))
+        report_street_edges(edges)
     report_footprints(prepared.report, options["ground"])
     match = None if model is None else lod2_output.match_existing(
         model, wanted, footprints, lod2_output.footprint_ids(columns, options["id_column"]))
@@ -387,6 +501,104 @@ def report_output(written, counts, output):
                          "out").format(written.copy.skipped_geometries))
     if written.rendered:
         gs.message(_("Picture written to '{}'").format(written.rendered))
+
+
+def height_options(options, points, geoms, height_range, attic_range):
+    """The :class:`~reconstruction.lod2_inputs.HeightOptions` of the options,
+    with the points (``points``: option -> reading job), rasters and maps they name read."""
+    from reconstruction import grassinputs, grassio, lod2_inputs, neighbourhood
+    from reconstruction.options import parse_number
+
+    percentile = parse_number(options["ground_percentile"], "ground_percentile", minimum=0)
+    elevation = aligned = plots = None
+    with grassio.doing("reading the 3D points"):
+        ground_points, building_points = (grassinputs.finish_read_points(points[k])
+                                          for k in ("ground_points", "building_points"))
+    if ground_points is not None:
+        if options["elevation"]:
+            gs.warning(_("Both ground_points= and elevation= given: the ground comes from the "
+                         "points"))
+    elif options["elevation"]:
+        grassio.require_raster(options["elevation"])
+        elevation = grassinputs.read_grid(options["elevation"], _bounds(geoms),
+                                          lod2_inputs.MAX_GROUND_BUFFER + 1)
+    if options["aligned"]:
+        with grassio.doing("reading the aligned footprints <{}>".format(options["aligned"])):
+            a_geoms, a_columns = grassio.read_areas(options["aligned"])
+        aligned = lod2_inputs.AlignedFootprints(a_geoms, a_columns, options["height_columns"])
+    if options["plots"]:
+        with grassio.doing("reading the plots <{}>".format(options["plots"])):
+            p_geoms, p_columns = grassio.read_areas(options["plots"])
+        key = options["plot_column"] if options["plot_column"] in p_columns else "cat"
+        plots = neighbourhood.Plots(p_geoms, p_columns[key])
+    if (plots is not None) and aligned is None and building_points is None:
+        gs.warning(_("plots= is used only with aligned= or building_points="))
+    return lod2_inputs.HeightOptions(
+        options["eaves_column"], options["attic_column"], options["ground_column"],
+        float(options["ground"]), height_range, attic_range, ground_points, elevation,
+        percentile, aligned, building_points, plots,
+        neighbourhood.HeightRule(method=options["height_rule"]))
+
+
+def street_options(options, geoms):
+    """The :class:`~reconstruction.lod2_inputs.StreetOptions` of the options."""
+    from reconstruction import grassinputs, grassio, lod2_inputs
+
+    if options["streets"]:
+        grassio.require_raster(options["streets"])
+        classes = lod2_inputs.parse_classes(options["street_classes"],
+                                            grassinputs.raster_labels(options["streets"]))
+        grid = grassinputs.read_grid(options["streets"], _bounds(geoms), 10.0)
+        return lod2_inputs.StreetOptions(grid, classes)
+    if options["street_classes"]:
+        gs.warning(_("street_classes= is used only with streets="))
+    if options["street_areas"]:
+        with grassio.doing("reading the street areas <{}>".format(options["street_areas"])):
+            s_geoms, _columns = grassio.read_areas(options["street_areas"], table=False)
+        return lod2_inputs.StreetOptions([g for g in s_geoms if g is not None])
+    return lod2_inputs.StreetOptions()
+
+
+def _bounds(geoms):
+    import shapely
+
+    return shapely.total_bounds([g for g in geoms if g is not None])
+
+
+def report_heights(report, options):
+    """Say where the heights came from, warn about footprints without ground."""
+    if report.ground_from in ("points", "elevation"):
+        what = options["ground_points"] if report.ground_from == "points" else options["elevation"]
+        gs.message(_("Ground from <{}> (percentile {}): {} footprints with the buffer grown "
+                     "over a hole").format(what, options["ground_percentile"],
+                                           report.ground_grown))
+        if report.ground_missing:
+            gs.warning(_("{} footprints have no ground point or cell within {:g} m").format(
+                report.ground_missing, 50.0))
+    if options["aligned"]:
+        gs.message(_("{} of the footprints are aligned footprints with measured heights; {} "
+                     "aligned footprints measured").format(report.matched,
+                                                           report.aligned_measured))
+        if report.aligned_unmeasured:
+            gs.warning(_("{} aligned footprints have no measured heights (NULL)").format(
+                report.aligned_unmeasured))
+    if options["building_points"]:
+        gs.message(_("{} footprints have building points").format(report.with_points))
+    gs.verbose(_("Height sources: {}").format(
+        ", ".join("{} {}".format(v, k) for k, v in report.sources.items())))
+
+
+def report_street_edges(edges):
+    """Say how the street edges were chosen (the cases)."""
+    import numpy as np
+
+    from reconstruction import street_edges as se
+
+    n = np.bincount(edges.case, minlength=6)
+    gs.message(_("Street edges: {} one unshared edge, {} from a neighbour, {} by vote, {} "
+                 "shortest, {} facing the streets map; {} enclosed (no street edge)").format(
+                     n[se.ONE_FREE], n[se.FROM_NEIGHBOUR], n[se.VOTE], n[se.SHORTEST],
+                     n[se.STREETS], n[se.ENCLOSED]))
 
 
 def _column(columns, name):

@@ -112,7 +112,53 @@ def main():
                       "({:.1%} mostly)".format(label, any_, count, most))
             print("  with streets=: cases 0-5 {}; median {:.3f} s wall, {:.3f} s CPU".format(
                 np.bincount(with_streets.case, minlength=6).tolist(), wall, cpu))
+    ok &= bench_module(args.runs)
     return 0 if ok else 1
+
+
+def bench_module(runs):
+    """Inside GRASS: v.histo.lod2 on Brussels 1924 with street edges (default)
+    and without (-s), runs interleaved; goal: buildings per second within 10 %."""
+    import shutil
+    import tempfile
+
+    if "GISBASE" not in os.environ or shutil.which("v.histo.lod2") is None:
+        print("SKIP v.histo.lod2 with and without street edges: not in a GRASS session with "
+              "the suite on the path")
+        return True
+    import grass.script as gs
+    from histo_testing import timed_children
+
+    shp = os.path.join(DATA, "bxls_1924", "thesis_output", "final_all_footprints.shp")
+    if not os.path.exists(shp):
+        print("SKIP v.histo.lod2 on Brussels: {} not found".format(shp))
+        return True
+    gs.run_command("v.in.ogr", input=shp, output="bench_se_bxl", flags="o", quiet=True,
+                   overwrite=True, columns="cat,idx,feaid,g00,g01,g02,g03,g04,g05,buffer_val,"
+                   "nr_ground,h_building,h_attic,roof_025,roof_099,bouwjaar")
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "m.json")
+        res = {"on": [], "off": []}
+        for _ in range(runs):
+            for label, flags in (("on", ""), ("off", "s")):
+                res[label].append(timed_children(1, lambda: gs.run_command(
+                    "v.histo.lod2", flags=flags, input="bench_se_bxl", output=out,
+                    ground_column="g02", year=1924, overwrite=True, quiet=True))[:2])
+    gs.run_command("g.remove", flags="f", type="vector", name="bench_se_bxl", quiet=True)
+    import statistics
+
+    n = 3706
+    med = {k: (statistics.median(w for w, _ in v), statistics.median(c for _, c in v))
+           for k, v in res.items()}
+    ratio = med["off"][1] / med["on"][1]
+    met = ratio >= 0.9
+    print("v.histo.lod2 on Brussels 1924 ({} footprints), median of {} interleaved runs: street "
+          "edges on {:.2f} s wall, {:.2f} s CPU ({:.0f} buildings/s wall); off (-s) {:.2f} s "
+          "wall, {:.2f} s CPU ({:.0f}/s); on/off CPU rate {:.1%}; goal within 10 %: {}; load "
+          "{}".format(n, runs, med["on"][0], med["on"][1], n / med["on"][0], med["off"][0],
+                      med["off"][1], n / med["off"][0], ratio, "met" if met else "NOT met",
+                      " ".join("{:.2f}".format(v) for v in os.getloadavg())))
+    return met
 
 
 if __name__ == "__main__":
