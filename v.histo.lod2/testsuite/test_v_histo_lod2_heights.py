@@ -158,8 +158,8 @@ def test_aligned_footprints_give_measured_heights_and_the_rest_inferred(houses, 
                                                                         columns):
     aligned = import_features(aligned_features(columns), "al_" + columns, tmp_path)
     out = str(tmp_path / "a.json")
-    rc, _, err = run(input=houses, output=out, aligned=aligned, eaves_column="nonexistent",
-                     ground=2.0, roof="gable")
+    # the houses have eaves and roof columns: aligned= takes precedence over them
+    rc, _, err = run(input=houses, output=out, aligned=aligned, ground=2.0, roof="gable")
     assert rc == 0, err
     assert "4 of the footprints are aligned footprints" in err
     attrs = by_footprint(load(out))
