@@ -22,6 +22,7 @@ from .roofs import make_roofs
 from .solidset import concat, from_parts, shell_parts, take
 from .validation import validate
 from .vertex_budget import MAX_ROOF_VERTICES, needs_budget, simplify_rings
+from .work_limits import check_crow_steps
 
 #: Fallback chain when a roof type fails validation.
 FALLBACK = {"stepped": "gable", "gable": "mansard", "hip": "mansard", "mansard": "flat",
@@ -206,6 +207,7 @@ def build_solids(buildings, config=None, nprocs=1):
     uniform numbers.
     """
     config = config or RoofConfig()
+    check_crow_steps(config.step)
     B = len(buildings)
     nprocs = min(int(nprocs), B // 1000)          # chunks of at least 1,000 footprints
     if nprocs <= 1:
