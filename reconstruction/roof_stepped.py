@@ -199,12 +199,13 @@ def stepped_arrays(xy, ends, body, steps, thickness):
             fcnt[:, 0] = m + 2
             # back face (towards the ridge): the gable profile (right to left), then the outline
             Tg = T[sel]
+            reverse = np.clip(Tg[:, None] - 1 - np.arange(K), 0, K - 1)
             prof_rev = np.where(np.arange(K)[None, :] < Tg[:, None],
-                                np.take_along_axis(top_k[sel], np.clip(Tg[:, None] - 1 - np.arange(K), 0,
-                                                                       K - 1), axis=1), 0) + 2 * n
+                                np.take_along_axis(top_k[sel], reverse, axis=1), 0) + 2 * n
             pos = np.arange(Kf)[None, :]
-            faces[:, 1] = np.where(pos < Tg[:, None], prof_rev[:, np.minimum(np.arange(Kf), K - 1)],
-                                   back[np.arange(g)[:, None], np.clip(pos - Tg[:, None], 0, m + 1)])
+            outline = back[np.arange(g)[:, None], np.clip(pos - Tg[:, None], 0, m + 1)]
+            faces[:, 1] = np.where(pos < Tg[:, None],
+                                   prof_rev[:, np.minimum(np.arange(Kf), K - 1)], outline)
             fcnt[:, 1] = Tg + m + 2
             # side faces of the slab
             faces[:, 2, :4] = np.stack([ia, front[:, 1], back[:, 1], np.full(g, i_qa)], axis=1)
