@@ -7,7 +7,9 @@ the thesis's Brussels 1924 footprints (3,706, with their inferred heights,
 ``../shared/data/bxls_1924/thesis_output/final_all_footprints.shp``) and on
 a larger synthetic set (rectangles, trapezoids, L shapes and pentagons in
 street rows, heights drawn from the Brussels ranges, roof=auto). Prints the
-median wall time of several runs of the whole module and the rate.
+median wall time of several runs of the whole module and the rate, with the
+median CPU time of the module and its child processes and the load average
+(the machine may be shared: wall times are only as good as the load).
 
 Run inside a GRASS session with the suite on the module path, e.g. through
 ``testsuite/benchmarks/run_all.sh`` (``make bench``), or:
