@@ -37,6 +37,7 @@ import numpy as np
 import shapely
 
 from .errors import InputError
+from .work_limits import check_alignment
 
 #: the BAG register writes 9999 for "construction year unknown"; any year
 #: after the current one is a placeholder too
@@ -495,6 +496,8 @@ def align(plots, cats, footprints, years, config):
 
     index = np.flatnonzero(candidate)
     cand = footprints[index]
+    check_alignment(plots[plot_ok], cand, config.buffer, config.shift, config.shift_window,
+                    config.shift_cell)
     tree = shapely.STRtree(cand)
     grown = plots.copy()
     grown[plot_ok] = shapely.buffer(plots[plot_ok], config.buffer)

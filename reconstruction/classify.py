@@ -25,6 +25,7 @@ import numpy as np
 from . import classification as cl
 from .errors import InputError
 from .options import parse_list, parse_number, parse_range, processes
+from .work_limits import check_segmentations
 
 # Colours of the classes: by class name where it is a usual one, otherwise
 # distinct colours in the order of the labels.
@@ -135,12 +136,13 @@ def read_config(options):
                           allow_minimum=False)
     m_step = parse_number(options["minsize_step"], "minsize_step", int, minimum=0,
                           allow_minimum=False)
-    thresholds = cl.parameter_values(low_t, high_t, t_step)
-    minsizes = [int(v) for v in cl.parameter_values(low_m, high_m, m_step, 0)]
     if not (0 < low_t and high_t < 1):
         raise InputError("Thresholds must lie between 0 and 1, got {}-{}".format(low_t, high_t))
     if low_m < 1:
         raise InputError("Minimum sizes must be at least 1 cell, got {}".format(low_m))
+    check_segmentations((low_t, high_t), t_step, (low_m, high_m), m_step)
+    thresholds = cl.parameter_values(low_t, high_t, t_step)
+    minsizes = [int(v) for v in cl.parameter_values(low_m, high_m, m_step, 0)]
     classifiers = parse_list(options["classifiers"])
     if len(set(classifiers)) != len(classifiers):
         raise InputError("Option classifiers= lists a classifier twice")

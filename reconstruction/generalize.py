@@ -22,6 +22,7 @@ from typing import Optional
 from . import assessment, generalization, safefile, shape_metrics
 from .errors import InputError
 from .options import parse_list, parse_number
+from .work_limits import check_alpha
 
 #: column of the output plots: the category of the raw area a plot comes from
 #: (only for vector input). Not :data:`reconstruction.contract.SOURCE` (how a
@@ -188,10 +189,16 @@ def _shape_scores(plots, references, buffer):
 def generalize_map(raw, config, gt_points=None, gt_polygons=None):
     """Generalise the raw plots; measure and score the result.
 
+    An alpha that would sample too many points in these plots raises
+    :class:`~reconstruction.errors.InputError` first
+    (:func:`reconstruction.work_limits.check_alpha`).
+
     ``gt_points``: (n, 2) coordinates of ground-truth points, one in each true
     plot; ``gt_polygons``: reference plot geometries. Returns a
     :class:`GeneralizedPlots`.
     """
+    if "alpha" in config.methods:
+        check_alpha(raw.polygons, config.alpha)
     result = generalization.generalize_plots(
         raw.polygons, config.methods, alpha=config.alpha, distance=config.distance,
         angle=config.angle, orthogonal=config.orthogonal, tolerance=config.tolerance,

@@ -33,6 +33,7 @@ from .roof_model import RoofConfig
 from .roofs import ROOF_TYPES, draw_roof_types
 from .solids import Buildings, build_solids
 from .solidset import semantics
+from .vertex_budget import needs_budget
 
 #: what a roof column or ``roof=`` may ask for besides a roof type
 AUTO = "auto"
@@ -138,6 +139,9 @@ class Lod2Report(NamedTuple):
     fell_back: int = 0
     #: every roof that failed validation (a building may fall back more than once)
     fallbacks: tuple = ()
+    #: buildings whose pitched roof stands on their simplified outline (more
+    #: than :data:`~reconstruction.vertex_budget.MAX_ROOF_VERTICES` vertices)
+    simplified: int = 0
 
 
 class Prepared(NamedTuple):
@@ -364,6 +368,8 @@ def build(prepared, config=None):
         attributes[name] = [values[j] for j in kept]
     report = prepared.report._replace(dropped=len(buildings) - len(kept),
                                       fell_back=int(np.sum(got != buildings.roof_types[kept])),
+                                      simplified=int(needs_budget(
+                                          [buildings.footprints[k] for k in kept], got).sum()),
                                       fallbacks=[RoofFallback(cats[src[f.index]], f.kind, f.reason)
                                                  for f in log])
     return Lod2Result(ss, semantics(ss), ids, got, fsrc, attributes, report)

@@ -131,8 +131,11 @@ def clean_rings(polygons, tol=0.001):
     xy, which = xy[keep], which[keep]
     dead = np.zeros(P, dtype=bool)
     # remove, in every ring at once, its worst vertex (a duplicate, else the
-    # most collinear one) until no ring has any: as clean_ring, in bulk
-    for _ in range(int(counts.max(initial=0)) + 1):
+    # most collinear one) until no ring has any: as clean_ring, in bulk; the
+    # few rings that still have some after a few passes (digitised curves:
+    # thousands of vertices a fraction of a millimetre off the line) go on
+    # one by one, with a heap (each pass here costs the vertices of all rings)
+    for passes in range(int(counts.max(initial=0)) + 1):
         n = np.bincount(which, minlength=P)
         dead |= n < 3
         alive = ~dead[which]
@@ -148,6 +151,9 @@ def clean_rings(polygons, tol=0.001):
         dist = np.abs(cross) / np.maximum(ln, 1e-12)
         bad = dup | (dist < tol) | (ln < tol)
         if not bad.any():
+            break
+        if passes == _BULK_PASSES:
+            xy, which = _clean_one_by_one(xy, which, np.unique(which[bad]), tol)
             break
         score = np.where(dup, -1.0, np.where(bad, dist, np.inf))
         order = np.lexsort((score, which))
@@ -170,6 +176,62 @@ def clean_rings(polygons, tol=0.001):
         else:
             rings[k] = parts[k] if area2[k] > 0 else parts[k][::-1].copy()
     return rings, reasons
+
+
+#: passes of clean_rings over every ring before the rings still to clean go on one by one
+_BULK_PASSES = 8
+
+
+def _clean_one_by_one(xy, which, todo, tol):
+    """The vertices ``xy`` of rings ``which`` (sorted) with the rings
+    ``todo`` cleaned as :func:`clean_rings` does, one vertex at a time, with
+    a heap of the removable vertices and their scores (duplicates first, then
+    the most collinear; ties: the first vertex)."""
+    first = np.searchsorted(which, todo)
+    last = np.searchsorted(which, todo, side="right")
+    keep = np.ones(len(xy), dtype=bool)
+    for a, b in zip(first.tolist(), last.tolist()):
+        keep[a:b] = _removable_kept(xy[a:b], tol)
+    return xy[keep], which[keep]
+
+
+def _removable_kept(xy, tol):
+    """(n,) True for the vertices of one ring that stay (see :func:`_clean_one_by_one`)."""
+    import heapq
+
+    n = len(xy)
+    x, y = xy[:, 0].tolist(), xy[:, 1].tolist()
+    before = [(i - 1) % n for i in range(n)]
+    after = [(i + 1) % n for i in range(n)]
+    alive = [True] * n
+    inf = float("inf")
+
+    def score(i):
+        p, q = before[i], after[i]
+        if x[i] == x[q] and y[i] == y[q]:
+            return -1.0
+        dx, dy = x[q] - x[p], y[q] - y[p]
+        ln = float(np.hypot(dx, dy))
+        dist = abs((x[i] - x[p]) * dy - (y[i] - y[p]) * dx) / max(ln, 1e-12)
+        return dist if dist < tol or ln < tol else inf
+
+    current = [score(i) for i in range(n)]
+    heap = [(c, i) for i, c in enumerate(current) if c < inf]
+    heapq.heapify(heap)
+    left = n
+    while heap and left >= 3:
+        c, i = heapq.heappop(heap)
+        if not alive[i] or c != current[i]:
+            continue
+        alive[i] = False
+        left -= 1
+        p, q = before[i], after[i]
+        after[p], before[q] = q, p
+        for k in (p, q):
+            current[k] = score(k)
+            if current[k] < inf:
+                heapq.heappush(heap, (current[k], k))
+    return np.array(alive, dtype=bool)
 
 
 def ring_is_simple(xy):

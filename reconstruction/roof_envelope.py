@@ -6,6 +6,11 @@ planes, vertical gable planes, the flat mansard top) that lies on the
 envelope, so all footprints with the same number of vertices are solved in
 one numpy pass. Hip, gable and mansard roofs of convex footprints and the
 main body behind a crow-stepped facade are envelopes.
+
+Every triple of planes is a candidate node, so the work grows with the
+fourth power of the number of vertices: footprints of at most
+:data:`MAX_VERTICES` are solved here (larger convex ones go to the straight
+skeleton), in batches of at most :data:`BATCH_BYTES` of arrays.
 """
 
 import itertools
@@ -16,6 +21,19 @@ import numpy as np
 from .roof_model import RoofGroup
 
 _TOL = 1e-6
+#: convex footprints of more vertices get their roof from the straight skeleton
+MAX_VERTICES = 24
+#: about the largest memory (bytes) of one call of :func:`envelope_arrays`
+BATCH_BYTES = 64 * 2 ** 20
+
+
+def batch_rows(n, has_top=False):
+    """How many footprints of ``n`` vertices :func:`envelope_arrays` solves
+    at once within :data:`BATCH_BYTES` (its largest arrays hold about 16
+    numbers of 8 bytes per plane and candidate point)."""
+    P = n + 1 if has_top else n
+    C = P * (P - 1) * (P - 2) // 6
+    return max(1, BATCH_BYTES // (16 * 8 * P * (C + 2 + n)))
 
 
 class Envelope(NamedTuple):

@@ -145,6 +145,23 @@ def _cgal_extrude(footprints, pitches, heights):
         free(md)
 
 
+def _guarded_extrude(footprints, pitches, heights, index):
+    """``[(footprint index, object), ...]`` of :func:`_cgal_extrude` on the
+    footprints ``index``: where the library fails on a batch, the two halves
+    are tried apart, so that one footprint it cannot solve costs only its
+    own roof."""
+    try:
+        result = _cgal_extrude([footprints[i] for i in index], [pitches[i] for i in index],
+                               [heights[i] for i in index])
+    except Exception:
+        if len(index) == 1:
+            return []
+        half = len(index) // 2
+        return (_guarded_extrude(footprints, pitches, heights, index[:half])
+                + _guarded_extrude(footprints, pitches, heights, index[half:]))
+    return [(int(index[obj["object_index"]]), obj) for obj in result.get("objects", [])]
+
+
 def cgal_roofs(footprints, pitches, heights):
     """Roofs over any simple footprints with CGAL's weighted straight skeleton.
 
@@ -152,18 +169,14 @@ def cgal_roofs(footprints, pitches, heights):
     ``pitches``: list of per-edge pitch angles in degrees (90 = gable end);
     ``heights``: list of flat-top heights (mansard) or None. Returns a list of
     :class:`~reconstruction.roof_model.Roof` (faces are triangles) or None
-    where CGAL failed.
+    where CGAL failed (a failure costs only the footprints it fails on).
     """
     if not cgal_available():
         return [None] * len(footprints)
-    try:
-        with _quiet_stdout():
-            result = _cgal_extrude(footprints, pitches, heights)
-    except Exception:
-        return [None] * len(footprints)
     out = [None] * len(footprints)
-    for obj in result.get("objects", []):
-        i = obj["object_index"]
+    with _quiet_stdout():
+        objects = _guarded_extrude(footprints, pitches, heights, np.arange(len(footprints)))
+    for i, obj in objects:
         xy = footprints[i]
         n = len(xy)
         v = np.asarray(obj["vertices"], dtype=float).reshape(-1, 3)

@@ -11,6 +11,11 @@ import numpy as np
 
 from .roof_model import RoofGroup
 
+#: a facade of more steps (a side) is no crow-stepped gable: the roof falls back to a gable
+MAX_STEPS = 64
+#: about the largest memory (bytes) of the facade arrays of one batch
+BATCH_BYTES = 64 * 2 ** 20
+
 
 def clip_strips(xy, ends, thickness):
     """Split convex footprints (G, n, 2) at distance ``thickness`` from their
@@ -63,7 +68,8 @@ def stepped_arrays(xy, ends, body, steps, thickness):
     body roof's gable profile.
 
     Returns a list of :class:`~reconstruction.roof_model.RoofGroup`, one per
-    number of steps, whose ``index`` are rows of the input; their vertices
+    number of steps (at most :data:`MAX_STEPS`; in batches of about
+    :data:`BATCH_BYTES`), whose ``index`` are rows of the input; their vertices
     past the footprint are the body roof's (its base, then its nodes), then
     the facade corners; ``wall_mid`` is set where the inner edge's ends lie
     on the edges next to the street edge. Rows whose facade cannot be built
@@ -109,7 +115,7 @@ def stepped_arrays(xy, ends, body, steps, thickness):
     margin = np.minimum(0.1, s / 4.0)
     with np.errstate(divide="ignore", invalid="ignore"):
         nsteps = np.ceil((H + margin) / s)
-    ok = body.ok & (T > 0) & (H > 1e-3) & np.isfinite(nsteps)
+    ok = body.ok & (T > 0) & (H > 1e-3) & np.isfinite(nsteps) & (nsteps <= MAX_STEPS)
     nsteps = np.where(ok, nsteps, 1).astype(np.int64)
     iapex = np.argmax(pz, axis=1)
     last = T + 1
@@ -118,102 +124,109 @@ def stepped_arrays(xy, ends, body, steps, thickness):
     lo, hi = np.maximum(0.0, ua), np.minimum(L, ub)
     out = []
     for q in np.unique(nsteps[ok]):
-        sel = np.nonzero(ok & (nsteps == q))[0]
-        g = len(sel)
-        Q = int(q) - 1
-        zq = np.arange(1, Q + 1, dtype=float)[None, :] * s[sel, None] - margin[sel, None]
-        uL = _interp_rows(zq, np.take_along_axis(pz[sel], rising[sel], axis=1),
-                          np.take_along_axis(pu[sel], rising[sel], axis=1))
-        uR = _interp_rows(zq, np.take_along_axis(pz[sel], falling[sel], axis=1),
-                          np.take_along_axis(pu[sel], falling[sel], axis=1))
-        seq = np.concatenate([lo[sel, None], uL, uR[:, ::-1], hi[sel, None]], axis=1)
-        wide = np.all(np.diff(seq, axis=1) >= 0.02, axis=1)
-        sel, uL, uR = sel[wide], uL[wide], uR[wide]
-        g = len(sel)
-        if g == 0:
-            continue
-        zs = np.arange(1, Q + 2, dtype=float)[None, :] * s[sel, None]
-        # outline of the stepped profile, left to right: (u, z) corners
-        nc = 4 + 4 * Q
-        cu = np.empty((g, nc))
-        cz = np.empty((g, nc))
-        cu[:, 0] = cu[:, 1] = lo[sel]
-        cz[:, 0], cz[:, 1] = 0.0, zs[:, 0]
-        cu[:, 2:2 + 2 * Q:2] = uL
-        cu[:, 3:3 + 2 * Q:2] = uL
-        cz[:, 2:2 + 2 * Q:2] = zs[:, :Q]
-        cz[:, 3:3 + 2 * Q:2] = zs[:, 1:Q + 1]
-        k0 = 2 + 2 * Q
-        cu[:, k0:k0 + 2 * Q:2] = uR[:, ::-1]
-        cu[:, k0 + 1:k0 + 2 * Q:2] = uR[:, ::-1]
-        cz[:, k0:k0 + 2 * Q:2] = zs[:, Q:0:-1]
-        cz[:, k0 + 1:k0 + 2 * Q:2] = zs[:, Q - 1::-1] if Q else zs[:, :0]
-        cu[:, -2] = cu[:, -1] = hi[sel]
-        cz[:, -2], cz[:, -1] = zs[:, 0], 0.0
-        # inner corners on the front (the street edge) and the back (inner edge)
-        m = nc - 2
-        fxy = a[sel, None] + cu[:, 1:-1, None] * t[sel, None]
-        bk = fxy + (nrm[sel] * thickness)[:, None]
-        fxy[:, 0], fxy[:, -1] = a[sel], b[sel]
-        bk[:, 0], bk[:, -1] = qa[sel], qb[sel]
-        # roof vertices: footprint, body roof (its base, then its nodes), facade
-        R = 2 * n + C + 2 * m
-        roof = np.zeros((g, R, 3))
-        roof[:, :n, :2] = xy[sel]
-        roof[:, n:2 * n, :2] = bxy[sel]
-        roof[:, 2 * n:2 * n + C] = nodes[sel]
-        base = 2 * n + C
-        roof[:, base:base + m, :2] = fxy
-        roof[:, base + m:, :2] = bk
-        roof[:, base:base + m, 2] = cz[:, 1:-1]
-        roof[:, base + m:, 2] = cz[:, 1:-1]
-        e = ends[sel]
-        ia, ib = e, (e + 1) % n
-        i_qa, i_qb = n, n + 1
-        front = np.empty((g, m + 2), dtype=np.int64)
-        front[:, 0], front[:, -1] = ia, ib
-        front[:, 1:-1] = base + np.arange(m)
-        back = np.empty((g, m + 2), dtype=np.int64)
-        back[:, 0], back[:, -1] = i_qa, i_qb
-        back[:, 1:-1] = base + m + np.arange(m)
-        P = ring_idx.shape[1]
-        Kb = ring_idx.shape[2]
-        F = 4 + (m - 1) + (P - 1)
-        Kf = max(m + 2 + K, Kb, 4)
-        faces = np.zeros((g, F, Kf), dtype=np.int64)
-        fcnt = np.zeros((g, F), dtype=np.int64)
-        # front facade, seen from the street
-        faces[:, 0, :m + 2] = front[:, ::-1]
-        fcnt[:, 0] = m + 2
-        # back face (towards the ridge): the gable profile (right to left), then the outline
-        Tg = T[sel]
-        prof_rev = np.where(np.arange(K)[None, :] < Tg[:, None],
-                            np.take_along_axis(top_k[sel], np.clip(Tg[:, None] - 1 - np.arange(K), 0,
-                                                                   K - 1), axis=1), 0) + 2 * n
-        pos = np.arange(Kf)[None, :]
-        faces[:, 1] = np.where(pos < Tg[:, None], prof_rev[:, np.minimum(np.arange(Kf), K - 1)],
-                               back[np.arange(g)[:, None], np.clip(pos - Tg[:, None], 0, m + 1)])
-        fcnt[:, 1] = Tg + m + 2
-        # side faces of the slab
-        faces[:, 2, :4] = np.stack([ia, front[:, 1], back[:, 1], np.full(g, i_qa)], axis=1)
-        faces[:, 3, :4] = np.stack([ib, np.full(g, i_qb), back[:, -2], front[:, -2]], axis=1)
-        fcnt[:, 2:4] = 4
-        # treads and risers
-        i = np.arange(1, m)
-        faces[:, 4:4 + m - 1, :4] = np.stack([front[:, i], front[:, i + 1], back[:, i + 1],
-                                              back[:, i]], axis=2)
-        fcnt[:, 4:4 + m - 1] = 4
-        # the body roof but its vertical face on the inner edge; its base vertices
-        # beyond the inner edge are the footprint's
-        k = ring_idx[sel, 1:]
-        mapped = np.where((k >= 2) & (k < n), (e[:, None, None] + k) % n, n + k)
-        faces[:, 4 + m - 1:, :Kb] = mapped
-        bc = cnt[sel, 1:]
-        fcnt[:, 4 + m - 1:] = np.where(bc >= 3, bc, 0)
-        wall_mid = np.full((g, n), -1, dtype=np.int64)
-        wall_mid[np.arange(g), (e - 1) % n] = i_qa
-        wall_mid[np.arange(g), ib] = i_qb
-        out.append(RoofGroup("stepped", sel, xy[sel], roof[:, n:], faces, fcnt,
-                             roof[..., 2].max(axis=1), wall_mid))
+        same = np.nonzero(ok & (nsteps == q))[0]
+        # about 8 arrays of (rows, faces, face size) numbers of 8 bytes
+        m_q = 2 + 4 * (int(q) - 1)
+        size = (4 + m_q + ring_idx.shape[1]) * max(m_q + 2 + ring_idx.shape[2], 4) * 64
+        rows = max(1, BATCH_BYTES // size)
+        for first in range(0, len(same), rows):
+            sel = same[first:first + rows]
+            g = len(sel)
+            Q = int(q) - 1
+            zq = np.arange(1, Q + 1, dtype=float)[None, :] * s[sel, None] - margin[sel, None]
+            uL = _interp_rows(zq, np.take_along_axis(pz[sel], rising[sel], axis=1),
+                              np.take_along_axis(pu[sel], rising[sel], axis=1))
+            uR = _interp_rows(zq, np.take_along_axis(pz[sel], falling[sel], axis=1),
+                              np.take_along_axis(pu[sel], falling[sel], axis=1))
+            seq = np.concatenate([lo[sel, None], uL, uR[:, ::-1], hi[sel, None]], axis=1)
+            wide = np.all(np.diff(seq, axis=1) >= 0.02, axis=1)
+            sel, uL, uR = sel[wide], uL[wide], uR[wide]
+            g = len(sel)
+            if g == 0:
+                continue
+            zs = np.arange(1, Q + 2, dtype=float)[None, :] * s[sel, None]
+            # outline of the stepped profile, left to right: (u, z) corners
+            nc = 4 + 4 * Q
+            cu = np.empty((g, nc))
+            cz = np.empty((g, nc))
+            cu[:, 0] = cu[:, 1] = lo[sel]
+            cz[:, 0], cz[:, 1] = 0.0, zs[:, 0]
+            cu[:, 2:2 + 2 * Q:2] = uL
+            cu[:, 3:3 + 2 * Q:2] = uL
+            cz[:, 2:2 + 2 * Q:2] = zs[:, :Q]
+            cz[:, 3:3 + 2 * Q:2] = zs[:, 1:Q + 1]
+            k0 = 2 + 2 * Q
+            cu[:, k0:k0 + 2 * Q:2] = uR[:, ::-1]
+            cu[:, k0 + 1:k0 + 2 * Q:2] = uR[:, ::-1]
+            cz[:, k0:k0 + 2 * Q:2] = zs[:, Q:0:-1]
+            cz[:, k0 + 1:k0 + 2 * Q:2] = zs[:, Q - 1::-1] if Q else zs[:, :0]
+            cu[:, -2] = cu[:, -1] = hi[sel]
+            cz[:, -2], cz[:, -1] = zs[:, 0], 0.0
+            # inner corners on the front (the street edge) and the back (inner edge)
+            m = nc - 2
+            fxy = a[sel, None] + cu[:, 1:-1, None] * t[sel, None]
+            bk = fxy + (nrm[sel] * thickness)[:, None]
+            fxy[:, 0], fxy[:, -1] = a[sel], b[sel]
+            bk[:, 0], bk[:, -1] = qa[sel], qb[sel]
+            # roof vertices: footprint, body roof (its base, then its nodes), facade
+            R = 2 * n + C + 2 * m
+            roof = np.zeros((g, R, 3))
+            roof[:, :n, :2] = xy[sel]
+            roof[:, n:2 * n, :2] = bxy[sel]
+            roof[:, 2 * n:2 * n + C] = nodes[sel]
+            base = 2 * n + C
+            roof[:, base:base + m, :2] = fxy
+            roof[:, base + m:, :2] = bk
+            roof[:, base:base + m, 2] = cz[:, 1:-1]
+            roof[:, base + m:, 2] = cz[:, 1:-1]
+            e = ends[sel]
+            ia, ib = e, (e + 1) % n
+            i_qa, i_qb = n, n + 1
+            front = np.empty((g, m + 2), dtype=np.int64)
+            front[:, 0], front[:, -1] = ia, ib
+            front[:, 1:-1] = base + np.arange(m)
+            back = np.empty((g, m + 2), dtype=np.int64)
+            back[:, 0], back[:, -1] = i_qa, i_qb
+            back[:, 1:-1] = base + m + np.arange(m)
+            P = ring_idx.shape[1]
+            Kb = ring_idx.shape[2]
+            F = 4 + (m - 1) + (P - 1)
+            Kf = max(m + 2 + K, Kb, 4)
+            faces = np.zeros((g, F, Kf), dtype=np.int64)
+            fcnt = np.zeros((g, F), dtype=np.int64)
+            # front facade, seen from the street
+            faces[:, 0, :m + 2] = front[:, ::-1]
+            fcnt[:, 0] = m + 2
+            # back face (towards the ridge): the gable profile (right to left), then the outline
+            Tg = T[sel]
+            reverse = np.clip(Tg[:, None] - 1 - np.arange(K), 0, K - 1)
+            prof_rev = np.where(np.arange(K)[None, :] < Tg[:, None],
+                                np.take_along_axis(top_k[sel], reverse, axis=1), 0) + 2 * n
+            pos = np.arange(Kf)[None, :]
+            outline = back[np.arange(g)[:, None], np.clip(pos - Tg[:, None], 0, m + 1)]
+            faces[:, 1] = np.where(pos < Tg[:, None],
+                                   prof_rev[:, np.minimum(np.arange(Kf), K - 1)], outline)
+            fcnt[:, 1] = Tg + m + 2
+            # side faces of the slab
+            faces[:, 2, :4] = np.stack([ia, front[:, 1], back[:, 1], np.full(g, i_qa)], axis=1)
+            faces[:, 3, :4] = np.stack([ib, np.full(g, i_qb), back[:, -2], front[:, -2]], axis=1)
+            fcnt[:, 2:4] = 4
+            # treads and risers
+            i = np.arange(1, m)
+            faces[:, 4:4 + m - 1, :4] = np.stack([front[:, i], front[:, i + 1], back[:, i + 1],
+                                                  back[:, i]], axis=2)
+            fcnt[:, 4:4 + m - 1] = 4
+            # the body roof but its vertical face on the inner edge; its base vertices
+            # beyond the inner edge are the footprint's
+            k = ring_idx[sel, 1:]
+            mapped = np.where((k >= 2) & (k < n), (e[:, None, None] + k) % n, n + k)
+            faces[:, 4 + m - 1:, :Kb] = mapped
+            bc = cnt[sel, 1:]
+            fcnt[:, 4 + m - 1:] = np.where(bc >= 3, bc, 0)
+            wall_mid = np.full((g, n), -1, dtype=np.int64)
+            wall_mid[np.arange(g), (e - 1) % n] = i_qa
+            wall_mid[np.arange(g), ib] = i_qb
+            out.append(RoofGroup("stepped", sel, xy[sel], roof[:, n:], faces, fcnt,
+                                 roof[..., 2].max(axis=1), wall_mid))
     return out
 

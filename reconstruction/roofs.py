@@ -33,7 +33,8 @@ from typing import NamedTuple, Optional
 import numpy as np
 
 from .outlines import end_edges, opposite_edges, outline_facts
-from .roof_envelope import envelope_arrays
+from .roof_envelope import MAX_VERTICES as ENVELOPE_MAX_VERTICES
+from .roof_envelope import batch_rows, envelope_arrays
 from .roof_model import RoofConfig, flat_group
 from .roof_skeleton import cgal_roofs
 from .roof_stepped import clip_strips, stepped_arrays
@@ -176,7 +177,7 @@ def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None
             plan.flat.setdefault(n, []).append(i)
             continue
         end = end_all[i]
-        convex = convex_all[i]
+        convex = convex_all[i] and n <= ENVELOPE_MAX_VERTICES
         if kind == "mansard":
             lo, hi = config.inset
             cap = 0.45 * float(facts.shortest[i])
@@ -234,7 +235,7 @@ def _stepped_bodies(footprints, roof_types, flat, facts, thickness):
     """footprint -> (main body ring, the body edge opposite its inner edge or
     -1) of the stepped roofs of convex footprints whose facade strip fits."""
     want = np.array([k == "stepped" for k in roof_types], dtype=bool) & ~flat & facts.convex
-    want &= np.array([len(xy) >= 4 for xy in footprints], dtype=bool)
+    want &= np.array([4 <= len(xy) <= ENVELOPE_MAX_VERTICES for xy in footprints], dtype=bool)
     bodies = {}
     for n in sorted({len(footprints[i]) for i in np.nonzero(want)[0]}):
         idx = np.array([i for i in np.nonzero(want)[0] if len(footprints[i]) == n])
@@ -335,16 +336,21 @@ def _envelope_roofs(plan, footprints, attic, thickness):
 
 def _batch_envelope(jobs):
     """:func:`~reconstruction.roof_envelope.envelope_arrays` of the jobs,
-    batched by vertex count and flat top: a list of (jobs, envelope)."""
+    batched by vertex count and flat top (at most
+    :func:`~reconstruction.roof_envelope.batch_rows` at once): a list of
+    (jobs, envelope)."""
     batches = {}
     for job in jobs:
         batches.setdefault((len(job.xy), job.top is not None), []).append(job)
     out = []
-    for (n, has_top), items in batches.items():
-        xy = np.stack([it.xy for it in items])
-        slopes = np.stack([it.slopes for it in items])
-        top = np.array([it.top for it in items], dtype=float) if has_top else None
-        out.append((items, envelope_arrays(xy, slopes, top)))
+    for (n, has_top), jobs_n in batches.items():
+        rows = batch_rows(n, has_top)
+        for k in range(0, len(jobs_n), rows):
+            items = jobs_n[k:k + rows]
+            xy = np.stack([it.xy for it in items])
+            slopes = np.stack([it.slopes for it in items])
+            top = np.array([it.top for it in items], dtype=float) if has_top else None
+            out.append((items, envelope_arrays(xy, slopes, top)))
     return out
 
 

@@ -7,7 +7,9 @@ under them, rounds every shell to the millimetre grid as a
 (:func:`reconstruction.validation.validate`). It never returns an invalid
 solid: a roof that fails falls back to a simpler type (stepped -> gable ->
 mansard -> flat), and a footprint whose flat prism still fails is dropped
-and counted.
+and counted. A pitched roof on a footprint of more than
+:data:`~reconstruction.vertex_budget.MAX_ROOF_VERTICES` vertices stands on
+its simplified outline (:mod:`~reconstruction.vertex_budget`).
 """
 
 from typing import NamedTuple
@@ -19,6 +21,8 @@ from .roof_model import RoofConfig
 from .roofs import make_roofs
 from .solidset import concat, from_parts, shell_parts, take
 from .validation import validate
+from .vertex_budget import MAX_ROOF_VERTICES, needs_budget, simplify_rings
+from .work_limits import check_crow_steps
 
 #: Fallback chain when a roof type fails validation.
 FALLBACK = {"stepped": "gable", "gable": "mansard", "hip": "mansard", "mansard": "flat",
@@ -209,6 +213,7 @@ def build_solids(buildings, config=None, nprocs=1):
     uniform numbers.
     """
     config = config or RoofConfig()
+    check_crow_steps(config.step)
     B = len(buildings)
     nprocs = min(int(nprocs), B // 1000)          # chunks of at least 1,000 footprints
     if nprocs <= 1:
@@ -296,14 +301,28 @@ def _build(buildings, config):
     types = buildings.roof_types.copy()
     uniforms = buildings.uniforms
     ground, eaves, attic = buildings.ground, buildings.eaves, buildings.attic
-    todo = np.arange(B)
     accepted = []
     log = []
+    # pitched roofs on footprints over the vertex budget stand on simplified
+    # outlines (flat ones, also after a fallback, keep every vertex)
+    over = np.nonzero(needs_budget(local, types))[0]
+    simple = dict(zip(over.tolist(), simplify_rings([local[i] for i in over]).rings))
+    for i, ring in simple.items():
+        if ring is None:
+            log.append(Fallback(i, types[i], "footprint of {} vertices cannot be simplified to "
+                                "{}".format(len(local[i]), MAX_ROOF_VERTICES)))
+            types[i] = "flat"
+    todo = np.arange(B)
     while len(todo):
         T = len(todo)
-        roofs = make_roofs([local[i] for i in todo], types[todo], attic[todo], uniforms[todo],
-                           None if street is None else [street[i] for i in todo], config,
-                           None if shared is None else [shared[i] for i in todo])
+        rings = [simple[i] if i in simple and types[i] != "flat" else local[i] for i in todo]
+        # street and shared edges index the footprint's own ring, not a simplified one
+        own = [rings[k] is local[i] for k, i in enumerate(todo)]
+        roofs = make_roofs(rings, types[todo], attic[todo], uniforms[todo],
+                           None if street is None else
+                           [street[i] if o else None for o, i in zip(own, todo)], config,
+                           None if shared is None else
+                           [shared[i] if o else None for o, i in zip(own, todo)])
         types[todo] = roofs.kinds
         inbulk = np.zeros(T, dtype=bool)
         for g in roofs.groups:
@@ -313,7 +332,7 @@ def _build(buildings, config):
             roof = roofs.single[k]
             i = todo[k]
             if roof is not None and roof.faces:
-                shells[k] = assemble(local[i], roof, float(ground[i]), float(eaves[i]))
+                shells[k] = assemble(rings[k], roof, float(ground[i]), float(eaves[i]))
                 if shells[k] is None:
                     bad[k] = "roof boundary does not follow the footprint"
             else:

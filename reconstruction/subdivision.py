@@ -78,6 +78,7 @@ from .plots import (CHECK_GRID, CLIP_AREA, MIN_STREET, OVERLAP_TOLERANCE, PlotRe
                     exterior_lines, front, frontage, neighbour_index, prepare_plots, seams)
 from .polygons import polygon_parts
 from .subdivision_cases import STREET_TURN, subdivide_plot
+from .work_limits import check_facades
 
 # the stage's names, importable from here as before the split into files
 __all__ = [
@@ -189,6 +190,7 @@ def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_thre
     """
     length = _positive_range(length, "length")
     depth = _positive_range(depth, "depth")
+    check_facades(length, depth)      # before any work: narrower footprints cost without bound
     cats = list(range(1, len(plots) + 1)) if cats is None else list(cats)
     if len(cats) != len(plots):
         raise InputError("cats and plots differ in length")

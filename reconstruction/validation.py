@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from .rings import components, gather, starts, unique_rows
+from .rings import components, gather, starts
 from .solidset import close_pairs, face_geometry
 
 PLANARITY_TOL = 0.001
@@ -30,37 +30,27 @@ NORMALS_TOL = 20.0
 DOWN_TOL = 0.01
 
 
-def _bent_faces(rings, ids, pos, xy2, pts, unit, faces):
-    """Faces (of ``faces``) with a triangle of their constrained Delaunay
-    triangulation (on the projection ``xy2`` of their vertices ``pts``, ring
-    ``pos`` per vertex) whose normal deviates from the face's ``unit`` normal
-    by more than :data:`NORMALS_TOL` degrees, as val3dity tests planarity."""
+def _bent_faces(rings, unit):
+    """Indices of the ``rings`` (shapely linear rings of faces, their
+    coordinates permuted so that x, y are the face's projection plane and z
+    the dropped axis) with a triangle of their constrained Delaunay
+    triangulation whose normal deviates from the face's ``unit`` normal (in
+    the same permuted axes) by more than :data:`NORMALS_TOL` degrees, as
+    val3dity tests planarity. GEOS triangulates in x, y and keeps every
+    vertex's z: the triangles come back in 3D."""
     import shapely
 
-    tris, owner = shapely.get_parts(
-        shapely.constrained_delaunay_triangles(shapely.polygons(rings)), return_index=True)
-    if not len(tris):
+    tris = shapely.constrained_delaunay_triangles(shapely.polygons(rings))
+    corners, owner = shapely.get_coordinates(tris, include_z=True, return_index=True)
+    if not len(corners):
         return np.zeros(0, dtype=np.int64)
-    corners = shapely.get_coordinates(tris).reshape(len(tris), 4, 2)[:, :3].reshape(-1, 2)
-    tri_face = np.repeat(ids[owner], 3)
-    # the 3D vertex of each corner: same face and the same projected point
-    mine = np.isin(pos, ids)
-    # (projected coordinates are millimetres / 1000: exact as integers)
-    keys = np.vstack([np.column_stack([pos[mine], np.rint(xy2[mine] * 1000.0)]),
-                      np.column_stack([tri_face, np.rint(corners * 1000.0)])]).astype(np.int64)
-    _, inv = unique_rows(keys)
-    n_ring = int(mine.sum())
-    where = np.full(inv.max() + 1, -1, dtype=np.int64)
-    where[inv[:n_ring]] = np.arange(n_ring)
-    hit = where[inv[n_ring:]]
-    found = (hit >= 0).reshape(-1, 3).all(axis=1)
-    q = pts[mine][np.maximum(hit, 0)].reshape(-1, 3, 3)
+    q = corners.reshape(-1, 4, 3)[:, :3]          # triangles are closed rings of 4 points
+    face = owner[::4]
     n = np.cross(q[:, 1] - q[:, 0], q[:, 2] - q[:, 0])
     length = np.linalg.norm(n, axis=1)
-    face_of = np.searchsorted(ids, ids[owner])
-    cos = np.abs(np.einsum("ij,ij->i", n, unit[face_of])) / np.maximum(length, 1e-300)
-    bad = found & (length > 1e-12) & (cos < math.cos(math.radians(NORMALS_TOL)))
-    return np.unique(faces[face_of[bad]])
+    cos = np.abs(np.einsum("ij,ij->i", n, unit[face])) / np.maximum(length, 1e-300)
+    bad = (length > 1e-12) & (cos < math.cos(math.radians(NORMALS_TOL)))
+    return np.unique(face[bad])
 
 
 def validate(ss, tol=PLANARITY_TOL):
@@ -113,6 +103,9 @@ def validate(ss, tol=PLANARITY_TOL):
         fit = np.repeat(vecs[:, :, 0], k, axis=0)
         far = np.maximum.reduceat(np.abs(np.einsum("ij,ij->i", r, fit)), first) > tol
         flag(face_solid[fit_faces[far]], "non-planar face (> 1 mm)")
+    z = ss.vertices[:, 2]
+    fz_max = np.maximum.reduceat(z[ss.rings], ss.face_start[:-1])
+    fz_min = np.minimum.reduceat(z[ss.rings], ss.face_start[:-1])
     # self-intersection: quads by segment tests in numpy, larger rings with
     # shapely, all projected on their plane
     quads = np.nonzero((sizes == 4) & ~degenerate)[0]
@@ -139,20 +132,25 @@ def validate(ss, tol=PLANARITY_TOL):
         pos = np.searchsorted(big, ef)
         drop = axis[pos]
         pts = p[sel]
-        keep_cols = np.array([[1, 2], [0, 2], [0, 1]])[drop]
-        xy2 = np.take_along_axis(pts, keep_cols, axis=1)
+        # the face's projection plane first, the dropped axis last (is_simple
+        # works in x, y; the triangulation below keeps z)
+        perm = np.array([[1, 2, 0], [0, 2, 1], [0, 1, 2]])
+        xyz = np.take_along_axis(pts, perm[drop], axis=1)
         # close each ring
         begin = np.searchsorted(ef, big)
-        closed = np.insert(xy2, np.r_[begin[1:], len(xy2)], xy2[begin], axis=0)
-        ids = np.insert(pos, np.r_[begin[1:], len(xy2)], np.arange(len(big)))
+        closed = np.insert(xyz, np.r_[begin[1:], len(xyz)], xyz[begin], axis=0)
+        ids = np.insert(pos, np.r_[begin[1:], len(xyz)], np.arange(len(big)))
         rings = shapely.linearrings(closed, indices=ids)
         simple = shapely.is_simple(rings)
         flag(face_solid[big[~simple]], "self-intersecting ring")
         # normals deviation (val3dity's 204): the triangles of each face's
-        # constrained Delaunay triangulation against the face's normal
-        j = np.nonzero(simple)[0]
+        # constrained Delaunay triangulation against the face's normal;
+        # horizontal faces (grounds, flat roofs and tops: every vertex at the
+        # same height) have only horizontal triangles, and need none
+        j = np.nonzero(simple & (fz_max[big] > fz_min[big]))[0]
         if len(j):
-            bent = _bent_faces(rings[j], j, pos, xy2, pts, unit[big[j]], j)
+            unit_perm = np.take_along_axis(unit[big[j]], perm[axis[j]], axis=1)
+            bent = j[_bent_faces(rings[j], unit_perm)]
             flag(face_solid[big[bent]], "non-planar face (normals deviate > 20 degrees)")
     # vertices val3dity would snap together (closer than its 1 mm snap_tol)
     vsol_entry = face_solid[entry_face]
@@ -171,9 +169,6 @@ def validate(ss, tol=PLANARITY_TOL):
     # turned downwards above the ground is where a roof folds over itself or
     # through a wall (e.g. straight skeletons of concave footprints); walls
     # tilted by the millimetre rounding are not
-    z = ss.vertices[:, 2]
-    fz_max = np.maximum.reduceat(z[ss.rings], ss.face_start[:-1])
-    fz_min = np.minimum.reduceat(z[ss.rings], ss.face_start[:-1])
     s_min = np.minimum.reduceat(fz_min, ss.solid_start[:-1][nf > 0])
     zmin = np.zeros(S, dtype=z.dtype)
     zmin[nf > 0] = s_min

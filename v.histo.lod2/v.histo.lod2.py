@@ -613,6 +613,11 @@ def report_build(report):
             report.dropped))
     if report.fell_back:
         gs.warning(_("{} roofs fell back to a simpler type to stay valid").format(report.fell_back))
+    if report.simplified:
+        from reconstruction.vertex_budget import MAX_ROOF_VERTICES
+
+        gs.message(_("{} footprints of more than {} vertices got their pitched roof on a "
+                     "simplified outline").format(report.simplified, MAX_ROOF_VERTICES))
 
 
 def report_validity(result, check, counts):
@@ -624,6 +629,7 @@ def report_validity(result, check, counts):
     print("percent_valid={:.2f}".format(100.0 * valid / total if total else 100.0))
     print("fallbacks={}".format(len(result.report.fallbacks)))
     print("dropped={}".format(result.report.dropped))
+    print("simplified={}".format(result.report.simplified))
     for k, v in counts.items():
         print("roof_{}={}".format(k, v))
     for fallback in result.report.fallbacks:
