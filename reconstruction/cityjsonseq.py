@@ -26,7 +26,7 @@ from . import citygeometry
 from .cityjson import (CITYJSON_VERSION, LOD, _attr_list, _int_text, _member_texts, _pieces,
                        _split_by_solid, crs_url)
 from .errors import InputError
-from .rings import unique_rows
+from .rings import offsets as ring_offsets, unique_rows
 from .solidset import SEMANTIC_NAMES, take
 
 _SEPARATORS = ["[[", "],[", ",", "[[-", "],[-", ",-"]
@@ -181,7 +181,7 @@ def _copied_features(copied, lo, chunk):
     one json.dumps of the chunk's objects around holes for the boundaries
     and vertices, which are written in bulk."""
     per = copied.geometry_counts()
-    first = np.concatenate([[0], np.cumsum(per)]).astype(int).tolist()
+    first = ring_offsets(per).astype(int).tolist()
     fills_all = copied.boundary_texts()
     verts = vertices_texts(copied.vertices - lo, copied.vertex_start)
     for a in range(0, len(copied), chunk):

@@ -19,6 +19,7 @@ import shapely
 from shapely.geometry import Polygon
 
 from .polygons import polygon_parts
+from .rings import offsets
 
 #: generated footprints narrower than this (map units) are slivers
 MIN_WIDTH = 2.0
@@ -186,7 +187,7 @@ def to_polygons(rings):
         return []
     closed = [r + [r[0]] for r in rings]
     coords = np.array([p for r in closed for p in r], dtype=float)
-    ring_offsets = np.concatenate([[0], np.cumsum([len(r) for r in closed])])
+    ring_offsets = offsets([len(r) for r in closed])
     poly_offsets = np.arange(len(rings) + 1)
     return list(shapely.from_ragged_array(shapely.GeometryType.POLYGON, coords,
                                           (ring_offsets, poly_offsets)))

@@ -37,6 +37,7 @@ import numpy as np
 from .errors import InputError
 from .grid import Grid, expand_ranges
 from .groupstats import group_percentiles
+from .rings import offsets
 
 #: the ground percentiles the thesis computes (columns ground-0.0 ... ground-0.5)
 GROUND_PERCENTILES = (0.0, 10.0, 20.0, 30.0, 40.0, 50.0)
@@ -79,7 +80,7 @@ class PointBuckets:
         order = np.argsort(cell, kind="stable")
         self.xyz = xyz[order]
         counts = np.bincount(cell, minlength=self.nrows * self.ncols)
-        self.starts = np.concatenate([[0], np.cumsum(counts)])
+        self.starts = offsets(counts)
 
     def candidates(self, bounds):
         """Points in the buckets under boxes ``bounds`` (F, 4): the box of each

@@ -14,6 +14,7 @@ from shapely.geometry import Polygon
 
 from .convex_rings import SNAP, ccw_ring, dedupe_ring, to_polygons
 from .plots import OVERLAP_TOLERANCE
+from .rings import offsets as ring_offsets
 
 
 def node_footprints(geometries, tolerance=SNAP):
@@ -41,7 +42,7 @@ def node_footprints(geometries, tolerance=SNAP):
     original = closed_coords[~last]
     ring_of = index[~last]
     sizes = np.bincount(ring_of, minlength=len(ring_geoms))
-    offsets = np.concatenate([[0], np.cumsum(sizes)])
+    offsets = ring_offsets(sizes)
     points = shapely.points(original)
     tree = shapely.STRtree(points)
     a, b = tree.query(points, predicate="dwithin", distance=tolerance)

@@ -16,6 +16,7 @@ from shapely.geometry import MultiPolygon
 from .convex_rings import SNAP, is_sliver
 from .overlaps import OverlapRule, group_conflicts, resolve_overlaps
 from .polygons import polygon_parts, repair
+from .rings import offsets as ring_offsets
 
 #: shortest stretch of a footprint boundary on the plot exterior that counts as street access
 MIN_STREET = 1.0
@@ -171,7 +172,7 @@ def street_edges(rings, exterior, seam=None):
         return []
     pts = np.vstack([np.asarray(r, dtype=float) for r in rings])
     sizes = np.array([len(r) for r in rings])
-    offsets = np.concatenate([[0], np.cumsum(sizes)])
+    offsets = ring_offsets(sizes)
     nxt = np.arange(1, len(pts) + 1)
     nxt[offsets[1:] - 1] = offsets[:-1]
     probe = np.vstack([pts, (pts + pts[nxt]) / 2])

@@ -42,6 +42,7 @@ import numpy as np
 
 from .errors import InputError
 from .grid import Grid, expand_ranges
+from .rings import offsets
 
 ENCLOSED, ONE_FREE, FROM_NEIGHBOUR, VOTE, SHORTEST, STREETS = 0, 1, 2, 3, 4, 5
 
@@ -65,7 +66,7 @@ class Edges:
     @classmethod
     def of(cls, rings):
         counts = np.array([len(r) for r in rings], dtype=np.int64)
-        start = np.concatenate([[0], np.cumsum(counts)])
+        start = offsets(counts)
         a = np.concatenate(rings, axis=0)[:, :2].astype(float) if len(rings) else np.zeros((0, 2))
         ring = np.repeat(np.arange(len(rings)), counts)
         index = np.arange(len(a)) - start[ring]
