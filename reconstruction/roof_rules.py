@@ -122,11 +122,7 @@ class RoofRules:
             sel = row == k
             if not sel.any():
                 continue
-            names = [name for name, _ in rule.weights]
-            cum = np.cumsum([w for _, w in rule.weights], dtype=float)
-            cum /= cum[-1]
-            idx = np.minimum(np.searchsorted(cum, u[sel], side="right"), len(names) - 1)
-            out[sel] = np.asarray(names, dtype=object)[idx]
+            out[sel] = roofs.weighted_pick(rule.weights, u[sel])
         out[np.asarray(attic, dtype=float) < roofs.MIN_PITCHED_HEIGHT] = "flat"
         return out
 

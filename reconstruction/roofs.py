@@ -78,14 +78,19 @@ def draw_roof_types(n_vertices, years, attic, uniforms, probabilities=None):
     for period, is_after in (("before", False), ("after", True)):
         for shape in (4, "n"):
             sel = (after == is_after) & ((n_vertices == 4) if shape == 4 else (n_vertices != 4))
-            weights = probabilities[(period, shape)]
-            names = list(weights)
-            cum = np.cumsum([weights[k] for k in names], dtype=float)
-            cum /= cum[-1]
-            idx = np.minimum(np.searchsorted(cum, u[sel], side="right"), len(names) - 1)
-            out[sel] = np.asarray(names, dtype=object)[idx]
+            out[sel] = weighted_pick(list(probabilities[(period, shape)].items()), u[sel])
     out[np.asarray(attic, dtype=float) < MIN_PITCHED_HEIGHT] = "flat"
     return out
+
+
+def weighted_pick(weights, uniforms):
+    """The names of ``weights`` ((name, weight) pairs) picked by uniform numbers
+    in [0, 1): each name for a share of [0, 1) proportional to its weight."""
+    names = [name for name, _ in weights]
+    cum = np.cumsum([w for _, w in weights], dtype=float)
+    cum /= cum[-1]
+    idx = np.minimum(np.searchsorted(cum, uniforms, side="right"), len(names) - 1)
+    return np.asarray(names, dtype=object)[idx]
 
 
 # ---------------------------------------------------------------------------
