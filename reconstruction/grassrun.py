@@ -10,6 +10,7 @@ says what the module was doing when a tool failed. Re-exported by
 :mod:`reconstruction.grassio`, where modules reach it.
 """
 
+import os
 import signal
 import threading
 
@@ -54,7 +55,17 @@ class Terminated(KeyboardInterrupt):
     the module ends and cleans up as after Ctrl-C."""
 
 
+#: the process that runs the module (its forked workers inherit the handler)
+_MODULE_PID = []
+
+
 def _terminate(signum, frame):
+    if _MODULE_PID and os.getpid() != _MODULE_PID[-1]:
+        # a worker process (e.g. of a multiprocessing pool, which the pool ends
+        # with SIGTERM): end quietly, as without the handler
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        os.kill(os.getpid(), signal.SIGTERM)
+        return
     # a second SIGTERM must not interrupt the clean-up of the first
     signal.signal(signal.SIGTERM, signal.SIG_IGN)
     raise Terminated()
@@ -107,6 +118,7 @@ def run_main(main, *args):
     bug and keeps its traceback.
     """
     if threading.current_thread() is threading.main_thread():
+        _MODULE_PID.append(os.getpid())
         signal.signal(signal.SIGTERM, _terminate)
     RUNNING.append(main)
     try:

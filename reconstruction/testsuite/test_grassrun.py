@@ -122,3 +122,24 @@ def test_sigterm_ends_like_an_interruption(run, capfd):
     start = time.perf_counter()
     assert _fails(run, capfd, main) == "ERROR: Terminated (SIGTERM) while waiting"
     assert time.perf_counter() - start < 10
+
+
+def _sleep(seconds):
+    time.sleep(seconds)
+    return seconds
+
+
+def test_pool_workers_ended_by_the_pool_print_no_traceback(run, capfd):
+    # a pool ends its (forked) workers with SIGTERM; they inherit run_main's
+    # handler, which must let them end quietly rather than raise Terminated
+    import multiprocessing
+
+    def main():
+        with multiprocessing.get_context("fork").Pool(2) as pool:
+            pool.map_async(_sleep, [5, 5])
+            time.sleep(0.5)     # the workers are sleeping when the pool ends them
+        return 0
+
+    assert run.run_main(main) == 0
+    err = capfd.readouterr().err
+    assert "Traceback" not in err and "Terminated" not in err, err
