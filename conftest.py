@@ -64,6 +64,15 @@ def shared_data():
 
 
 @pytest.fixture(scope="session")
+def bag_sample(shared_data):
+    """The real 3D BAG excerpt (../shared/data/3dbag_sample), or the test is skipped."""
+    path = os.path.join(shared_data, "3dbag_sample")
+    if not os.path.isdir(path):
+        pytest.skip("the 3D BAG sample is not in '{}'".format(path))
+    return path
+
+
+@pytest.fixture(scope="session")
 def schemas():
     return _need(SCHEMAS, "CityJSON schemas")
 

@@ -199,3 +199,16 @@ def plausibility(plots, cats, real, footprints, real_plot=None, plot=None):
         counts.append(len(mine) * cover / len(ref))
         areas.append(np.median(mine) / np.median([g.area for g in ref]) if mine else 0.0)
     return len(counts), float(np.median(counts)), float(np.median(areas))
+
+
+def import_features(feats, name, tmp_path):
+    """Import GeoJSON features (dicts) as vector map ``name`` (through a file in ``tmp_path``)."""
+    import json
+
+    import grass.script as gs
+
+    path = str(tmp_path / (name + ".geojson"))
+    with open(path, "w") as f:
+        json.dump({"type": "FeatureCollection", "features": feats}, f)
+    gs.run_command("v.in.ogr", input=path, output=name, flags="o", quiet=True)
+    return name

@@ -26,11 +26,8 @@ BOXES = [shapely.box(84970, 446530, 84985, 446545), shapely.box(85030, 446540, 8
 
 
 @pytest.fixture(scope="module")
-def sample(shared_data):
-    path = os.path.join(shared_data, "3dbag_sample")
-    if not os.path.isdir(path):
-        pytest.skip("the 3D BAG sample is not in '{}'".format(path))
-    return path
+def sample(bag_sample):
+    return bag_sample
 
 
 @pytest.fixture(scope="module")

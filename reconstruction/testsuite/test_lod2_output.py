@@ -18,11 +18,8 @@ OPTIONS = {"output": "out.city.json", "format": "cityjson", "render": "", "view"
 
 
 @pytest.fixture(scope="module")
-def sample(shared_data):
-    path = os.path.join(shared_data, "3dbag_sample")
-    if not os.path.isdir(path):
-        pytest.skip("the 3D BAG sample is not in '{}'".format(path))
-    return path
+def sample(bag_sample):
+    return bag_sample
 
 
 def test_requests_from_options():

@@ -7,7 +7,7 @@ import os
 import numpy as np
 import pytest
 
-from histo_testing import key_values, run_in_latlong, run_module
+from histo_testing import import_features, key_values, run_in_latlong, run_module
 from reconstruction import cityjson, roofs
 from val3dity import require_val3dity, val3dity_report
 
@@ -49,16 +49,6 @@ def synthetic_footprints(n=24, seed=0):
         feats.append({"type": "Feature", "properties": props,
                       "geometry": {"type": "Polygon", "coordinates": [ring]}})
     return feats
-
-
-def import_features(feats, name, tmp_path):
-    import grass.script as gs
-
-    path = str(tmp_path / (name + ".geojson"))
-    with open(path, "w") as f:
-        json.dump({"type": "FeatureCollection", "features": feats}, f)
-    gs.run_command("v.in.ogr", input=path, output=name, flags="o", quiet=True)
-    return name
 
 
 def run(flags="", **kwargs):

@@ -35,11 +35,8 @@ def run(flags="", **kwargs):
 
 
 @pytest.fixture(scope="module")
-def sample(shared_data):
-    path = os.path.join(shared_data, "3dbag_sample")
-    if not os.path.isdir(path):
-        pytest.skip("the 3D BAG sample is not in '{}'".format(path))
-    return path
+def sample(bag_sample):
+    return bag_sample
 
 
 def sample_footprints(sample):

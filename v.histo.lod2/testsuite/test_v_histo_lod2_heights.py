@@ -7,7 +7,7 @@ import os
 import numpy as np
 import pytest
 
-from histo_testing import run_module
+from histo_testing import import_features, run_module
 from lod2_ends import ends_on_shared, model_ends
 
 pytestmark = pytest.mark.grass
@@ -33,16 +33,6 @@ def block(n=6, width=6.0, depth=12.0, x0=X0, y0=Y0, rows=2):
                           "geometry": {"type": "Polygon",
                                        "coordinates": [rect(x, y, x + width, y + depth)]}})
     return feats
-
-
-def import_features(feats, name, tmp_path):
-    import grass.script as gs
-
-    path = str(tmp_path / (name + ".geojson"))
-    with open(path, "w") as f:
-        json.dump({"type": "FeatureCollection", "features": feats}, f)
-    gs.run_command("v.in.ogr", input=path, output=name, flags="o", quiet=True)
-    return name
 
 
 def import_points(xyz, name, tmp_path, z=True):
