@@ -149,10 +149,7 @@ def check_alignment(plots, footprints, buffer, shift=0.0, window=150.0, cell=1.0
         return float(density * np.minimum((w + 2 * b) * (h + 2 * b), extent).sum())
 
     if pairs(buffer) > max_pairs:
-        lo, hi = 0.0, buffer
-        for _ in range(60):
-            mid = 0.5 * (lo + hi)
-            lo, hi = (mid, hi) if pairs(mid) <= max_pairs else (lo, mid)
+        lo = _largest_within(pairs, buffer, max_pairs)
         raise InputError(
             "buffer={} pairs about {:,.0f} candidate footprints with the {} plots (at most "
             "{:,}): use buffer <= {} (the default is 10; a few times the maps' pixel "
@@ -167,11 +164,18 @@ def check_alignment(plots, footprints, buffer, shift=0.0, window=150.0, cell=1.0
         return float((((w + 2 * (window + s)) / c + 1) * ((h + 2 * (window + s)) / c + 1)).sum())
 
     if cells(shift) > max_cells:
-        lo, hi = 0.0, shift
-        for _ in range(60):
-            mid = 0.5 * (lo + hi)
-            lo, hi = (mid, hi) if cells(mid) <= max_cells else (lo, mid)
+        lo = _largest_within(cells, shift, max_cells)
         raise InputError(
             "shift={} (with shift_window={}) asks for correlations over about {:,.0f} raster "
             "cells (at most {:,}): use shift <= {} or a smaller shift_window".format(
                 _fmt(shift), _fmt(window), cells(shift), max_cells, _fmt(lo)))
+
+
+def _largest_within(work, value, limit):
+    """The largest value in [0, ``value``] whose ``work(value)`` (growing with
+    it) stays within ``limit``, by bisection."""
+    lo, hi = 0.0, value
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if work(mid) <= limit else (lo, mid)
+    return lo

@@ -249,6 +249,15 @@ def test_flag_s_puts_ends_on_the_shortest_edge(houses, tmp_path):
     assert ends_on_shared(model)["on_shared"] > 0      # the thesis's part 1 behaviour
 
 
+def free_row(name, tmp_path):
+    """One row of the block's houses, the k-th moved 2k m along x (apart), as map ``name``."""
+    feats = block(rows=1)
+    for k, f in enumerate(feats):
+        ring = np.array(f["geometry"]["coordinates"][0]) + [k * 2.0, 0]
+        f["geometry"]["coordinates"][0] = ring.tolist()
+    return import_features(feats, name, tmp_path)
+
+
 def street_raster(tmp_path):
     """A classified raster: class 4 (street) south of row 0 only, class 1 elsewhere."""
     import grass.script as gs
@@ -260,11 +269,7 @@ def street_raster(tmp_path):
 
 def test_streets_raster_picks_the_edge_facing_the_street(mapset, tmp_path):
     # one row of free-standing houses: every edge is unshared
-    feats = block(rows=1)
-    for k, f in enumerate(feats):
-        ring = np.array(f["geometry"]["coordinates"][0]) + [k * 2.0, 0]
-        f["geometry"]["coordinates"][0] = ring.tolist()
-    name = import_features(feats, "free", tmp_path)
+    name = free_row("free", tmp_path)
     cls = street_raster(tmp_path)
     out = str(tmp_path / "st.json")
     rc, _, err = run(input=name, output=out, streets=cls, street_classes="3,4", roof="gable")
@@ -277,11 +282,7 @@ def test_streets_raster_picks_the_edge_facing_the_street(mapset, tmp_path):
 
 
 def test_street_areas_work_as_the_raster(mapset, tmp_path):
-    feats = block(rows=1)
-    for k, f in enumerate(feats):
-        ring = np.array(f["geometry"]["coordinates"][0]) + [k * 2.0, 0]
-        f["geometry"]["coordinates"][0] = ring.tolist()
-    name = import_features(feats, "free2", tmp_path)
+    name = free_row("free2", tmp_path)
     street = import_features([{"type": "Feature", "properties": {"n": 1}, "geometry": {
         "type": "Polygon", "coordinates": [rect(X0 - 20, Y0 - 8, X0 + 60, Y0 - 0.01)]}}],
         "street", tmp_path)
