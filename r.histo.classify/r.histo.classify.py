@@ -135,15 +135,15 @@
 # %option
 # % key: min_area
 # % type: double
-# % description: Minimum mapping unit: regions of one class smaller than this (square map units) are refilled from their surroundings
-# % answer: 0
+# % label: Minimum mapping unit: regions of one class smaller than this (square map units) are refilled from their surroundings
+# % description: Default with remove=: a square as thick as the thickest removed object; 0: none
 # % guisection: Removal
 # %end
 # %option
 # % key: min_width
 # % type: double
-# % description: Parts of a class narrower than this (map units) are refilled from their surroundings (e.g. colour fringes, pieces of letters)
-# % answer: 0
+# % label: Parts of a class narrower than this (map units) are refilled from their surroundings (e.g. colour fringes, pieces of letters)
+# % description: Default with remove=: 3 cells; 0: none
 # % guisection: Removal
 # %end
 # %option
@@ -246,9 +246,8 @@ def main(options, flags):
         result = classify.classify_map(
             bands, runs, lambda name: grassio.read_raster(name, dtype=np.int32), training,
             config, grid, message=gs.message, verbose=gs.verbose)
-    if config.remove:
-        gs.message(_("Removed classes {} with a {}x{} moving window").format(
-            ",".join(map(str, config.remove)), result.window, result.window))
+    if result.rule:
+        gs.message(classify.rule_message(result.rule, config, grid))
     if flags["p"]:
         print("\n".join(classify.tuning_table(result)))
 

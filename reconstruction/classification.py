@@ -391,7 +391,13 @@ def object_thickness(mask):
 
 def removal_window(mask):
     """Moving window size from the objects to remove: thickness / 2 + 1, odd, >= 3."""
-    window = int(object_thickness(mask) / 2.0 + 1)
+    return window_for_thickness(object_thickness(mask))
+
+
+def window_for_thickness(thickness):
+    """Moving window size for removed objects ``thickness`` cells thick: thickness / 2 + 1,
+    odd, >= 3."""
+    window = int(thickness / 2.0 + 1)
     if window % 2 == 0:
         window += 1
     return max(window, 3)
