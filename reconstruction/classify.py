@@ -61,6 +61,7 @@ class ClassifyConfig:
     separate: tuple = ()
     seed: int = 1
     nprocs: int = 1
+    memory: int = 300
 
     @property
     def pairs(self):
@@ -166,7 +167,8 @@ def read_config(options):
         min_width=_optional_number(options["min_width"], "min_width"),
         separate=tuple(parse_list(options["separate"], int, key="separate")),
         seed=parse_number(options["seed"], "seed", int),
-        nprocs=processes(options["nprocs"]))
+        nprocs=processes(options["nprocs"]),
+        memory=parse_number(options.get("memory") or 300, "memory", int, minimum=1))
 
 
 def _optional_number(text, key):
@@ -174,6 +176,26 @@ def _optional_number(text, key):
     if text in (None, ""):
         return None
     return parse_number(text, key, minimum=0)
+
+
+def segmentation_chains(pairs, exhaustive=False):
+    """The i.segment runs for ``pairs`` as chains of ``(pair index, seed pair index or None)``.
+
+    One chain per threshold, its minimum sizes ascending: the first run grows
+    the segments, each next one starts from the previous result (seeds) and
+    only merges what its larger minimum size asks for. ``exhaustive``: one
+    chain per pair, every run from scratch.
+    """
+    if exhaustive:
+        return [[(i, None)] for i in range(len(pairs))]
+    chains = {}
+    for i, (threshold, minsize) in enumerate(pairs):
+        chains.setdefault(threshold, []).append((minsize, i))
+    out = []
+    for threshold in sorted(chains):
+        members = [i for _m, i in sorted(chains[threshold])]
+        out.append([(i, None if k == 0 else members[k - 1]) for k, i in enumerate(members)])
+    return out
 
 
 def integer_labels(values, column):

@@ -188,3 +188,11 @@ def test_removal_rule_derives_what_is_not_given_from_the_removed_objects():
     assert (rule.min_cells, rule.width_cells) == (0, 0) and not rule.active(())
     rule = classify.removal_rule(0.0, classify.read_config(options(min_area="1")), grid)
     assert rule.min_cells == 4 and rule.active(())
+
+
+def test_segmentation_chains_grow_once_per_threshold():
+    pairs = classify.read_config(options(threshold="0.1,0.2", threshold_step="0.1",
+                                         minsize="3,5", minsize_step="2")).pairs
+    assert pairs == [(0.1, 3), (0.1, 5), (0.2, 3), (0.2, 5)]
+    assert classify.segmentation_chains(pairs) == [[(0, None), (1, 0)], [(2, None), (3, 2)]]
+    assert classify.segmentation_chains(pairs, exhaustive=True) == [[(i, None)] for i in range(4)]
