@@ -247,7 +247,7 @@ def main(options, flags):
             ",".join(inputs)))
     grassio.require_vector(options["training"])
     config = classify.read_config(options)
-    grid = classify.Grid.from_region(gs.region())
+    grid = classify.Grid.from_region(None, gs.region())
     xy, columns = grassio.read_points(options["training"])
     training = classify.read_training(xy, columns, options["label_column"],
                                       options["class_column"], config, grid, options["training"])

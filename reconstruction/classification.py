@@ -293,15 +293,6 @@ def finite_features(features):
 # Training points and classifiers
 # ---------------------------------------------------------------------------
 
-def points_to_cells(xy, north, west, nsres, ewres, rows, cols):
-    """Row and column of each point; -1 for points outside the raster."""
-    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
-    row = np.floor((north - xy[:, 1]) / nsres).astype(np.int64)
-    col = np.floor((xy[:, 0] - west) / ewres).astype(np.int64)
-    inside = (row >= 0) & (row < rows) & (col >= 0) & (col < cols)
-    return np.where(inside, row, -1), np.where(inside, col, -1)
-
-
 def make_classifiers(names=CLASSIFIERS, seed=0, n_jobs=1, n_samples=None):
     """The scikit-learn estimators of the ensemble, by name, in the given order.
 

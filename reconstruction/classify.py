@@ -24,6 +24,7 @@ import numpy as np
 
 from . import classification as cl
 from .errors import InputError
+from .grid import Grid  # noqa: F401 (the grid of the stage: Grid.from_region(None, region))
 from .options import parse_list, parse_number, parse_range, processes
 
 # Colours of the classes: by class name where it is a usual one, otherwise
@@ -67,24 +68,6 @@ class ClassifyConfig:
     def pairs(self):
         """The (threshold, minsize) pairs to try, thresholds first."""
         return [(t, m) for t in self.thresholds for m in self.minsizes]
-
-
-@dataclass(frozen=True)
-class Grid:
-    """The raster grid (GRASS region): north-west corner, resolution, size."""
-
-    north: float
-    west: float
-    nsres: float
-    ewres: float
-    rows: int
-    cols: int
-
-    @classmethod
-    def from_region(cls, region):
-        """From the keys of ``grass.script.region()``."""
-        return cls(region["n"], region["w"], region["nsres"], region["ewres"],
-                   int(region["rows"]), int(region["cols"]))
 
 
 @dataclass(frozen=True)
@@ -244,8 +227,8 @@ def read_training(xy, columns, label_column, class_column, config, grid, name="t
                          "points".format(",".join(map(str, missing))))
     if len(set(classes) - set(config.remove)) < 1:
         raise InputError("remove= lists every class: nothing would be left")
-    rows, cols = cl.points_to_cells(xy, grid.north, grid.west, grid.nsres, grid.ewres,
-                                    grid.rows, grid.cols)
+    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+    rows, cols = grid.cells(xy[:, 0], xy[:, 1])
     outside = int((rows < 0).sum())
     if outside:
         raise InputError("{} of {} training points lie outside the computational region".format(

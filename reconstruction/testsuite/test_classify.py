@@ -65,7 +65,7 @@ def test_bad_options_are_refused_with_the_option_named(changes, message):
         classify.read_config(options(**changes))
 
 
-GRID = classify.Grid(north=10.0, west=0.0, nsres=1.0, ewres=1.0, rows=10, cols=10)
+GRID = classify.Grid(None, north=10.0, west=0.0, nsres=1.0, ewres=1.0, size=(10, 10))
 
 
 def _points(*labels):
@@ -171,7 +171,7 @@ def test_category_and_colour_rules():
 
 
 def test_removal_rule_derives_what_is_not_given_from_the_removed_objects():
-    grid = classify.Grid(100.0, 0.0, 0.5, 0.5, 10, 10)
+    grid = classify.Grid(None, 100.0, 0.0, 0.5, 0.5, (10, 10))
     rule = classify.removal_rule(15.0, classify.read_config(options(remove="2")), grid)
     # window thickness / 2 + 1, odd; a 15 x 15 cells minimum mapping unit; 3-cell fringes
     assert (rule.window, rule.min_cells, rule.width_cells) == (9, 225, 3)
