@@ -264,6 +264,12 @@ def test_inputs_of_different_regions_are_refused(syn):
            training=syn.training)
 
 
+def test_tiles_smaller_than_the_refill_window_are_refused(small):
+    # memory=1 MB holds tiles of 63 x 63 cells
+    _fails("are smaller than the refill window (65x65 cells)", input=_inputs(small),
+           training="train_small", remove="6", window=65, memory=1)
+
+
 def test_unprojected_location_is_refused(grass_session, tmp_path):
     loc, proc = run_in_latlong(grass_session["dbase"], "latlong_classify", MODULE,
                                "input=r,g,b", "training=t", "output=cls")

@@ -90,12 +90,8 @@ def run(prefix, output, memory=None):
     wall, cpu = time.perf_counter() - start, _children_cpu() - cpu
     if proc.returncode != 0:
         sys.exit("r.histo.classify failed:\n" + err)
-    stages = {}
-    match = re.search(r"Timing \(s\): (.*?)(\n\S|\Z)", err, re.S)
-    if match:
-        for part in " ".join(match.group(1).split()).split(","):
-            name, value = part.strip().rsplit(" ", 1)
-            stages[name] = float(value)
+    timing = " ".join(err.split()).partition("Timing (s): ")[2]
+    stages = {name: float(value) for name, value in re.findall(r"([a-z]+) (\d+\.\d)", timing)}
     tiles = re.search(r"segmenting (\d+) tiles", " ".join(err.split()))
     return wall, cpu, peak[0], stages, int(tiles.group(1)) if tiles else 1
 
