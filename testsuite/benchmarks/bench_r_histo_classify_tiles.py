@@ -100,6 +100,9 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", default="600,1000,2000,4000")
     parser.add_argument("--no-untiled", action="store_true", help="skip the untiled comparison")
+    parser.add_argument("--compare-only", action="store_true",
+                        help="only the untiled run of the largest size, against its tiled "
+                             "result of an earlier run in this mapset")
     args = parser.parse_args()
     from reconstruction import grassio
     from synthetic_map import generate, write_to_grass
@@ -109,7 +112,7 @@ def main():
     sizes = [int(s) for s in args.sizes.split(",")]
     print("load average before: {:.1f}".format(os.getloadavg()[0]), flush=True)
     rows = []
-    for size in sizes:
+    for size in [] if args.compare_only else sizes:
         prefix = "m{}".format(size)
         if not gs.find_file(prefix + ".red", element="cell")["fullname"]:
             smap = generate(seed=1, size=size)
