@@ -135,15 +135,15 @@
 # %option
 # % key: min_area
 # % type: double
-# % description: Minimum mapping unit: regions of one class smaller than this (square map units) are refilled from their surroundings
-# % answer: 0
+# % label: Minimum mapping unit: regions of one class smaller than this (square map units) are refilled from their surroundings
+# % description: Default with remove=: a square as thick as the thickest removed object; 0: none
 # % guisection: Removal
 # %end
 # %option
 # % key: min_width
 # % type: double
-# % description: Parts of a class narrower than this (map units) are refilled from their surroundings (e.g. colour fringes, pieces of letters)
-# % answer: 0
+# % label: Parts of a class narrower than this (map units) are refilled from their surroundings (e.g. colour fringes, pieces of letters)
+# % description: Default with remove=: 3 cells; 0: none
 # % guisection: Removal
 # %end
 # %option
@@ -160,6 +160,13 @@
 # % answer: 1
 # %end
 # %option G_OPT_M_NPROCS
+# %end
+# %option G_OPT_MEMORYMB
+# %end
+# %flag
+# % key: e
+# % description: Exhaustive tuning: a full i.segment run for every parameter pair (slower; by default each threshold grows once and larger minimum sizes are reseeded from it)
+# % guisection: Segmentation
 # %end
 # %flag
 # % key: p
@@ -183,41 +190,47 @@ def find_core():
             return
 
 
-def run_segmentations(inputs, pairs, nprocs):
-    """i.segment for each (threshold, minsize) pair, nprocs at a time.
+def _classify_sheet(inputs, windows, tiles, side, grid, training, config, flags, keep_segments):
+    """A large map: tuned on a sample of windows, segmented and classified in tiles."""
+    import numpy as np
 
-    Yields (index in pairs, temporary raster name) as each run finishes. Runs
-    still going when the caller stops (or fails, or is interrupted) are
-    stopped, so that the clean-up at exit finds every map they write.
-    """
-    from reconstruction import grassio
+    from reconstruction import classify_tiled, grassio, grasstiles
 
-    names = [grassio.temp_map("raster", "seg") for _ in pairs]
-    pending = list(range(len(pairs)))
-    running = {}
-    try:
-        while pending or running:
-            while pending and len(running) < nprocs:
-                i = pending.pop(0)
-                threshold, minsize = pairs[i]
-                running[i] = gs.start_command(
-                    "i.segment", group=",".join(inputs), output=names[i], threshold=threshold,
-                    minsize=minsize, memory=300, quiet=True, stderr=gs.PIPE)
-            i = next(iter(running))
-            with grassio.doing("segmenting with threshold={}, minsize={}".format(*pairs[i])):
-                grassio.finish_tool(running[i], "i.segment")
-            del running[i]
-            yield i, names[i]
-    finally:
-        for proc in running.values():
-            proc.terminate()
-            proc.wait()
+    start = time.perf_counter()
+    gs.message(_("Tuning {} parameter pairs on {} windows of {} cells...").format(
+        len(config.pairs), len(windows), windows[0].cells))
+    criteria = grasstiles.window_criteria(inputs, windows, grid, config, flags["e"])
+    tuning, _mean = classify_tiled.tune_on_windows(criteria, [w.cells for w in windows],
+                                                   config.alpha)
+    pair = config.pairs[tuning.best]
+    gs.message(_("Chosen segmentation: threshold={} minsize={} (F={:.3f}); segmenting {} tiles "
+                 "of up to {}x{} cells...").format(pair[0], pair[1], tuning.f[tuning.best],
+                                                   len(tiles), side, side))
+    names = {}
+    for k, name in grasstiles.segment_tiles(inputs, pair, tiles, grid, config):
+        names[tiles[k]] = name
+        gs.percent(len(names), len(tiles), 1)
+    timing = [("segmentation", time.perf_counter() - start)]
+
+    def read_bands(tile):
+        env = grasstiles.window_env(grid, tile)
+        return [grasstiles.read_window(name, env, np.float64) for name in inputs]
+
+    def read_segments(tile):
+        return grasstiles.read_window(names[tile], grasstiles.window_env(grid, tile), np.int32)
+
+    gs.message(_("Classifying and cleaning {} tiles...").format(len(tiles)))
+    result = classify_tiled.classify_tiles(
+        tiles, read_bands, read_segments, training, config, grid, config.pairs, tuning,
+        side, keep_segments=keep_segments, message=gs.message, percent=lambda d, t: gs.percent(d, t, 1))
+    result.timing = timing + result.timing
+    return result
 
 
 def main(options, flags):
     import numpy as np
 
-    from reconstruction import classify, grassio
+    from reconstruction import classify, grassio, grasstiles, tiling
     from reconstruction.errors import InputError
     from reconstruction.options import parse_list
 
@@ -235,22 +248,33 @@ def main(options, flags):
             ",".join(inputs)))
     grassio.require_vector(options["training"])
     config = classify.read_config(options)
-    grid = classify.Grid.from_region(gs.region())
+    grid = classify.Grid.from_region(None, gs.region())
     xy, columns = grassio.read_points(options["training"])
     grassio.require_columns(options, columns, ("class_column",), options["training"])
     training = classify.read_training(xy, columns, options["label_column"],
                                       options["class_column"], config, grid, options["training"])
 
-    bands = [grassio.read_raster(name) for name in inputs]
-    gs.message(_("Segmenting with {} parameter pairs...").format(len(config.pairs)))
-    runs = run_segmentations(inputs, config.pairs, config.nprocs)
-    with contextlib.closing(runs):
-        result = classify.classify_map(
-            bands, runs, lambda name: grassio.read_raster(name, dtype=np.int32), training,
-            config, grid, message=gs.message, verbose=gs.verbose)
-    if config.remove:
-        gs.message(_("Removed classes {} with a {}x{} moving window").format(
-            ",".join(map(str, config.remove)), result.window, result.window))
+    windows = tiling.tuning_windows(grid.rows, grid.cols)
+    side = tiling.tile_side(config.memory)
+    if config.window:
+        tiling.check_tiles(side, config.window)
+    given_cells = int(np.ceil((config.min_area or 0) / (grid.nsres * grid.ewres)))
+    tiles = tiling.plan_tiles(grid.rows, grid.cols, side,
+                              tiling.tile_overlap(config.window or 3, given_cells))
+    if len(windows) == 1 and len(tiles) == 1:
+        bands = [grassio.read_raster(name) for name in inputs]
+        gs.message(_("Segmenting with {} parameter pairs...").format(len(config.pairs)))
+        runs = grasstiles.run_segmentations(inputs, config, flags["e"])
+        with contextlib.closing(runs):
+            result = classify.classify_map(
+                bands, runs, lambda name: grassio.read_raster(name, dtype=np.int32), training,
+                config, grid, message=gs.message, verbose=gs.verbose)
+        del bands
+    else:
+        result = _classify_sheet(inputs, windows, tiles, side, grid, training, config, flags,
+                                 bool(options["segments"]))
+    if result.rule:
+        gs.message(classify.rule_message(result.rule, config, grid))
     if flags["p"]:
         print("\n".join(classify.tuning_table(result)))
 
@@ -271,7 +295,9 @@ def main(options, flags):
                            description="i.segment threshold={} minsize={}".format(
                                *result.best_pair))
             gs.raster_history(output, overwrite=True)
-    if options["segments"]:
+    if options["segments"] and not isinstance(result.chosen, str):
+        grassio.write_raster(options["segments"], result.chosen, title="Segments", null=0)
+    elif options["segments"]:
         with grassio.doing("writing the segments <{}>".format(options["segments"])):
             gs.run_command("g.rename", raster="{},{}".format(result.chosen, options["segments"]),
                            quiet=True)

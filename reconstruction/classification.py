@@ -78,16 +78,15 @@ def _band_stack(bands):
 
 def adjacent_pairs(index):
     """Unique pairs (a, b), a < b, of segments sharing an edge (4-neighbours)."""
-    pairs = []
+    codes = []
+    n = int(index.max()) + 1 if index.size else 1
     for a, b in ((index[:, :-1], index[:, 1:]), (index[:-1, :], index[1:, :])):
         keep = (a != b) & (a >= 0) & (b >= 0)
-        lo = np.minimum(a[keep], b[keep])
-        hi = np.maximum(a[keep], b[keep])
-        pairs.append(np.stack([lo, hi], axis=1))
-    pairs = np.concatenate(pairs)
-    if not len(pairs):
-        return pairs.reshape(0, 2)
-    return np.unique(pairs, axis=0)
+        lo = np.minimum(a[keep], b[keep]).astype(np.int64)
+        hi = np.maximum(a[keep], b[keep]).astype(np.int64)
+        codes.append(lo * n + hi)
+    codes = np.unique(np.concatenate(codes))  # one sort of int64 codes, not of rows
+    return np.stack([codes // n, codes % n], axis=1)
 
 
 def segmentation_criteria(segments, bands):
@@ -294,15 +293,6 @@ def finite_features(features):
 # Training points and classifiers
 # ---------------------------------------------------------------------------
 
-def points_to_cells(xy, north, west, nsres, ewres, rows, cols):
-    """Row and column of each point; -1 for points outside the raster."""
-    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
-    row = np.floor((north - xy[:, 1]) / nsres).astype(np.int64)
-    col = np.floor((xy[:, 0] - west) / ewres).astype(np.int64)
-    inside = (row >= 0) & (row < rows) & (col >= 0) & (col < cols)
-    return np.where(inside, row, -1), np.where(inside, col, -1)
-
-
 def make_classifiers(names=CLASSIFIERS, seed=0, n_jobs=1, n_samples=None):
     """The scikit-learn estimators of the ensemble, by name, in the given order.
 
@@ -358,15 +348,27 @@ def classify_segments(features, train_rows, train_labels, classifiers=CLASSIFIER
     """
     features = finite_features(features)
     train_rows = np.asarray(train_rows, dtype=np.int64)
+    models = fit_ensemble(features[train_rows], train_labels, classifiers, seed, n_jobs)
+    return predict_ensemble(models, features)
+
+
+def fit_ensemble(x_train, train_labels, classifiers=CLASSIFIERS, seed=0, n_jobs=1):
+    """The ensemble's models fitted on training features ``x_train`` (finite),
+    as (name, model) pairs in the order of ``classifiers``."""
     train_labels = np.asarray(train_labels)
     if len(np.unique(train_labels)) < 2:
         raise ValueError("training needs at least two classes")
-    x_train = features[train_rows]
-    predictions = {}
-    for name, model in make_classifiers(classifiers, seed, n_jobs, len(train_rows)):
+    models = make_classifiers(classifiers, seed, n_jobs, len(train_labels))
+    for _name, model in models:
         model.fit(x_train, train_labels)
-        predictions[name] = model.predict(features)
-    voted = majority_vote(np.stack([predictions[n] for n in classifiers]))
+    return models
+
+
+def predict_ensemble(models, features):
+    """Voted label per row of ``features`` (made finite) and each model's predictions."""
+    features = finite_features(features)
+    predictions = {name: model.predict(features) for name, model in models}
+    voted = majority_vote(np.stack([predictions[name] for name, _model in models]))
     return voted, predictions
 
 
@@ -391,7 +393,13 @@ def object_thickness(mask):
 
 def removal_window(mask):
     """Moving window size from the objects to remove: thickness / 2 + 1, odd, >= 3."""
-    window = int(object_thickness(mask) / 2.0 + 1)
+    return window_for_thickness(object_thickness(mask))
+
+
+def window_for_thickness(thickness):
+    """Moving window size for removed objects ``thickness`` cells thick: thickness / 2 + 1,
+    odd, >= 3."""
+    window = int(thickness / 2.0 + 1)
     if window % 2 == 0:
         window += 1
     return max(window, 3)

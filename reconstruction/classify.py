@@ -24,6 +24,7 @@ import numpy as np
 
 from . import classification as cl
 from .errors import InputError
+from .grid import Grid  # noqa: F401 (the grid of the stage: Grid.from_region(None, region))
 from .options import parse_list, parse_number, parse_range, processes
 from .work_limits import check_segmentations
 
@@ -44,7 +45,9 @@ class ClassifyConfig:
     """What r.histo.classify does: parameter pairs to try, classifiers, removal.
 
     Sizes: ``min_area`` in square map units, ``min_width`` in map units,
-    ``window`` in cells (odd; None: from the thickness of the removed objects).
+    ``window`` in cells (odd). None for ``window``, ``min_area`` or
+    ``min_width``: derived from the data when something is removed
+    (:func:`removal_rule`).
     """
 
     thresholds: tuple
@@ -55,34 +58,17 @@ class ClassifyConfig:
     remove: tuple = ()
     window: Optional[int] = None
     iterations: Optional[int] = None
-    min_area: float = 0.0
-    min_width: float = 0.0
+    min_area: Optional[float] = None
+    min_width: Optional[float] = None
     separate: tuple = ()
     seed: int = 1
     nprocs: int = 1
+    memory: int = 300
 
     @property
     def pairs(self):
         """The (threshold, minsize) pairs to try, thresholds first."""
         return [(t, m) for t in self.thresholds for m in self.minsizes]
-
-
-@dataclass(frozen=True)
-class Grid:
-    """The raster grid (GRASS region): north-west corner, resolution, size."""
-
-    north: float
-    west: float
-    nsres: float
-    ewres: float
-    rows: int
-    cols: int
-
-    @classmethod
-    def from_region(cls, region):
-        """From the keys of ``grass.script.region()``."""
-        return cls(region["n"], region["w"], region["nsres"], region["ewres"],
-                   int(region["rows"]), int(region["cols"]))
 
 
 @dataclass(frozen=True)
@@ -109,7 +95,8 @@ class ClassifyResult:
     tuning: the :class:`~reconstruction.classification.TuningResult` of the pairs;
     chosen: the caller's id of the chosen segmentation (the others are the caller's to drop);
     segments: the number of segments of the chosen one; window: the refill window
-    used (None when nothing was removed); present: the labels kept;
+    used (None when nothing was removed); present: the labels kept; rule: the
+    :class:`RemovalRule` applied (None when nothing was cleaned);
     timing: (step, seconds) pairs.
     """
 
@@ -121,6 +108,7 @@ class ClassifyResult:
     segments: int
     window: Optional[int]
     present: list
+    rule: Optional["RemovalRule"] = None
     timing: list = field(default_factory=list)
 
     @property
@@ -160,11 +148,39 @@ def read_config(options):
         classifiers=tuple(classifiers), features=tuple(parse_list(options["features"])),
         remove=tuple(parse_list(options["remove"], int, key="remove")),
         window=window, iterations=iterations,
-        min_area=parse_number(options["min_area"] or 0, "min_area", minimum=0),
-        min_width=parse_number(options["min_width"] or 0, "min_width", minimum=0),
+        min_area=_optional_number(options["min_area"], "min_area"),
+        min_width=_optional_number(options["min_width"], "min_width"),
         separate=tuple(parse_list(options["separate"], int, key="separate")),
         seed=parse_number(options["seed"], "seed", int),
-        nprocs=processes(options["nprocs"]))
+        nprocs=processes(options["nprocs"]),
+        memory=parse_number(options.get("memory") or 300, "memory", int, minimum=1))
+
+
+def _optional_number(text, key):
+    """A non-negative number, or None when the option is not given."""
+    if text in (None, ""):
+        return None
+    return parse_number(text, key, minimum=0)
+
+
+def segmentation_chains(pairs, exhaustive=False):
+    """The i.segment runs for ``pairs`` as chains of ``(pair index, seed pair index or None)``.
+
+    One chain per threshold, its minimum sizes ascending: the first run grows
+    the segments, each next one starts from the previous result (seeds) and
+    only merges what its larger minimum size asks for. ``exhaustive``: one
+    chain per pair, every run from scratch.
+    """
+    if exhaustive:
+        return [[(i, None)] for i in range(len(pairs))]
+    chains = {}
+    for i, (threshold, minsize) in enumerate(pairs):
+        chains.setdefault(threshold, []).append((minsize, i))
+    out = []
+    for threshold in sorted(chains):
+        members = [i for _m, i in sorted(chains[threshold])]
+        out.append([(i, None if k == 0 else members[k - 1]) for k, i in enumerate(members)])
+    return out
 
 
 def integer_labels(values, column):
@@ -213,8 +229,8 @@ def read_training(xy, columns, label_column, class_column, config, grid, name="t
                          "points".format(",".join(map(str, missing))))
     if len(set(classes) - set(config.remove)) < 1:
         raise InputError("remove= lists every class: nothing would be left")
-    rows, cols = cl.points_to_cells(xy, grid.north, grid.west, grid.nsres, grid.ewres,
-                                    grid.rows, grid.cols)
+    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+    rows, cols = grid.cells(xy[:, 0], xy[:, 1])
     outside = int((rows < 0).sum())
     if outside:
         raise InputError("{} of {} training points lie outside the computational region".format(
@@ -269,23 +285,108 @@ def classify_map(bands, segmentations, read_segments, training, config, grid,
     timing.append(("classification", time.perf_counter() - start))
     start = time.perf_counter()
 
-    classes, window = _remove(classes, config, grid)
+    classes, rule = _remove(classes, config, grid)
     timing.append(("removal", time.perf_counter() - start))
     return ClassifyResult(
         classes=classes, pairs=pairs, criteria=criteria, tuning=tuning, chosen=ids[best],
-        segments=n_segments, window=window,
+        segments=n_segments, window=rule.window if rule else None, rule=rule,
         present=[c for c in training.classes if c not in config.remove], timing=timing)
 
 
+#: Width (cells) below which parts of a class are refilled by default: the mixed
+#: pixels along every edge of a scan and the fringes of a misregistered colour
+#: plane are one or two cells wide, whatever the map.
+FRINGE_CELLS = 3
+
+
+@dataclass(frozen=True)
+class RemovalRule:
+    """How the classes are cleaned, in cells (see :func:`removal_rule`).
+
+    window: refill window (odd); min_cells: minimum mapping unit (0: none);
+    width_cells: parts narrower than this are refilled (0: none);
+    thickness: of the thickest removed object (cells); derived: the names of
+    the values derived from the data rather than given.
+    """
+
+    window: int
+    min_cells: int
+    width_cells: int
+    thickness: float
+    derived: tuple = ()
+
+    def active(self, remove):
+        return bool(remove) or self.min_cells > 1 or self.width_cells > 1
+
+
+def removal_rule(thickness, config, grid):
+    """The cleaning rule for removed objects ``thickness`` cells thick (the
+    thickest object of the ``remove`` classes, :func:`classification.object_thickness`).
+
+    Explicit options win. When something is removed, what is not given is
+    derived from the data: the refill window from the thickness (thickness / 2 + 1,
+    odd); a minimum mapping unit of thickness x thickness cells (no object the
+    map draws is smaller than a square as thick as its thickest letter or
+    symbol: smaller regions are pieces that the letters and symbols left, of
+    the classes under them or misclassified beside them); and a minimum width
+    of :data:`FRINGE_CELLS` cells (the scan's mixed-pixel edges and colour
+    fringes). Without ``remove=``, only the given values apply.
+    """
+    derived = []
+    resolution = min(grid.nsres, grid.ewres)
+    window = config.window
+    if window is None:
+        window = cl.window_for_thickness(thickness)
+        derived.append("window")
+    if config.min_area is not None:
+        min_cells = int(np.ceil(config.min_area / (grid.nsres * grid.ewres))) if config.min_area else 0
+    elif config.remove:
+        min_cells = int(np.ceil(thickness * thickness))
+        derived.append("min_area")
+    else:
+        min_cells = 0
+    if config.min_width is not None:
+        width_cells = int(round(config.min_width / resolution)) if config.min_width else 0
+    elif config.remove:
+        width_cells = FRINGE_CELLS
+        derived.append("min_width")
+    else:
+        width_cells = 0
+    return RemovalRule(window, min_cells, width_cells, float(thickness), tuple(derived))
+
+
 def _remove(classes, config, grid):
-    """Removal of text, symbols, thin parts and small regions: ``(classes, window used or None)``."""
-    cell_area = grid.nsres * grid.ewres
-    min_cells = int(np.ceil(config.min_area / cell_area)) if config.min_area > 0 else 0
-    width_cells = int(round(config.min_width / min(grid.nsres, grid.ewres))) if config.min_width else 0
-    if not (config.remove or min_cells > 1 or width_cells > 1):
+    """Removal of text, symbols, thin parts and small regions: ``(classes, RemovalRule or None)``."""
+    removed = np.isin(classes, list(config.remove)) if config.remove else None
+    thickness = cl.object_thickness(removed) if removed is not None else 0.0
+    rule = removal_rule(thickness, config, grid)
+    if not rule.active(config.remove):
         return classes, None
-    return cl.remove_classes(classes, config.remove, config.window, config.iterations, min_cells,
-                             width_cells, config.separate)
+    out, _window = cl.remove_classes(classes, config.remove, rule.window, config.iterations,
+                                     rule.min_cells, rule.width_cells, config.separate)
+    return out, rule
+
+
+def rule_message(rule, config, grid):
+    """What the cleaning did, in map units, for the module's message."""
+    if rule is None:
+        return None
+    cell_area = grid.nsres * grid.ewres
+    resolution = min(grid.nsres, grid.ewres)
+
+    def how(name):
+        return " (derived)" if name in rule.derived else ""
+
+    parts = []
+    if config.remove:
+        parts.append("removed classes {} with a {}x{} moving window{}".format(
+            ",".join(map(str, config.remove)), rule.window, rule.window, how("window")))
+    parts.append("minimum mapping unit {:g} square map units{}".format(
+        round(rule.min_cells * cell_area, 2), how("min_area")))
+    parts.append("minimum width {:g} map units{}".format(
+        round(rule.width_cells * resolution, 2), how("min_width")))
+    text = "; ".join(parts)
+    return text[0].upper() + text[1:]
 
 
 def tuning_table(result):

@@ -8,6 +8,7 @@ it.
 """
 
 from dataclasses import dataclass
+from typing import Optional
 
 import numpy as np
 
@@ -16,16 +17,25 @@ from .errors import InputError
 
 @dataclass(frozen=True)
 class Grid:
-    """A raster: ``values`` (rows, cols), NaN for no data, north-up."""
+    """A raster: ``values`` (rows, cols), NaN for no data, north-up.
 
-    values: np.ndarray
+    ``values`` may be None for the place of a raster alone (a GRASS region:
+    r.histo.classify locates its training points on it before reading any
+    map); ``size`` (rows, cols) then gives its shape.
+    """
+
+    values: Optional[np.ndarray]
     north: float
     west: float
     nsres: float
     ewres: float
+    size: Optional[tuple] = None
 
     def __post_init__(self):
-        if np.ndim(self.values) != 2:
+        if self.values is None:
+            if self.size is None or len(self.size) != 2:
+                raise InputError("A grid without values needs its size (rows, cols)")
+        elif np.ndim(self.values) != 2:
             raise InputError("A raster must be a 2D array, not of shape {}".format(
                 np.shape(self.values)))
         if not (self.nsres > 0 and self.ewres > 0):
@@ -34,13 +44,23 @@ class Grid:
 
     @classmethod
     def from_region(cls, values, region):
-        """A grid from a GRASS region dict (keys ``n``, ``w``, ``nsres``, ``ewres``)."""
-        return cls(np.asarray(values), float(region["n"]), float(region["w"]),
-                   float(region["nsres"]), float(region["ewres"]))
+        """A grid from a GRASS region dict (keys ``n``, ``w``, ``nsres``, ``ewres``; and
+        ``rows``, ``cols`` when ``values`` is None)."""
+        size = (int(region["rows"]), int(region["cols"])) if values is None else None
+        return cls(None if values is None else np.asarray(values), float(region["n"]),
+                   float(region["w"]), float(region["nsres"]), float(region["ewres"]), size)
 
     @property
     def shape(self):
-        return self.values.shape
+        return tuple(self.size) if self.values is None else self.values.shape
+
+    @property
+    def rows(self):
+        return self.shape[0]
+
+    @property
+    def cols(self):
+        return self.shape[1]
 
     def cells(self, x, y):
         """Row and column of the cells holding points ``(x, y)``; -1 outside the raster."""

@@ -147,8 +147,11 @@ def test_majority_vote_with_ties_to_the_first_classifier():
 
 
 def test_points_to_cells_and_outside_points():
-    rows, cols = cl.points_to_cells([[0.5, 9.5], [9.9, 0.1], [10.5, 5], [5, -1]],
-                                    north=10, west=0, nsres=1, ewres=1, rows=10, cols=10)
+    from reconstruction.grid import Grid
+
+    grid = Grid(None, north=10, west=0, nsres=1, ewres=1, size=(10, 10))
+    xy = np.array([[0.5, 9.5], [9.9, 0.1], [10.5, 5], [5, -1]])
+    rows, cols = grid.cells(xy[:, 0], xy[:, 1])
     assert rows.tolist() == [0, 9, -1, -1]
     assert cols.tolist() == [0, 9, -1, -1]
 

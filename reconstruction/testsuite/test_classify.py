@@ -11,7 +11,7 @@ from reconstruction.errors import InputError
 DEFAULTS = {"threshold": "0.07,0.10", "threshold_step": "0.01", "minsize": "7,10",
             "minsize_step": "1", "alpha": "1", "classifiers": "rf,knn,svm",
             "features": "spectral,size", "remove": "", "window": "", "iterations": "",
-            "min_area": "0", "min_width": "0", "separate": "", "seed": "1", "nprocs": "1"}
+            "min_area": "", "min_width": "", "separate": "", "seed": "1", "nprocs": "1"}
 
 
 def options(**changes):
@@ -65,7 +65,7 @@ def test_bad_options_are_refused_with_the_option_named(changes, message):
         classify.read_config(options(**changes))
 
 
-GRID = classify.Grid(north=10.0, west=0.0, nsres=1.0, ewres=1.0, rows=10, cols=10)
+GRID = classify.Grid(None, north=10.0, west=0.0, nsres=1.0, ewres=1.0, size=(10, 10))
 
 
 def _points(*labels):
@@ -168,3 +168,31 @@ def test_category_and_colour_rules():
     assert classify.category_rules([1, 3], names) == "1:Building\n3:class 3"
     assert classify.colour_rules([1, 3, 4], names) == \
         "1 230:80:80\n3 {}\n4 60:120:220".format(classify.PALETTE[1])
+
+
+def test_removal_rule_derives_what_is_not_given_from_the_removed_objects():
+    grid = classify.Grid(None, 100.0, 0.0, 0.5, 0.5, (10, 10))
+    rule = classify.removal_rule(15.0, classify.read_config(options(remove="2")), grid)
+    # window thickness / 2 + 1, odd; a 15 x 15 cells minimum mapping unit; 3-cell fringes
+    assert (rule.window, rule.min_cells, rule.width_cells) == (9, 225, 3)
+    assert rule.derived == ("window", "min_area", "min_width")
+    assert classify.rule_message(rule, classify.read_config(options(remove="2")), grid) == (
+        "Removed classes 2 with a 9x9 moving window (derived); minimum mapping unit 56.25 "
+        "square map units (derived); minimum width 1.5 map units (derived)")
+    # explicit values win, 0 turns a rule off
+    config = classify.read_config(options(remove="2", window="5", min_area="10", min_width="0"))
+    rule = classify.removal_rule(15.0, config, grid)
+    assert (rule.window, rule.min_cells, rule.width_cells, rule.derived) == (5, 40, 0, ())
+    # nothing removed: only what is given applies
+    rule = classify.removal_rule(0.0, classify.read_config(options()), grid)
+    assert (rule.min_cells, rule.width_cells) == (0, 0) and not rule.active(())
+    rule = classify.removal_rule(0.0, classify.read_config(options(min_area="1")), grid)
+    assert rule.min_cells == 4 and rule.active(())
+
+
+def test_segmentation_chains_grow_once_per_threshold():
+    pairs = classify.read_config(options(threshold="0.1,0.2", threshold_step="0.1",
+                                         minsize="3,5", minsize_step="2")).pairs
+    assert pairs == [(0.1, 3), (0.1, 5), (0.2, 3), (0.2, 5)]
+    assert classify.segmentation_chains(pairs) == [[(0, None), (1, 0)], [(2, None), (3, 2)]]
+    assert classify.segmentation_chains(pairs, exhaustive=True) == [[(i, None)] for i in range(4)]
