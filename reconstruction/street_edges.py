@@ -42,7 +42,7 @@ import numpy as np
 
 from .errors import InputError
 from .grid import Grid, expand_ranges
-from .rings import offsets
+from .rings import components, offsets
 
 ENCLOSED, ONE_FREE, FROM_NEIGHBOUR, VOTE, SHORTEST, STREETS = 0, 1, 2, 3, 4, 5
 
@@ -368,15 +368,12 @@ def _vote(rings_sel, candidate, free, pairs, edges, cos_par, align):
 
 
 def _components(n, pairs, members):
-    """Connected component of every member ring over ``pairs`` restricted to members."""
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
+    """Connected component of every member ring over ``pairs`` restricted to
+    members (numpy: importing scipy's graph module costs v.histo.lod2 more
+    than finding the street edges)."""
     keep = members[pairs[:, 0]] & members[pairs[:, 1]]
     p = pairs[keep]
-    graph = coo_matrix((np.ones(len(p)), (p[:, 0], p[:, 1])), shape=(n, n))
-    _, label = connected_components(graph, directed=False)
-    return label
+    return components(n, p[:, 0], p[:, 1])
 
 
 def street_edges(rings, tol=0.1, share=0.5, parallel=20.0, align=0.5, streets=None,
