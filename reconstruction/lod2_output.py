@@ -210,6 +210,28 @@ def attribute_columns(match, count, names=None):
     return {name: [None if a is None else a.get(name) for a in attrs] for name in names}
 
 
+def matched_heights(match, geometries, choice="auto"):
+    """The footprints (``geometries``) that ``match`` (an :class:`ExistingMatch`)
+    matched, with their existing buildings' attributes as columns, as
+    :class:`~reconstruction.lod2_inputs.AlignedFootprints`: for the 3D BAG
+    (``b3_h_maaiveld``, ``b3_h_50p`` ...) measured heights for the
+    neighbourhood analysis, so that no separate height columns are needed.
+    None when nothing matched or the buildings have no height attributes."""
+    from .heights import height_columns
+    from .lod2_inputs import AlignedFootprints
+
+    hit = np.nonzero(match.building(len(geometries)) >= 0)[0]
+    if not len(hit):
+        return None
+    columns = {name: [values[i] for i in hit.tolist()]
+               for name, values in attribute_columns(match, len(geometries)).items()}
+    try:
+        height_columns(list(columns), choice)
+    except InputError:
+        return None
+    return AlignedFootprints([geometries[i] for i in hit.tolist()], columns, choice)
+
+
 def without_copied(prepared, match):
     """The :class:`~reconstruction.lod2.Prepared` footprints without those
     that ``match`` (an :class:`ExistingMatch` or None) copies: they are not built."""

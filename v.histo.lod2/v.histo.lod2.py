@@ -427,13 +427,15 @@ def main(options, flags):
     grassio.require_columns(options, columns, [k for k in options if k.endswith("_column")],
                             options["input"])
     plot = _column(columns, options["plot_column"])
+    footprints = lod2.Footprints(geoms, columns.get("cat"), plot,
+                                 _column(columns, options["source_column"]))
+    match = None if model is None else lod2_output.match_existing(
+        model, wanted, footprints, lod2_output.footprint_ids(columns, options["id_column"]))
     found = lod2_inputs.footprint_heights(geoms, columns, plot, height_options(
-        options, points, geoms, height_range, attic_range))
+        options, points, geoms, columns, height_range, attic_range, match))
     report_heights(found.report, options)
     requests = lod2.requests_from_columns(columns, len(geoms), options["roof"],
                                           options["roof_column"], map_year, options["year_column"])
-    footprints = lod2.Footprints(geoms, columns.get("cat"), plot,
-                                 _column(columns, options["source_column"]))
 
     prepared = lod2.prepare(footprints, found.heights, requests, config)
     prepared = lod2_inputs.with_height_source(prepared, found.source)
@@ -441,8 +443,6 @@ def main(options, flags):
         prepared, edges = lod2_inputs.with_street_edges(prepared, street_options(options, geoms))
         report_street_edges(edges)
     report_footprints(prepared.report, options["ground"])
-    match = None if model is None else lod2_output.match_existing(
-        model, wanted, footprints, lod2_output.footprint_ids(columns, options["id_column"]))
     prepared = lod2_output.without_copied(prepared, match)     # the copied are not built
     if prepared.report.rings:
         gs.message(_("Building {} solids...").format(prepared.report.rings))
@@ -503,10 +503,13 @@ def report_output(written, counts, output):
         gs.message(_("Picture written to '{}'").format(written.rendered))
 
 
-def height_options(options, points, geoms, height_range, attic_range):
+def height_options(options, points, geoms, columns, height_range, attic_range, match=None):
     """The :class:`~reconstruction.lod2_inputs.HeightOptions` of the options,
-    with the points (``points``: option -> reading job), rasters and maps they name read."""
-    from reconstruction import grassinputs, grassio, lod2_inputs, neighbourhood
+    with the points (``points``: option -> reading job), rasters and maps they
+    name read; without aligned= and without an eaves column in ``columns``,
+    the buildings ``match`` copies from the existing model give the measured
+    heights (their 3D BAG attributes)."""
+    from reconstruction import grassinputs, grassio, lod2_inputs, lod2_output, neighbourhood
     from reconstruction.options import parse_number
 
     percentile = parse_number(options["ground_percentile"], "ground_percentile", minimum=0)
@@ -526,6 +529,11 @@ def height_options(options, points, geoms, height_range, attic_range):
         with grassio.doing("reading the aligned footprints <{}>".format(options["aligned"])):
             a_geoms, a_columns = grassio.read_areas(options["aligned"])
         aligned = lod2_inputs.AlignedFootprints(a_geoms, a_columns, options["height_columns"])
+    elif match is not None and options["eaves_column"] not in columns and not height_range:
+        aligned = lod2_output.matched_heights(match, geoms, options["height_columns"])
+        if aligned is not None:
+            gs.message(_("The {} footprints matched in the existing model take its measured "
+                         "heights").format(len(aligned.geometries)))
     if options["plots"]:
         with grassio.doing("reading the plots <{}>".format(options["plots"])):
             p_geoms, p_columns = grassio.read_areas(options["plots"])

@@ -319,3 +319,29 @@ def test_copied_footprints_are_not_built_even_all_of_them(mapset, sample, schema
     assert "Building" not in err and "2 buildings written" in err
     assert "percent_valid=100.00" in stdout
     check_merged(load(out), sample, schemas, generated=0)
+
+
+@pytest.mark.acceptance
+def test_copied_buildings_give_measured_heights_to_the_generated(mapset, sample, tmp_path):
+    # footprints without height columns: the matched 3D BAG buildings' heights
+    # (b3_h_maaiveld, b3_h_dak_*) are the measured heights of the
+    # neighbourhood analysis, which gives the generated footprints theirs
+    from reconstruction import heights
+
+    polygons = sample_footprints(sample) + BOXES
+    props = [{"source": "aligned" if k < 2 else "2pm"} for k in range(len(polygons))]
+    name = import_footprints("fp_noh", tmp_path, polygons, props)
+    out = str(tmp_path / "h.city.json")
+    rc, _, err = run(input=name, output=out, existing=os.path.join(sample, FORMS[0]),
+                     roof="flat")
+    assert rc == 0, err
+    assert "The 2 footprints matched in the existing model take its measured heights" in err
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    attrs = [model.objects[b]["attributes"] for b in BAG]
+    m = heights.measured_heights({k: [a[k] for a in attrs] for k in attrs[0]})
+    generated = [o["attributes"] for oid, o in load(out)["CityObjects"].items()
+                 if oid not in BAG and not o.get("parents")]
+    assert len(generated) == 3
+    for a in generated:
+        assert a["height_source"] == "neighbours"
+        assert m.eaves.min() - 1e-3 <= a["eaves_height"] <= m.eaves.max() + 1e-3
