@@ -190,17 +190,19 @@ def _nested_text(values, sizes, counts):
     from .cityjson import _int_text, _pieces
 
     depth = len(counts)
-    leaf = np.repeat(np.arange(len(sizes)), sizes)
+    # a list starts at its first leaf's first entry; every list above a
+    # leaf that starts one starts there too (no list is empty)
+    starts = np.cumsum(sizes) - sizes
     change = np.zeros(len(values), dtype=np.int64)
-    change[1:] = leaf[1:] != leaf[:-1]
-    ancestor = np.arange(len(sizes))
+    change[starts] = 1
+    first_leaf = np.arange(len(sizes))
     for c in reversed(counts):
-        ancestor = np.repeat(np.arange(len(c)), c)[ancestor]
-        above = ancestor[leaf]
-        change[1:] += above[1:] != above[:-1]
+        c = np.asarray(c, dtype=np.int64)
+        first_leaf = first_leaf[np.cumsum(c) - c]
+        change[starts[first_leaf]] += 1
     # a new geometry: its leaf and every list above changed (for depth 0 the
     # leaf is the geometry's boundaries); within one at most ``depth`` do
-    first = np.r_[0, np.nonzero(change == depth + 1)[0]]
+    first = starts[first_leaf]
     change[0] = depth + 1
     table = ["]" * k + "," + "[" * k for k in range(depth + 1)] + ["[" * (depth + 1)]
     text, at = _int_text(values, change, table)

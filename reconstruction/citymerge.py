@@ -383,9 +383,14 @@ def _keys(body):
     return keys
 
 
+def _plain(text):
+    """Whether ``json.dumps`` writes the string as it is (between its quotes)."""
+    return text.isascii() and text.isprintable() and '"' not in text and "\\" not in text
+
+
 def _check_ids(copied, generated_keys):
     clash = [i for objs in copied.trees for i in objs
-             if json.dumps(i)[1:-1] in generated_keys]
+             if (i if _plain(i) else json.dumps(i)[1:-1]) in generated_keys]
     if clash:
         raise InputError("{} copied objects have the id of a generated building (e.g. <{}>): "
                          "rename the generated buildings".format(len(clash), clash[0]))
