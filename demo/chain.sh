@@ -34,25 +34,8 @@ YEAR=1900               # the map's year: older current buildings may still stan
 HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 mkdir -p "$OUT"
 
-# Run a stage only when its module is installed and implemented.
-implemented() {
-    if ! command -v "$1" > /dev/null 2>&1; then
-        echo "--- skip $1: not installed"
-        return 1
-    fi
-    if "$1" --interface-description 2> /dev/null | grep -q "Placeholder"; then
-        echo "--- skip $1: not implemented yet"
-        return 1
-    fi
-    echo "--- $1 (at ${SECONDS} s)"
-}
-
-# The input of a stage must exist (an earlier stage may have been skipped).
-have() {  # have raster|vector NAME
-    if [ -n "$(g.list type="$1" pattern="$2")" ]; then return 0; fi
-    echo "--- skip the next stage: its input $1 map <$2> was not made"
-    return 1
-}
+# implemented MODULE, have TYPE NAME
+source "$HERE/steps.sh"
 
 # ---------------------------------------------------------------------------
 # 1. The map: RGB rasters, training points, ground-truth points, true plots

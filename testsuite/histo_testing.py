@@ -72,7 +72,7 @@ def timed(runs, fn):
     return statistics.median(wall), statistics.median(cpu), result
 
 
-def import_delft_alignment(shared_data):
+def import_delft_alignment(shared_data, heights=False):
     """Import the alignment fixture of Delft into the current mapset; never written elsewhere.
 
     ``current``: the 12,567 current footprints of Delft, each with the construction year
@@ -81,6 +81,12 @@ def import_delft_alignment(shared_data):
     ``plots1880``: the thesis's plots. Returns the categories in ``current`` of the
     thesis's aligned footprints (``thesis1961``, ``thesis1880``) and ``years``
     ({cat: year}).
+
+    ``heights``: also give ``current`` the thesis's measured height columns
+    (ground_0_2, roof_0_25, roof_0_99, i.e. ground-0.2, roof-0.25, roof-0.99 of
+    the 3D BAG) where the footprint is one of the thesis's aligned 1880
+    footprints (a building that stood in 1880 and stands today has today's
+    height), NULL elsewhere.
     """
     import os
 
@@ -107,7 +113,7 @@ def import_delft_alignment(shared_data):
                        overwrite=True, **extra)
     current, columns = grassio.read_areas("current")
     current = np.array(current, dtype=object)
-    thesis, years = {}, {}
+    thesis, years, measured = {}, {}, {}
     for year, name, keep in ((1961, "thesis61", None), (1880, "final1880", "pand_id")):
         geoms, cols = grassio.read_areas(name)
         rows = [i for i in range(len(geoms)) if keep is None or cols[keep][i]]
@@ -122,12 +128,21 @@ def import_delft_alignment(shared_data):
         for i, j in zip(a[same], b[same]):
             value = int(cols["bouwjaar"][rows[i]])
             assert years.setdefault(columns["cat"][j], value) == value
-    gs.run_command("v.db.addcolumn", map="current", columns="bouwjaar integer", quiet=True)
+            if year == 1880:
+                measured[columns["cat"][j]] = tuple(
+                    float(cols[c][rows[i]]) for c in ("g02", "r025", "r099"))
+    names = ("ground_0_2", "roof_0_25", "roof_0_99")
+    gs.run_command("v.db.addcolumn", map="current", quiet=True, columns=",".join(
+        ["bouwjaar integer"] + ["{} double precision".format(n) for n in names if heights]))
     sql = grassio.temp_file(".sql")
     with open(sql, "w") as f:
         f.write("BEGIN TRANSACTION;\n")
         f.writelines("UPDATE current SET bouwjaar = {} WHERE cat = {};\n".format(y, c)
                      for c, y in sorted(years.items()))
+        if heights:
+            f.writelines("UPDATE current SET {} WHERE cat = {};\n".format(
+                ", ".join("{} = {!r}".format(n, v) for n, v in zip(names, h)), c)
+                for c, h in sorted(measured.items()))
         f.write("COMMIT;\n")
     gs.run_command("db.execute", input=sql, quiet=True)
     return {"thesis1961": thesis[1961], "thesis1880": thesis[1880], "years": years}

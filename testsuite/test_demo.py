@@ -54,12 +54,17 @@ def _outputs(out):
             for f in OUTPUT_FILES if (out / f).exists()}
 
 
-@pytest.fixture(scope="module")
-def demo(tmp_path_factory):
+def need_grass_and_suite():
+    """Skip unless GRASS is installed and the suite is staged in DIST."""
     if not shutil.which("grass"):
         pytest.skip("GRASS GIS is not installed (run the tests through `make test`)")
     if not os.path.isdir(os.path.join(DIST, "scripts")):
         pytest.skip("the suite is not built in dist/ (run the tests through `make test`)")
+
+
+@pytest.fixture(scope="module")
+def demo(tmp_path_factory):
+    need_grass_and_suite()
     out = tmp_path_factory.mktemp("demo")
     location = out / "grassdata" / "histo_demo"
     first = _run_demo(out)
