@@ -303,10 +303,8 @@ def write_text(path, text):
 
 
 def write(path, model):
-    """Write a CityJSON document compactly."""
-    text = json.dumps(model, separators=(",", ":"))
-    with open(path, "w") as f:
-        f.write(text)
+    """Write a CityJSON document (a dict) compactly, as :func:`write_text` writes text."""
+    write_text(path, json.dumps(model, separators=(",", ":")))
 
 
 def consistency_errors(model):
