@@ -214,10 +214,10 @@ def _classify_sheet(inputs, windows, tiles, side, grid, training, config, flags,
 
     def read_bands(tile):
         env = grasstiles.window_env(grid, tile)
-        return [grasstiles.read_window(name, env, np.float64) for name in inputs]
+        return [grassio.read_raster(name, np.float64, env) for name in inputs]
 
     def read_segments(tile):
-        return grasstiles.read_window(names[tile], grasstiles.window_env(grid, tile), np.int32)
+        return grassio.read_raster(names[tile], np.int32, grasstiles.window_env(grid, tile))
 
     gs.message(_("Classifying and cleaning {} tiles...").format(len(tiles)))
     result = classify_tiled.classify_tiles(

@@ -16,6 +16,7 @@ import numpy as np
 import grass.script as gs
 
 from .errors import InputError
+from .grassio import read_raster
 from .grassrun import doing
 from .grid import Grid
 
@@ -97,8 +98,6 @@ def parse_points(text):
 def read_grid(name, bounds, margin):
     """Raster ``name`` as a :class:`Grid` at its own resolution, over ``bounds``
     (x0, y0, x1, y1) grown by ``margin`` map units; NULL -> NaN."""
-    from grass.script import array as garray
-
     x0, y0, x1, y1 = (float(v) for v in bounds)
     with doing("reading raster map <{}>".format(name)):
         gs.use_temp_region()
@@ -106,7 +105,7 @@ def read_grid(name, bounds, margin):
             gs.run_command("g.region", n=y1 + margin, s=y0 - margin, e=x1 + margin,
                            w=x0 - margin, align=name, quiet=True)
             region = gs.region()
-            values = np.array(garray.array(mapname=name, dtype=np.float64, null=np.nan))
+            values = read_raster(name)
         finally:
             gs.del_temp_region()
     return Grid.from_region(values, region)

@@ -47,13 +47,14 @@ def raster_region_matches(names):
     return all(all(abs(float(i[k]) - float(first[k])) < 1e-6 for k in keys) for i in infos[1:])
 
 
-def read_raster(name, dtype=np.float64):
-    """Read a raster in the current region into a numpy array (NULL -> nan)."""
+def read_raster(name, dtype=np.float64, env=None):
+    """Read a raster in the current region (or the region of ``env``, e.g. a
+    ``GRASS_REGION`` window) into a numpy array (NULL -> nan for floats)."""
     from grass.script import array as garray
 
     null = np.nan if np.dtype(dtype).kind == "f" else None
     with doing("reading raster map <{}>".format(name)):
-        arr = garray.array(mapname=name, dtype=dtype, null=null)
+        arr = garray.array(mapname=name, dtype=dtype, null=null, env=env)
     return np.array(arr)
 
 

@@ -15,7 +15,7 @@ import os
 import numpy as np
 
 from .errors import InputError
-from .grassio import require_raster
+from .grassio import read_raster, require_raster
 from .grassrun import doing
 
 #: the longer side of the map picture, in cells
@@ -25,8 +25,6 @@ MAX_SIZE = 2048
 def read_map_image(names, max_size=MAX_SIZE):
     """The :class:`~reconstruction.render.MapImage` of three rasters (red, green, blue)."""
     import grass.script as gs
-    from grass.script import array as garray
-
     from .render import MapImage
 
     names = [n for n in names if n]
@@ -45,8 +43,7 @@ def read_map_image(names, max_size=MAX_SIZE):
                                         w=info["west"], rows=rows, cols=cols)
     bands = []
     for name in names:
-        with doing("reading raster map <{}>".format(name)):
-            values = np.array(garray.array(mapname=name, dtype=np.float64, null=np.nan, env=env))
+        values = read_raster(name, np.float64, env)
         bands.append(np.where(np.isnan(values), 255.0, np.clip(values, 0, 255)))
     rgb = np.rint(np.dstack(bands)).astype(np.uint8)
     extent = (float(info["west"]), float(info["east"]), float(info["south"]),

@@ -4,7 +4,6 @@
   once per threshold and reseeded per minimum size, ``nprocs`` at a time;
 - :func:`segment_tiles`: i.segment with the chosen pair in each tile's outer
   window;
-- :func:`read_window`: a raster read in a tile's (or window's) region.
 
 A window's region reaches a GRASS tool through ``GRASS_REGION`` in its
 environment (:func:`window_env`): the current region is never changed.
@@ -13,7 +12,6 @@ environment (:func:`window_env`): the current region is never changed.
 import os
 
 import grass.script as gs
-from grass.script import array as garray
 
 from . import grassio
 from .classify import segmentation_chains
@@ -27,15 +25,6 @@ def window_env(grid, tile):
         w=grid.west + tile.ocol0 * grid.ewres, e=grid.west + tile.ocol1 * grid.ewres,
         rows=tile.orow1 - tile.orow0, cols=tile.ocol1 - tile.ocol0)
     return env
-
-
-def read_window(name, env, dtype):
-    """A raster in the region of ``env`` as a numpy array (NULL -> nan for floats)."""
-    import numpy as np
-
-    null = np.nan if np.dtype(dtype).kind == "f" else None
-    with grassio.doing("reading raster map <{}>".format(name)):
-        return np.array(garray.array(mapname=name, dtype=dtype, null=null, env=env))
 
 
 def _start(inputs, pair, output, memory, seeds=None, env=None):
@@ -117,11 +106,11 @@ def window_criteria(inputs, windows, grid, config, exhaustive=False):
     criteria = []
     for w, window in enumerate(windows):
         env = window_env(grid, window)
-        bands = [read_window(name, env, np.float64) for name in inputs]
+        bands = [grassio.read_raster(name, np.float64, env) for name in inputs]
         row = [None] * len(config.pairs)
         done = []
         for k, name in run_segmentations(inputs, config, exhaustive, env):
-            row[k] = cl.segmentation_criteria(read_window(name, env, np.int32), bands)
+            row[k] = cl.segmentation_criteria(grassio.read_raster(name, np.int32, env), bands)
             done.append(name)
         gs.run_command("g.remove", type="raster", name=",".join(done), flags="f", quiet=True)
         for name in done:
