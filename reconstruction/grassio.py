@@ -210,13 +210,20 @@ def area_boundaries(polygons):
     once, merged between nodes), one point inside every polygon part, and
     the index of the polygon each point belongs to; or None when the edges
     are not noded (two edges cross or overlap), which only a snapping import
-    can mend.
+    can mend, or when two polygons overlap (e.g. neighbouring cadastre
+    footprints whose edges meet only at shared vertices): the shared area
+    would be an area without a centroid, lost to both, where an import gives
+    it to each of them.
     """
     import shapely
 
     parts, owner = shapely.get_parts(np.asarray(polygons, dtype=object), return_index=True)
     keep = ~shapely.is_empty(parts)
     parts, owner = parts[keep], owner[keep]
+    a, b = shapely.STRtree(parts).query(parts, predicate="intersects")
+    pair = (a < b) & (owner[a] != owner[b])
+    if shapely.relate_pattern(parts[a[pair]], parts[b[pair]], "T********").any():
+        return None  # their interiors meet
     rings = shapely.get_rings(parts)
     coords, ring = shapely.get_coordinates(rings, return_index=True)
     same = ring[1:] == ring[:-1]

@@ -89,6 +89,21 @@ def test_areas_that_are_not_noded_still_written_through_ogr(io):
     assert sorted(round(g.area) for g in read) == [50, 50, 100]
 
 
+def test_overlapping_areas_keep_their_whole_geometry(io):
+    """Footprints that overlap though their edges only meet at shared vertices (as
+    neighbouring cadastre footprints do) are not noded: the shared area goes to
+    both, not to neither (an area without a centroid)."""
+    wedge = Polygon([(84010, 446000), (84020, 446000), (84020, 446010), (84010, 446010),
+                     (84009, 446005)])
+    geoms = [box(84000, 446000, 84010, 446010), wedge, box(84002, 446002, 84004, 446004)]
+    assert io.area_boundaries(geoms[:2]) is None
+    assert io.area_boundaries([geoms[0], geoms[2]]) is None
+    io.write_areas("overlapping", geoms, {"case": [1, 2, 3]})
+    read, columns = io.read_features("overlapping")
+    for geom, cat in zip(read, columns["cat"]):
+        assert geom.symmetric_difference(geoms[cat - 1]).area < 1e-9
+
+
 def test_points_round_trip(io):
     io.write_features("pts", [Point(84001.5, 446002.5), Point(84050, 446070)],
                       {"label": [1, 4], "class": ["building", "street"]})
