@@ -1,8 +1,8 @@
 """Which of the thesis's 651 aligned Delft 1961 footprints the chain misses, and why.
 
 Run it in the mapset where demo/delft_1961.sh ran (it needs that run's maps:
-current, thesis61, plots1961 from the import, plots, aligned, footprints and
-delft_classes from the chain), e.g.:
+current, thesis61, plots1961 and delft_gt_points from the import, plots,
+aligned, footprints and delft_classes from the chain), e.g.:
 
     grass -c EPSG:28992 /tmp/a95/loc -e
     grass /tmp/a95/loc/PERMANENT --exec bash demo/delft_1961.sh /tmp/a95/out ../shared/data
@@ -25,9 +25,11 @@ delft_classes from the chain), e.g.:
    classes of the map cells under it (building cells: our plot outline
    differs; landmark drawings, class church; street or water: the map
    prints no building there), with its best similarity on our plots and on
-   the thesis's;
-4. the thesis's plots without a counterpart among ours, with the classes
-   under them.
+   the thesis's and the thesis plot it goes to there, flagged when that plot
+   holds no ground-truth point (one of the thesis's false positives: its
+   precision is 29 of 33 plots);
+4. the thesis's plots less than half covered by any one of ours, with the
+   classes under them, their ground-truth points and footprints.
 
 Nothing is written. Diagnosis only: not run by make test.
 """
@@ -145,26 +147,17 @@ def read_maps():
     for name in ("current", "thesis61", "plots1961", "plots", "aligned", "footprints"):
         geoms, columns = grassio.read_areas(name)
         maps[name] = (np.array(geoms, dtype=object), columns)
-    region = gs.parse_command("r.info", map="delft_classes", flags="g")
-    region = {k: float(region[k]) for k in ("north", "south", "east", "west", "nsres",
-                                           "ewres", "rows", "cols")}
-    region = dict(n=region["north"], s=region["south"], e=region["east"], w=region["west"],
-                  nsres=region["nsres"], ewres=region["ewres"], rows=int(region["rows"]),
-                  cols=int(region["cols"]))
+    maps["gt_points"] = shapely.points(grassio.read_points("delft_gt_points")[0])
+    info = gs.parse_command("r.info", map="delft_classes", flags="g")
+    region = dict(n=float(info["north"]), s=float(info["south"]), e=float(info["east"]),
+                  w=float(info["west"]), nsres=float(info["nsres"]),
+                  ewres=float(info["ewres"]), rows=int(info["rows"]), cols=int(info["cols"]))
     env = dict(os.environ, GRASS_REGION=gs.region_env(raster="delft_classes"))
     classes = grassio.read_raster("delft_classes", env=env)
     return maps, Cells(classes, region)
 
 
-def main():
-    maps, cells = read_maps()
-    current, cur_cols = maps["current"]
-    cats = np.array(cur_cols["cat"])
-    years = construction_years(cur_cols["bouwjaar"])
-    thesis = thesis_footprints(current, maps["thesis61"][0])
-    n = len(thesis)
-    pct = lambda k: "{} of {} ({:.1f} %)".format(int(k), n, 100.0 * k / n)  # noqa: E731
-
+def report_figure(maps, current, cats, thesis, pct):
     print("1. The thesis's aligned footprints present as aligned buildings (chain's run)")
     aligned, al_cols = maps["aligned"]
     by_cat = np.isin(cats[thesis], al_cols["cat"])
@@ -183,49 +176,96 @@ def main():
           "at most {:.1%} of one)".format(int((shared > 0).sum()), shared.sum(),
                                           (shared / shapely.area(current[thesis])).max()))
 
+
+def report_runs(maps, current, years, thesis, pct):
+    """Section 2; returns, per run, which of the thesis's footprints are aligned, and the
+    thesis plot each of them goes to on the thesis's plots (with its year rule)."""
     print("\n2. The same alignment (library, year={} buffer={:g} overlap={:g})".format(
         YEAR, BUFFER, OVERLAP))
-    plots, plot_cols = maps["plots"]
-    tplots, tplot_cols = maps["plots1961"]
-    runs = {}
-    for label, (p, c) in (("our plots", (plots, plot_cols["cat"])),
-                          ("the thesis's final plots", (tplots, tplot_cols["cat"]))):
+    runs, thesis_plot = {}, {}
+    for label, name in (("our plots", "plots"), ("the thesis's final plots", "plots1961")):
+        plots, columns = maps[name]
         for include in (False, True):
-            result, found = aligned_share(p, c, current, years, thesis, include)
+            result, found = aligned_share(plots, columns["cat"], current, years, thesis,
+                                          include)
             runs[label, include] = found
             print("  {:<26} {:<13} {} aligned, of them the thesis's: {}".format(
                 label, "year <= map" if include else "year < map", len(result.aligned),
                 pct(found.sum())))
+            if name == "plots1961" and include:
+                thesis_plot = dict(zip(result.aligned.tolist(), result.plot.tolist()))
+    return runs, thesis_plot
 
+
+def report_missed(maps, cells, current, cats, years, thesis, runs, thesis_plot, empty):
     found, on_thesis = runs["our plots", False], runs["the thesis's final plots", False]
     missed = np.flatnonzero(~found)
     print("\n3. The {} missed on our plots (year < map year), by cause".format(len(missed)))
-    rows, counts = [], {}
+    plots, tplots = maps["plots"][0], maps["plots1961"][0]
+    rows, counts, on_empty = [], {}, 0
     for k in missed:
         geom = current[thesis[k]]
         inside, shares = cells.shares(geom)
         why = cause(years[thesis[k]], inside, shares)
         counts[why] = counts.get(why, 0) + 1
+        plot = thesis_plot.get(thesis[k])
+        on_empty += plot in empty
         rows.append((why, "    cat {:>5} built {:4.0f} {:4.0f} m2  similarity ours {:.2f} thesis "
-                          "{:.2f}{}  inside map {:.0%}  cells {}".format(
+                          "{:.2f} (plot {}{}){}  inside map {:.0%}  cells {}".format(
                               cats[thesis[k]], years[thesis[k]], geom.area,
                               best_similarity(plots, geom), best_similarity(tplots, geom),
+                              "none" if plot is None else plot,
+                              ", no ground-truth point" if plot in empty else "",
                               "" if on_thesis[k] else " (missed on the thesis's plots too)",
                               inside, _classes(shares))))
     for why, count in sorted(counts.items(), key=lambda item: -item[1]):
         print("  {:>3}  {}".format(count, why))
         for row in sorted(r for w, r in rows if w == why):
             print(row)
+    print("  {} of the {} lie on thesis plots that hold no ground-truth building point "
+          "(plots {}: the thesis's false positives)".format(
+              on_empty, len(missed), ", ".join(str(c) for c in sorted(empty))))
 
+
+def report_plots(maps, cells, thesis_plot):
     print("\n4. The thesis's plots less than half covered by any one of ours")
-    for cat, plot in zip(tplot_cols["cat"], tplots):
+    plots = maps["plots"][0]
+    tplots, columns = maps["plots1961"]
+    xy = shapely.get_coordinates(maps["gt_points"])
+    per_plot = {}
+    for plot in thesis_plot.values():
+        per_plot[plot] = per_plot.get(plot, 0) + 1
+    for cat, plot in zip(columns["cat"], tplots):
         cover = shapely.area(shapely.intersection(plots, plot)) / plot.area
         if cover.max() >= 0.5:
             continue
         inside, shares = cells.shares(plot)
+        points = int(shapely.contains_xy(plot, xy[:, 0], xy[:, 1]).sum())
         print("  plot {:>2}: {:5.0f} m2, {:.0%} covered by one of ours ({:.0%} by all), inside "
-              "map {:.0%}, cells {}".format(cat, plot.area, cover.max(), cover.sum(), inside,
-                                            _classes(shares)))
+              "map {:.0%}, {} ground-truth points, {} of the thesis's footprints, cells "
+              "{}".format(cat, plot.area, cover.max(), cover.sum(), inside, points,
+                          per_plot.get(cat, 0), _classes(shares)))
+
+
+def main():
+    maps, cells = read_maps()
+    current, columns = maps["current"]
+    cats = np.array(columns["cat"])
+    years = construction_years(columns["bouwjaar"])
+    thesis = thesis_footprints(current, maps["thesis61"][0])
+    n = len(thesis)
+
+    def pct(k):
+        return "{} of {} ({:.1f} %)".format(int(k), n, 100.0 * k / n)
+
+    tplots, tcols = maps["plots1961"]
+    xy = shapely.get_coordinates(maps["gt_points"])
+    empty = {c for c, p in zip(tcols["cat"], tplots)
+             if not shapely.contains_xy(p, xy[:, 0], xy[:, 1]).any()}
+    report_figure(maps, current, cats, thesis, pct)
+    runs, thesis_plot = report_runs(maps, current, years, thesis, pct)
+    report_missed(maps, cells, current, cats, years, thesis, runs, thesis_plot, empty)
+    report_plots(maps, cells, thesis_plot)
 
 
 if __name__ == "__main__":
