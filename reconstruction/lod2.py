@@ -135,8 +135,11 @@ class Lod2Report(NamedTuple):
     rings: int
     #: polygons that gave no valid solid, even flat (known after :func:`build`)
     dropped: int = 0
-    #: buildings whose roof is simpler than requested
+    #: buildings whose roof failed validation and is simpler than requested
     fell_back: int = 0
+    #: buildings whose roof type the roof rules changed (a stepped facade with
+    #: no free street end is a gable; a gable with no free end is a hip)
+    by_rule: int = 0
     #: every roof that failed validation (a building may fall back more than once)
     fallbacks: tuple = ()
     #: buildings whose pitched roof stands on their simplified outline (more
@@ -366,8 +369,12 @@ def build(prepared, config=None):
     }
     for name, values in prepared.extra:
         attributes[name] = [values[j] for j in kept]
+    failed = np.zeros(len(buildings), dtype=bool)
+    failed[[f.index for f in log]] = True
+    changed = got != buildings.roof_types[kept]
     report = prepared.report._replace(dropped=len(buildings) - len(kept),
-                                      fell_back=int(np.sum(got != buildings.roof_types[kept])),
+                                      fell_back=int(np.sum(changed & failed[kept])),
+                                      by_rule=int(np.sum(changed & ~failed[kept])),
                                       simplified=int(needs_budget(
                                           [buildings.footprints[k] for k in kept], got).sum()),
                                       fallbacks=[RoofFallback(cats[src[f.index]], f.kind, f.reason)

@@ -621,6 +621,9 @@ def report_build(report):
             report.dropped))
     if report.fell_back:
         gs.warning(_("{} roofs fell back to a simpler type to stay valid").format(report.fell_back))
+    if report.by_rule:
+        gs.verbose(_("{} roofs changed type by the roof rules (no free street end for a stepped "
+                     "facade or a gable)").format(report.by_rule))
     if report.simplified:
         from reconstruction.vertex_budget import MAX_ROOF_VERTICES
 

@@ -117,3 +117,15 @@ def test_no_end_goes_on_a_shared_edge():
     plan = roofs.plan_roofs([xy], ["gable"], np.array([4.0]), u, street=[0],
                             shared=[np.ones(4, dtype=bool)])
     assert plan.kinds == ["hip"] and 0 not in plan.ends
+
+
+def test_roofs_changed_by_the_rules_are_not_counted_as_fallbacks():
+    # a 3 x 3 block of 6 x 12 houses: the middle one shares every edge, so its
+    # requested gable has no free end and the roof rules make it a hip; that
+    # is a rule, not a roof that failed validation and fell back
+    fps = row(3) + row(3, y0=12.0) + row(3, y0=24.0)
+    prepared, _ = li.with_street_edges(_prepared(fps))
+    result = lod2.build(prepared)
+    assert result.roof_types[4] == "hip"
+    assert result.report.by_rule >= 1
+    assert result.report.fell_back == len({f.footprint for f in result.report.fallbacks}) == 0
