@@ -13,6 +13,7 @@ import subprocess
 import numpy as np
 import pytest
 
+import readme_tutorial
 import synthetic_map as sm
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -248,3 +249,12 @@ def test_demo_writes_one_picture_per_stage(demo):
     assert _share(out / "footprints.png", aligned) > 0.05
     assert _share(out / "footprints.png", generated) > 0.05
     assert not (out / ".legend.txt").exists()
+
+
+def test_readme_tutorial_quotes_what_the_demo_prints(demo):
+    """The module messages the README tutorial quotes are those of this demo."""
+    printed = " ".join(demo["stdout"].split())
+    quoted = readme_tutorial.quoted_outputs()
+    assert len(quoted) >= 5
+    missing = [q for q in quoted if q not in printed]
+    assert not missing, missing
