@@ -77,7 +77,8 @@ def demo(tmp_path_factory):
     before = _outputs(out)
     second = _run_demo(out)
     assert second.returncode == 0, second.stdout[-3000:] + second.stderr[-3000:]
-    return {"out": out, "location": location, "stdout": second.stdout, "env": _clean_env(),
+    return {"out": out, "location": location, "stdout": second.stdout,
+            "stderr": second.stderr, "env": _clean_env(),
             "first_stdout": first.stdout, "before": before}
 
 
@@ -253,7 +254,8 @@ def test_demo_writes_one_picture_per_stage(demo):
 
 def test_readme_tutorial_quotes_what_the_demo_prints(demo):
     """The module messages the README tutorial quotes are those of this demo."""
-    printed = " ".join(demo["stdout"].split())
+    # GRASS modules write their messages to standard error
+    printed = " ".join((demo["stdout"] + demo["stderr"]).split())
     quoted = readme_tutorial.quoted_outputs()
     assert len(quoted) >= 5
     missing = [q for q in quoted if q not in printed]
