@@ -36,6 +36,8 @@ mkdir -p "$OUT"
 
 # implemented MODULE, have TYPE NAME
 source "$HERE/steps.sh"
+# stage_pictures OUT PREFIX WIDTH
+source "$HERE/pictures.sh"
 
 # ---------------------------------------------------------------------------
 # 1. The map: RGB rasters, training points, ground-truth points, true plots
@@ -107,17 +109,8 @@ if have vector footprints && implemented v.histo.lod2; then
 fi
 
 # ---------------------------------------------------------------------------
-# Pictures (cairo driver, no display needed)
+# Pictures: one per stage, $SIZE pixels wide (demo/pictures.sh; model.png is
+# v.histo.lod2's above)
 # ---------------------------------------------------------------------------
-export GRASS_RENDER_IMMEDIATE=cairo GRASS_RENDER_WIDTH=$SIZE GRASS_RENDER_HEIGHT=$SIZE
-export GRASS_RENDER_TRUECOLOR=TRUE GRASS_RENDER_FILE_READ=FALSE
-GRASS_RENDER_FILE="$OUT/map.png" d.rgb red=$MAP.red green=$MAP.green blue=$MAP.blue
-if [ -n "$(g.list type=raster pattern=${MAP}_classes)" ]; then
-    GRASS_RENDER_FILE="$OUT/classes.png" d.rast map=${MAP}_classes
-fi
-if [ -n "$(g.list type=vector pattern=plots)" ]; then
-    GRASS_RENDER_FILE="$OUT/plots.png" d.rgb red=$MAP.red green=$MAP.green blue=$MAP.blue
-    GRASS_RENDER_FILE="$OUT/plots.png" GRASS_RENDER_FILE_READ=TRUE \
-        d.vect map=plots type=boundary color=red width=2
-fi
+stage_pictures "$OUT" $MAP $SIZE
 echo "--- chain done in ${SECONDS} s"

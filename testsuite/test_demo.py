@@ -13,13 +13,16 @@ import subprocess
 import numpy as np
 import pytest
 
+import readme_tutorial
 import synthetic_map as sm
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DIST = os.environ.get("HISTO_DIST", os.path.join(ROOT, "dist"))
 RUN_DEMO = os.path.join(ROOT, "demo", "run_demo.sh")
-OUTPUT_FILES = ("generalize.json", "generalize_metrics.csv", "align.json", "model.city.json",
-                "model.png", "map.png", "classes.png", "plots.png")
+# one picture per stage (demo/pictures.sh, model.png by v.histo.lod2 render=)
+PICTURES = ("map.png", "classes.png", "plots.png", "aligned.png", "footprints.png", "model.png")
+OUTPUT_FILES = ("generalize.json", "generalize_metrics.csv", "align.json",
+                "model.city.json") + PICTURES
 
 pytestmark = pytest.mark.grass
 
@@ -74,7 +77,8 @@ def demo(tmp_path_factory):
     before = _outputs(out)
     second = _run_demo(out)
     assert second.returncode == 0, second.stdout[-3000:] + second.stderr[-3000:]
-    return {"out": out, "location": location, "stdout": second.stdout, "env": _clean_env(),
+    return {"out": out, "location": location, "stdout": second.stdout,
+            "stderr": second.stderr, "env": _clean_env(),
             "first_stdout": first.stdout, "before": before}
 
 
@@ -204,3 +208,55 @@ def test_demo_picture_shows_the_map(demo):
     green = pixels.reshape(600, 600, 3)[::-1, :, 1]
     assert np.abs(green.mean(axis=1) - smap.rgb[..., 1].mean(axis=1)).max() < 1.0
     assert np.abs(green.mean(axis=0) - smap.rgb[..., 1].mean(axis=0)).max() < 1.0
+
+
+def _pixels(path):
+    """The RGB pixels of a PNG, one row per pixel."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkIOImage import vtkPNGReader
+
+    reader = vtkPNGReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    return vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars())[:, :3]
+
+
+def _colours(path):
+    """How many distinct colours a PNG has."""
+    return len(np.unique(_pixels(path), axis=0))
+
+
+def _share(path, rgb):
+    """The share of a PNG's pixels of exactly that colour."""
+    return float(np.all(_pixels(path) == rgb, axis=1).mean())
+
+
+def test_demo_writes_one_picture_per_stage(demo):
+    """The tutorial's six pictures (README, docs/img): made, not blank, the same size."""
+    out = demo["out"]
+    for name in PICTURES:
+        assert (out / name).is_file(), name
+        assert _colours(out / name) > 1, name + " is blank"
+        assert str(out / name) in demo["stdout"], name
+    # the stage pictures share the map's size and extent (model.png is a 3D view)
+    assert {_png_size(out / name) for name in PICTURES[:-1]} == {(600, 600)}
+    # the classes are drawn in their colours, not the map's: a few flat colours
+    assert _colours(out / "classes.png") < _colours(out / "map.png") / 10
+    # aligned footprints in one colour; all footprints in two, from `source`
+    # (the fill colours of demo/pictures.sh)
+    aligned, generated = (60, 110, 230), (250, 160, 50)
+    assert _share(out / "aligned.png", aligned) > 0.05
+    assert _share(out / "aligned.png", generated) == 0
+    assert _share(out / "footprints.png", aligned) > 0.05
+    assert _share(out / "footprints.png", generated) > 0.05
+    assert not (out / ".legend.txt").exists()
+
+
+def test_readme_tutorial_quotes_what_the_demo_prints(demo):
+    """The module messages the README tutorial quotes are those of this demo."""
+    # GRASS modules write their messages to standard error
+    printed = " ".join((demo["stdout"] + demo["stderr"]).split())
+    quoted = readme_tutorial.quoted_outputs()
+    assert len(quoted) >= 5
+    missing = [q for q in quoted if q not in printed]
+    assert not missing, missing

@@ -1,0 +1,78 @@
+"""The README's tutorial as data, for the tests that keep it true.
+
+- :func:`stage_commands`: the commands of its "Stage N" sections (one string
+  each, continuation lines joined);
+- :func:`chain_commands`: the commands demo/chain.sh runs, with its
+  parameters put in (as the script sets them when every stage runs);
+- :func:`quoted_outputs`: what its stage sections quote of the modules'
+  messages (backticked spans of several words), pieces split at "...".
+"""
+
+import os
+import re
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+CHAIN = os.path.join(ROOT, "demo", "chain.sh")
+# Names the chain sets itself (its output folder, its own folder): kept as written.
+KEPT = {"OUT", "HERE"}
+
+
+def _read(path):
+    with open(path, encoding="utf-8") as f:
+        return f.read()
+
+
+def _joined(text):
+    return text.replace("\\\n", " ")
+
+
+def _normal(command):
+    return " ".join(command.split())
+
+
+def stage_sections(readme=None):
+    """The text of each "### Stage N" section of the README's "## Tutorial"."""
+    text = readme if readme is not None else _read(os.path.join(ROOT, "README.md"))
+    tutorial = text.split("\n## Tutorial\n", 1)[1].split("\n## ", 1)[0]
+    return [part for part in re.split(r"\n(?=### )", tutorial) if part.startswith("### Stage")]
+
+
+def stage_commands(readme=None):
+    commands = []
+    for section in stage_sections(readme):
+        for block in re.findall(r"```sh\n(.*?)```", section, re.S):
+            commands += [_normal(line) for line in _joined(block).splitlines() if line.strip()]
+    return commands
+
+
+def quoted_outputs(readme=None):
+    pieces = []
+    for section in stage_sections(readme):
+        prose = re.sub(r"```.*?```", "", section, flags=re.S)
+        for span in re.findall(r"`([^`]+)`", prose):
+            if span.count(" ") >= 3:
+                pieces += [_normal(p) for p in span.split("...") if p.strip()]
+    return pieces
+
+
+def chain_commands(path=CHAIN):
+    """demo/chain.sh's command lines, its variables replaced by their last value."""
+    text = _joined(_read(path))
+    values = {}
+    for name, value in re.findall(r"(?:^|;\s*|then\s+)([A-Z][A-Z_]*)=(\"[^\"]*\"|[^\s;]*)",
+                                  text, re.M):
+        if name not in KEPT and value.strip('"'):
+            values[name] = value.strip('"')
+
+    def expand(line):
+        for _ in range(5):  # values that name other variables
+            line = re.sub(r"\$\{([A-Z][A-Z_]*)\}|\$([A-Z][A-Z_]*)\b",
+                          lambda m: values.get(m.group(1) or m.group(2), m.group(0)), line)
+        return line.replace('"$HERE/../', "").replace('"$HERE/', "demo/")
+
+    commands = []
+    for line in text.splitlines():
+        line = line.split(" # ", 1)[0].strip()
+        if line and not line.startswith("#"):
+            commands.append(_normal(expand(line)).replace('.py"', ".py"))
+    return commands
