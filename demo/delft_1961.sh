@@ -29,36 +29,20 @@ mkdir -p "$OUT"
 OUT=$(cd "$OUT" && pwd)
 TIMES=$OUT/times.txt
 : > "$TIMES"
-# implemented MODULE, have TYPE NAME, timed FILE STAGE COMMAND...
+# implemented, have, timed and the stage functions *_stage (the same steps as demo/chain.sh)
 source "$HERE/steps.sh"
 
 echo "--- import of $DATA/delft_1961_subset"
 timed "$TIMES" import python3 "$HERE/delft_import.py" "$DATA"
 g.region raster=delft.red
 
-implemented r.histo.classify
-timed "$TIMES" classify r.histo.classify input=delft.red,delft.green,delft.blue \
-    training=delft_training output=delft_classes remove=$REMOVE nprocs=2 seed=$SEED
-
-implemented v.histo.generalize
-timed "$TIMES" generalize v.histo.generalize raster=delft_classes class=$BUILDING output=plots \
-    alpha=12 distance=5 angle=180 metrics="$OUT/generalize_metrics.csv" \
-    gt_points=delft_gt_points gt_polygons=delft_gt_polygons report="$OUT/generalize.json"
-
-implemented v.histo.align
-timed "$TIMES" align v.histo.align input=plots footprints=current year=$YEAR buffer=10 \
-    overlap=0.6 output=aligned unmatched=unmatched report="$OUT/align.json"
-
-implemented v.histo.subdivide
-timed "$TIMES" subdivide v.histo.subdivide input=plots aligned=aligned output=footprints \
-    length=5,5 depth=12,16 area_threshold=100 seed=$SEED
-
-implemented v.histo.lod2
-timed "$TIMES" lod2 v.histo.lod2 -v input=footprints output="$OUT/model.city.json" \
-    aligned=aligned plots=plots streets=delft_classes street_classes=$STREET_CLASSES \
-    year=$YEAR seed=$SEED crs=7415 render="$OUT/model.png" map=delft.red,delft.green,delft.blue \
-    > "$OUT/lod2.txt"
-cat "$OUT/lod2.txt"
+classify_stage delft.red,delft.green,delft.blue delft_training delft_classes remove=$REMOVE
+generalize_stage delft_classes $BUILDING gt_points=delft_gt_points gt_polygons=delft_gt_polygons
+align_stage current $YEAR buffer=10 overlap=0.6
+subdivide_stage length=5,5 depth=12,16 area_threshold=100
+# the ranges are not used: the heights come from the aligned footprints
+lod2_stage 6.7,17 2.6,6 delft_classes $STREET_CLASSES year=$YEAR crs=7415 \
+    render="$OUT/model.png" map=delft.red,delft.green,delft.blue
 
 python3 "$HERE/delft_report.py" "$OUT"
 echo "--- chain done in ${SECONDS} s; report: $OUT/report.json"
