@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The complete histo chain on the real Delft 1961 subset (the thesis's worked
 # example, its Table B.3 parameters), from the scanned map to an LoD2 CityJSON
-# model and a picture of it, with one JSON report of every stage.
+# model and a picture of it, with one report (JSON and a text table) of every
+# figure issue 18 accepts the chain by, ours and the thesis's beside.
 #
 # Run it inside a GRASS session in a fresh mapset of an EPSG:28992 location,
 # with the suite on the module path (as run_demo.sh sets it up), e.g.:
@@ -9,10 +10,12 @@
 #   grass -c EPSG:28992 /tmp/grassdata/delft -e
 #   grass /tmp/grassdata/delft/PERMANENT --exec bash demo/delft_1961.sh OUT ../shared/data
 #
-# OUT (default delft-output) gets: report.json (each stage's figures and wall
-# time), generalize.json, generalize_metrics.csv, align.json, lod2.txt,
+# OUT (default delft-output) gets: report.json and report.txt (demo/
+# delft_report.py: each stage's figures and wall time), times.txt,
+# import.json, generalize.json, generalize_metrics.csv, align.json, lod2.txt,
 # model.city.json, model.png. Those are derived from the shared data: keep
-# them out of the repository.
+# them out of the repository. DATA (default ../shared/data) is the shared data
+# folder; the CityJSON schemas are read from DATA/../schemas.
 
 set -e
 
@@ -33,7 +36,7 @@ TIMES=$OUT/times.txt
 source "$HERE/steps.sh"
 
 echo "--- import of $DATA/delft_1961_subset"
-timed "$TIMES" import python3 "$HERE/delft_import.py" "$DATA"
+timed "$TIMES" import python3 "$HERE/delft_import.py" "$DATA" "$OUT/import.json"
 g.region raster=delft.red
 
 classify_stage delft.red,delft.green,delft.blue delft_training delft_classes remove=$REMOVE
@@ -44,5 +47,5 @@ subdivide_stage length=5,5 depth=12,16 area_threshold=100
 lod2_stage 6.7,17 2.6,6 delft_classes $STREET_CLASSES year=$YEAR crs=7415 \
     render="$OUT/model.png" map=delft.red,delft.green,delft.blue
 
-python3 "$HERE/delft_report.py" "$OUT"
-echo "--- chain done in ${SECONDS} s; report: $OUT/report.json"
+python3 "$HERE/delft_report.py" "$OUT" "$DATA"
+echo "--- chain done in ${SECONDS} s; report: $OUT/report.json, $OUT/report.txt"
