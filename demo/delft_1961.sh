@@ -28,12 +28,9 @@ BUILDING=1              # building class in the training points
 STREET_CLASSES=3,4      # water and streets in the training points
 
 HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
-mkdir -p "$OUT"
-OUT=$(cd "$OUT" && pwd)
-TIMES=$OUT/times.txt
-: > "$TIMES"
 # implemented, have, timed and the stage functions *_stage (the same steps as demo/chain.sh)
 source "$HERE/steps.sh"
+start_run               # OUT made absolute, its times.txt (TIMES) emptied
 
 echo "--- import of $DATA/delft_1961_subset"
 timed "$TIMES" import python3 "$HERE/delft_import.py" "$DATA" "$OUT/import.json"

@@ -40,6 +40,15 @@ timed() {
     echo "$stage $(( ($(date +%s%N) - start) / 1000000 ))" >> "$file"
 }
 
+# The output folder OUT made and made absolute; TIMES=OUT/times.txt, emptied
+# (every stage of the run is timed into it): start_run
+start_run() {
+    mkdir -p "$OUT"
+    OUT=$(cd "$OUT" && pwd)
+    TIMES=$OUT/times.txt
+    : > "$TIMES"
+}
+
 # A stage's command, timed into $TIMES when the caller set it: stage STAGE COMMAND...
 stage() {
     if [ -n "${TIMES:-}" ]; then
@@ -104,7 +113,9 @@ lod2_stage() {
     fi
     shift 4
     have vector footprints && implemented v.histo.lod2 || return 0
-    if [ -n "$(g.list type=vector pattern=aligned)" ]; then heights="aligned=aligned plots=plots"; fi
+    if [ -n "$(g.list type=vector pattern=aligned)" ]; then
+        heights="aligned=aligned plots=plots"
+    fi
     stage lod2 v.histo.lod2 -v input=footprints output="$OUT/model.city.json" $heights $streets \
         seed="$SEED" "$@" > "$OUT/lod2.txt"
     cat "$OUT/lod2.txt"
