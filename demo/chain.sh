@@ -34,7 +34,8 @@ YEAR=1900               # the map's year: older current buildings may still stan
 HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 mkdir -p "$OUT"
 
-# implemented MODULE, have TYPE NAME
+# implemented, have, and the stage functions *_stage (the same steps as
+# demo/delft_1961.sh and demo/brussels_1924.sh)
 source "$HERE/steps.sh"
 # stage_pictures OUT PREFIX WIDTH
 source "$HERE/pictures.sh"
@@ -51,40 +52,27 @@ g.region raster=$MAP.red
 # 2. Classify the map's pixels from the training points; text and symbols
 #    are removed (replaced by the class around them)
 # ---------------------------------------------------------------------------
-if implemented r.histo.classify; then
-    r.histo.classify input=$MAP.red,$MAP.green,$MAP.blue training=${MAP}_training \
-        output=${MAP}_classes remove=$REMOVE min_area=50 min_width=3 separate=$BUILDING \
-        nprocs=2 seed=$SEED
-fi
+classify_stage $MAP.red,$MAP.green,$MAP.blue ${MAP}_training ${MAP}_classes \
+    remove=$REMOVE min_area=50 min_width=3 separate=$BUILDING
 
 # ---------------------------------------------------------------------------
 # 3. Generalised building plots from the building class, scored against the
 #    ground truth (report with precision, recall, F-score, shape metrics)
 # ---------------------------------------------------------------------------
-if have raster ${MAP}_classes && implemented v.histo.generalize; then
-    v.histo.generalize raster=${MAP}_classes class=$BUILDING output=plots min_area=$MIN_AREA \
-        alpha=12 distance=5 angle=180 metrics="$OUT/generalize_metrics.csv" \
-        gt_points=${MAP}_gt_points gt_polygons=${MAP}_plots report="$OUT/generalize.json"
-fi
+generalize_stage ${MAP}_classes $BUILDING min_area=$MIN_AREA \
+    gt_points=${MAP}_gt_points gt_polygons=${MAP}_plots
 
 # ---------------------------------------------------------------------------
 # 4. Today's footprints that already stood at the map's date, each matched
 #    with its plot
 # ---------------------------------------------------------------------------
-if have vector plots && have vector ${MAP}_current && implemented v.histo.align; then
-    v.histo.align input=plots footprints=${MAP}_current year=$YEAR output=aligned \
-        unmatched=unmatched report="$OUT/align.json"
-fi
+align_stage ${MAP}_current $YEAR
 
 # ---------------------------------------------------------------------------
 # 5. Building footprints inside the plots: the aligned ones as they are, the
 #    rest by procedural subdivision
 # ---------------------------------------------------------------------------
-if have vector plots && implemented v.histo.subdivide; then
-    ALIGNED=
-    if [ -n "$(g.list type=vector pattern=aligned)" ]; then ALIGNED=aligned=aligned; fi
-    v.histo.subdivide input=plots output=footprints seed=$SEED $ALIGNED
-fi
+subdivide_stage
 
 # ---------------------------------------------------------------------------
 # 6. LoD2 buildings with roofs, written as CityJSON, and a picture of them
@@ -95,18 +83,8 @@ fi
 #    Gable ends and stepped facades go on the street edge, found with the
 #    classified map's streets and water.
 # ---------------------------------------------------------------------------
-if have vector footprints && implemented v.histo.lod2; then
-    HEIGHTS="height=$HEIGHT attic=$ATTIC"
-    if [ -n "$(g.list type=vector pattern=aligned)" ]; then
-        HEIGHTS="aligned=aligned plots=plots"
-    fi
-    STREETS=
-    if [ -n "$(g.list type=raster pattern=${MAP}_classes)" ]; then
-        STREETS="streets=${MAP}_classes street_classes=$STREET_CLASSES"
-    fi
-    v.histo.lod2 -v input=footprints output="$OUT/model.city.json" $HEIGHTS $STREETS \
-        year=$YEAR seed=$SEED render="$OUT/model.png" map=$MAP.red,$MAP.green,$MAP.blue
-fi
+lod2_stage $HEIGHT $ATTIC ${MAP}_classes $STREET_CLASSES \
+    year=$YEAR render="$OUT/model.png" map=$MAP.red,$MAP.green,$MAP.blue
 
 # ---------------------------------------------------------------------------
 # Pictures: one per stage, $SIZE pixels wide (demo/pictures.sh; model.png is

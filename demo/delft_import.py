@@ -1,8 +1,10 @@
 """Import the Delft 1961 subset into the current GRASS mapset (demo/delft_1961.sh, step 1).
 
-    python3 demo/delft_import.py SHARED_DATA
+    python3 demo/delft_import.py SHARED_DATA [FOUND_JSON]
 
 SHARED_DATA is the shared data folder (../shared/data from the checkout).
+FOUND_JSON (optional) gets the categories in <current> of the thesis's
+aligned footprints (keys thesis1961, thesis1880), for the report.
 Makes: the map bands delft.red, .green, .blue; delft_training (training
 points), delft_gt_points and delft_gt_polygons (ground truth); current (the
 current footprints with their years built and, where the footprint is one of
@@ -11,13 +13,14 @@ testsuite/histo_testing.py's import_delft_alignment builds them. Nothing is
 written outside the mapset.
 """
 
+import json
 import os
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
-def main(shared_data):
+def main(shared_data, found_json=None):
     for path in (ROOT, os.path.join(ROOT, "testsuite")):
         if path not in sys.path:
             sys.path.insert(0, path)
@@ -37,7 +40,11 @@ def main(shared_data):
     print("current footprints with a year built: {}, of them thesis 1961 aligned: {}, with "
           "1880 3D BAG heights: {}".format(len(found["years"]), len(found["thesis1961"]),
                                           len(found["thesis1880"])))
+    if found_json:
+        with open(found_json, "w") as f:
+            json.dump({k: sorted(int(c) for c in found[k])
+                       for k in ("thesis1961", "thesis1880")}, f)
 
 
 if __name__ == "__main__":
-    main(sys.argv[1])
+    main(*sys.argv[1:])

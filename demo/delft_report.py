@@ -1,60 +1,156 @@
-"""The report of demo/delft_1961.sh: one JSON of what each stage's module reported.
+"""The report of demo/delft_1961.sh: every acceptance figure of issue 18, computed.
 
-    python3 demo/delft_report.py OUT
+    python3 demo/delft_report.py OUT [SHARED_DATA]
 
 Reads OUT/times.txt (stage, wall ms), OUT/generalize.json, OUT/align.json,
-OUT/lod2.txt (v.histo.lod2 -v), OUT/model.city.json (buildings by
-height source) and the footprints map of the current
-mapset; writes OUT/report.json and prints a short table.
+OUT/import.json (the thesis's aligned footprints among the current ones,
+demo/delft_import.py), OUT/lod2.txt (v.histo.lod2 -v), OUT/model.city.json,
+and the maps of the current mapset: plots, aligned, footprints, the ground
+truth (delft_gt_points, delft_gt_polygons) and the thesis's final plots
+(plots1961). Writes OUT/report.json and OUT/report.txt (printed too). The
+CityJSON is validated against SHARED_DATA/../schemas/cityjson-2.0.2.
+
+The thesis's final plots are scored by the same library code as ours
+(the functions v.histo.generalize reports with, against the same
+ground-truth points and polygons), so the two columns compare.
+
+Definitions:
+- a ground-truth plot is lost when no plot holds its ground-truth point (31
+  points, one in each true plot) or, for the 10 digitised ground-truth
+  polygons, when no plot intersects it; "plots kept" counts the others;
+- a thesis aligned footprint is found when one of the aligned footprints
+  (<aligned>) has its outline (the identity test by which the import finds
+  it among the current ones); also reported: when the current footprint
+  identical to it (its category in <current>) is aligned at all;
+- two footprints overlap when their intersection exceeds 0.01 m²
+  (chain_report.OVERLAP_TOLERANCE).
 """
 
-import collections
-import json
 import os
 import sys
 
+import chain_report as cr
 
-def footprint_sources():
-    """How many footprints of each source (aligned, 2pm) <footprints> holds."""
-    import grass.script as gs
+#: the ground-truth points' and polygons' maps (demo/delft_import.py), the
+#: thesis's final plots and its aligned footprints (testsuite/histo_testing.py's
+#: import_delft_alignment)
+GT_POINTS, GT_POLYGONS = "delft_gt_points", "delft_gt_polygons"
+THESIS_PLOTS, THESIS_ALIGNED = "plots1961", "thesis61"
 
-    rows = gs.read_command("v.db.select", map="footprints", columns="source", flags="c")
-    return dict(collections.Counter(rows.split()))
+
+def plot_scores(plots, gt_points, gt_polygons):
+    """Scores of plots against the ground truth, by the library's functions
+    v.histo.generalize reports with (reconstruction.generalize): P/R/F by
+    point in polygon, mean turning-function distance and buffer similarity
+    against the digitised polygons, and the lost ground-truth plots."""
+    import numpy as np
+    import shapely
+
+    from reconstruction import assessment, generalization, generalize, shape_metrics
+
+    points = assessment.point_detection_scores(plots, gt_points)
+    refs, _index = generalization.explode_plots(gt_polygons)
+    shapes = shape_metrics.shape_scores(plots, refs, generalize.GeneralizeConfig().gt_buffer)
+    hits = assessment.point_hits(plots, gt_points).any(axis=0)
+    arr = np.array(plots, dtype=object)
+    touched = [bool(shapely.intersects(arr, ref).any()) for ref in gt_polygons]
+    return {"plots": len(plots), "precision": points.precision, "recall": points.recall,
+            "f_score": points.f_score, "turning_distance": shapes["turning_distance"],
+            "buffer_similarity": shapes["buffer_similarity"], "matched": shapes["matched"],
+            "gt_points": len(gt_points), "gt_points_in_a_plot": int(hits.sum()),
+            "gt_polygons": len(gt_polygons), "gt_polygons_intersected": sum(touched),
+            "lost": int((~hits).sum()) + len(touched) - sum(touched)}
 
 
-def build(out):
-    def load(name):
-        with open(os.path.join(out, name)) as f:
-            return json.load(f)
+def thesis_aligned_found(out):
+    """The thesis's 651 aligned footprints present as aligned buildings here.
 
-    with open(os.path.join(out, "times.txt")) as f:
-        seconds = {s: int(ms) / 1000.0 for s, ms in (line.split() for line in f if line.strip())}
-    with open(os.path.join(out, "lod2.txt")) as f:
-        lod2 = dict(line.strip().split("=", 1) for line in f if "=" in line)
-    generalize = load("generalize.json")
-    sources = footprint_sources()
-    model = load("model.city.json")
-    heights = collections.Counter(o["attributes"].get("height_source")
-                                  for o in model["CityObjects"].values())
+    ``found``: an aligned footprint has its geometry (symmetric difference
+    under 1e-6 of its area: the identity test of testsuite/histo_testing.py's
+    import_delft_alignment, by which the thesis's footprints were found among
+    the current ones); ``same_footprint``: the current footprint identical to
+    it (its category) is among the aligned ones, whatever v.histo.align did
+    to its outline.
+    """
+    import numpy as np
+    import shapely
+
+    from reconstruction import grassio
+
+    thesis = np.array(grassio.read_areas(THESIS_ALIGNED, table=False)[0], dtype=object)
+    aligned, columns = grassio.read_areas("aligned", table=False)
+    aligned = np.array(aligned, dtype=object)
+    i, j = shapely.STRtree(aligned).query(thesis, predicate="intersects")
+    same = shapely.area(shapely.symmetric_difference(thesis[i], aligned[j])) < \
+        1e-6 * shapely.area(thesis[i])
+    found = len(set(i[same].tolist()))
+    cats = set(cr.load(out, "import.json")["thesis1961"]) & set(columns["cat"])
+    return {"thesis": len(thesis), "found": found, "percent": cr.percent(found, len(thesis)),
+            "same_footprint": len(cats),
+            "same_footprint_percent": cr.percent(len(cats), len(thesis))}
+
+
+def build(out, shared_data):
+    from reconstruction import grassio
+
+    gt_points = grassio.read_points(GT_POINTS)[0]
+    gt_polygons = grassio.read_features(GT_POLYGONS, "area")[0]
+    ours = plot_scores(grassio.read_features("plots", "area")[0], gt_points, gt_polygons)
+    thesis = plot_scores(grassio.read_areas(THESIS_PLOTS, table=False)[0], gt_points,
+                         gt_polygons)
+    seconds = cr.stage_seconds(out)
     return {
         "seconds": seconds,
         "total_seconds": round(sum(seconds.values()), 3),
-        "generalize": generalize,
-        "align": load("align.json"),
-        "subdivide": {"footprints": sum(sources.values()), "by_source": sources},
-        "lod2": dict({k: (float(v) if "." in v else int(v)) for k, v in lod2.items()},
-                     buildings=len(model["CityObjects"]), height_source=dict(heights)),
+        "plots": ours,
+        "thesis_plots": thesis,
+        "generalize": cr.load(out, "generalize.json"),
+        "align": cr.load(out, "align.json"),
+        "thesis_aligned": thesis_aligned_found(out),
+        "subdivide": cr.footprint_figures(*cr.footprints()),
+        "lod2": cr.lod2_figures(out),
+        "cityjson": cr.schema_figures(out, os.path.join(shared_data, "..", "schemas")),
     }
 
 
-def main(out):
-    report = build(out)
-    with open(os.path.join(out, "report.json"), "w") as f:
-        json.dump(report, f, indent=1)  # stages in the order they ran
-    for stage, s in report["seconds"].items():
-        print("{:<12} {:8.1f} s".format(stage, s))
-    print("{:<12} {:8.1f} s".format("total", report["total_seconds"]))
+def rows(report):
+    """The text table: our figure and the thesis's beside it, where there is one."""
+    ours, thesis, gen = report["plots"], report["thesis_plots"], report["generalize"]
+    fp, lod2, found = report["subdivide"], report["lod2"], report["thesis_aligned"]
+
+    def f3(x):
+        return "" if x is None else "{:.3f}".format(x)
+
+    return [
+        ("precision / recall / F (generalize.json)",
+         "{} / {} / {}".format(f3(gen["precision"]), f3(gen["recall"]), f3(gen["f_score"])),
+         "{} / {} / {}".format(f3(thesis["precision"]), f3(thesis["recall"]),
+                               f3(thesis["f_score"]))),
+        ("mean turning-function distance", f3(gen["turning_distance"]),
+         f3(thesis["turning_distance"])),
+        ("mean buffer similarity (%)", "{:.2f}".format(gen["buffer_similarity"]),
+         "{:.2f}".format(thesis["buffer_similarity"])),
+        ("plots", ours["plots"], thesis["plots"]),
+        ("ground-truth plots kept (points; polygons)",
+         "{}/{}; {}/{}".format(ours["gt_points_in_a_plot"], ours["gt_points"],
+                               ours["gt_polygons_intersected"], ours["gt_polygons"]),
+         "{}/{}; {}/{}".format(thesis["gt_points_in_a_plot"], thesis["gt_points"],
+                               thesis["gt_polygons_intersected"], thesis["gt_polygons"])),
+        ("ground-truth plots lost", ours["lost"], thesis["lost"]),
+        ("thesis's aligned footprints found (identical outline)",
+         "{}/{} ({} %)".format(found["found"], found["thesis"], found["percent"]), ""),
+        ("  the same current footprint aligned (any outline)",
+         "{}/{} ({} %)".format(found["same_footprint"], found["thesis"],
+                               found["same_footprint_percent"]), ""),
+    ] + cr.footprint_rows(fp, lod2, ours["plots"], (found["thesis"], "")) + [
+        ("CityJSON 2.0.2 schema", cr.schema_text(report["cityjson"]), ""),
+    ] + cr.time_rows(report["seconds"])
+
+
+def main(out, shared_data="../shared/data"):
+    report = build(out, shared_data)
+    cr.write(out, report, rows(report))
 
 
 if __name__ == "__main__":
-    main(sys.argv[1])
+    main(*sys.argv[1:])

@@ -1,23 +1,29 @@
-"""demo/delft_1961.sh end to end on the real Delft 1961 subset (issue 18, first slice).
+"""demo/delft_1961.sh end to end on the real Delft 1961 subset: issue 18's acceptance.
 
-Runs the complete chain in a fresh EPSG:28992 location, prints its report
-and checks what the suite already guarantees: every stage ran and reported
-its figures, the solids are 100 % valid, the CityJSON is in EPSG:7415 and
-the aligned footprints carry measured heights. Thesis-beating targets are
-later work. Skipped without ../shared/data/delft_1961_subset.
+Runs the complete chain twice, each time in a fresh EPSG:28992 location with
+the same seed, prints the report's table (demo/delft_report.py: our figures
+and the thesis's, the thesis's final plots scored by the same code) and
+asserts the issue's figures: F-score >= 0.95, no ground-truth plot lost, no
+overlapping footprints, 100 % valid solids, a schema-valid CityJSON 2.0.2,
+byte-identical CityJSON from the two runs. The figures still short of the
+issue (turning-function distance below the thesis's final plots', >= 95 % of
+the thesis's 651 aligned footprints found) are asserted in tests marked
+xfail (not strict): reported as XFAIL with the figure, XPASS once they hold.
+The time of the chain (under 60 s) is a benchmark figure
+(testsuite/benchmarks/bench_chain.py), not a test. Skipped without
+../shared/data/delft_1961_subset.
 """
 
 import json
 import os
-import subprocess
 
 import pytest
 
-from test_demo import DIST, ROOT, _clean_env, need_grass_and_suite
+from chain_testing import run_chain
+from test_demo import need_grass_and_suite
 
-pytestmark = pytest.mark.grass
+pytestmark = [pytest.mark.grass, pytest.mark.acceptance]
 
-SCRIPT = os.path.join(ROOT, "demo", "delft_1961.sh")
 STAGES = ("import", "classify", "generalize", "align", "subdivide", "lod2")
 
 
@@ -26,28 +32,23 @@ def chain(shared_data, tmp_path_factory):
     if not os.path.isdir(os.path.join(shared_data, "delft_1961_subset")):
         pytest.skip("the Delft 1961 subset is not in '{}'".format(shared_data))
     need_grass_and_suite()
-    tmp = tmp_path_factory.mktemp("delft")
-    location = tmp / "grassdata" / "delft"
-    env = _clean_env()
-    subprocess.run(["grass", "-c", "EPSG:28992", str(location), "-e"], check=True, env=env,
-                   capture_output=True)
-    env["GRASS_ADDON_BASE"] = DIST
-    env["PATH"] = os.pathsep.join([os.path.join(DIST, "scripts"), os.path.join(DIST, "bin"),
-                                   env["PATH"]])
-    out = tmp / "out"
-    run = subprocess.run(["grass", str(location / "PERMANENT"), "--exec", "bash", SCRIPT,
-                          str(out), shared_data], cwd=ROOT, env=env, capture_output=True,
-                         text=True, timeout=1200)
-    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
+    runs = []
+    for name in ("first", "second"):
+        folder = tmp_path_factory.mktemp("delft_" + name)
+        run_chain("delft_1961.sh", 28992, folder, shared_data)
+        runs.append(folder / "out")
+    out = runs[0]
     report = json.loads((out / "report.json").read_text())
-    print("\nDelft 1961 chain report:\n" + json.dumps(report, indent=1))
-    return {"out": out, "report": report}
+    print("\nDelft 1961 chain (demo/delft_1961.sh), report.txt:\n" +
+          (out / "report.txt").read_text())
+    return {"out": out, "second": runs[1], "report": report}
 
 
 def test_every_stage_ran_and_was_timed(chain):
     seconds = chain["report"]["seconds"]
     assert set(seconds) == set(STAGES)
     assert all(s > 0 for s in seconds.values())
+    assert (chain["out"] / "report.txt").read_text().count("time ") == len(STAGES) + 1
 
 
 def test_figures_of_every_stage_are_there(chain):
@@ -63,6 +64,36 @@ def test_figures_of_every_stage_are_there(chain):
     assert report["subdivide"]["footprints"] == report["lod2"]["solids"]
 
 
+def test_plots_scored_as_the_module_scores_them(chain):
+    """The report's own scoring of our plots (the code it scores the thesis's
+    plots with) gives v.histo.generalize's figures."""
+    ours, generalize = chain["report"]["plots"], chain["report"]["generalize"]
+    for key in ("precision", "recall", "f_score", "turning_distance", "buffer_similarity"):
+        assert ours[key] == pytest.approx(generalize[key]), key
+    thesis = chain["report"]["thesis_plots"]
+    assert thesis["plots"] == 33
+    # the thesis's final plots by the same definitions (README: 0.879 / 1.000 / 0.935)
+    assert thesis["f_score"] == pytest.approx(0.935, abs=0.001)
+
+
+def test_f_score_at_least_0_95(chain):
+    assert chain["report"]["generalize"]["f_score"] >= 0.95
+
+
+def test_no_plot_lost(chain):
+    """Every ground-truth plot is kept: its point in a plot, each digitised
+    polygon intersected by one; and every plot holds footprints."""
+    plots, footprints = chain["report"]["plots"], chain["report"]["subdivide"]
+    assert plots["gt_points_in_a_plot"] == plots["gt_points"] == 31
+    assert plots["gt_polygons_intersected"] == plots["gt_polygons"] == 10
+    assert plots["lost"] == 0
+    assert footprints["plots_with_footprints"] == plots["plots"]
+
+
+def test_no_overlapping_footprints(chain):
+    assert chain["report"]["subdivide"]["overlapping_pairs"] == 0
+
+
 def test_solids_all_valid_in_the_3d_crs(chain):
     lod2 = chain["report"]["lod2"]
     assert lod2["percent_valid"] == 100.0 and lod2["valid"] == lod2["solids"]
@@ -72,8 +103,42 @@ def test_solids_all_valid_in_the_3d_crs(chain):
     assert (chain["out"] / "model.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_cityjson_valid_by_the_2_0_2_schema(chain, schemas):
+    figures = chain["report"]["cityjson"]
+    assert figures["objects_checked"] == figures["objects"] == chain["report"]["lod2"]["solids"]
+    assert figures["valid"] is True, figures["first_errors"]
+
+
+def test_second_run_byte_identical(chain):
+    """The same seed, a second fresh location: the same CityJSON, byte for byte."""
+    first = (chain["out"] / "model.city.json").read_bytes()
+    assert (chain["second"] / "model.city.json").read_bytes() == first
+
+
 def test_aligned_footprints_carry_the_1880_heights(chain):
     """The current footprints identical to the thesis's aligned 1880 ones have
     their 3D BAG heights; the others take the neighbourhood's."""
     heights = chain["report"]["lod2"]["height_source"]
     assert heights["measured"] > 0 and heights["neighbours"] > 0
+
+
+@pytest.mark.xfail(strict=False, reason="issue 18: the plots of the classified map are not "
+                   "yet closer to the digitised ones than the thesis's final plots")
+def test_turning_distance_below_the_thesis_final_plots(chain):
+    ours = chain["report"]["generalize"]["turning_distance"]
+    thesis = chain["report"]["thesis_plots"]["turning_distance"]
+    print("\nmean turning-function distance: ours {:.3f}, the thesis's final plots {:.3f} "
+          "(same code, same 10 digitised plots)".format(ours, thesis))
+    assert ours < thesis
+
+
+@pytest.mark.xfail(strict=False, reason="issue 18: fewer than 95 % of the thesis's 651 "
+                   "aligned footprints among the aligned ones (helper align95 works on it)")
+def test_thesis_aligned_footprints_found(chain):
+    found = chain["report"]["thesis_aligned"]
+    print("\nthesis's aligned footprints found (identical outline): {} of {} ({} %); the "
+          "same current footprint aligned, any outline: {} ({} %)".format(
+              found["found"], found["thesis"], found["percent"], found["same_footprint"],
+              found["same_footprint_percent"]))
+    assert found["thesis"] == 651
+    assert found["found"] >= 0.95 * found["thesis"]
