@@ -49,8 +49,10 @@ start_run() {
     : > "$TIMES"
 }
 
-# A stage's command, timed into $TIMES when the caller set it: stage STAGE COMMAND...
+# A stage's command, printed ("--- run: COMMAND", so a log shows what ran)
+# and timed into $TIMES when the caller set it: stage STAGE COMMAND...
 stage() {
+    echo "--- run: ${*:2}"
     if [ -n "${TIMES:-}" ]; then
         timed "$TIMES" "$@"
     else

@@ -2,8 +2,12 @@
 
 - :func:`stage_commands`: the commands of its "Stage N" sections (one string
   each, continuation lines joined);
-- :func:`chain_commands`: the commands demo/chain.sh runs, with its
-  parameters put in (as the script sets them when every stage runs);
+- :func:`chain_commands`: the command lines of demo/chain.sh itself, with
+  its parameters put in (its stage 1 and pictures; the modules run in the
+  stage functions of demo/steps.sh);
+- :func:`module_commands` / :func:`printed_commands`: the tutorial's module
+  commands, and those a run of the chain printed ("--- run: ..."), as
+  comparable tuples;
 - :func:`quoted_outputs`: what its stage sections quote of the modules'
   messages (backticked spans of several words), pieces split at "...".
 """
@@ -76,3 +80,26 @@ def chain_commands(path=CHAIN):
         if line and not line.startswith("#"):
             commands.append(_normal(expand(line)).replace('.py"', ".py"))
     return commands
+
+
+#: the output folder as the tutorial writes it ("$OUT/name") and as compared
+OUT_MARK = "<OUT>"
+
+
+def _comparable(command):
+    """A module command as (module, its sorted arguments): GRASS options
+    mean the same in any order."""
+    words = command.split()
+    return (words[0], tuple(sorted(words[1:])))
+
+
+def module_commands(readme=None):
+    """The tutorial's commands of the suite's modules (``r.histo.*``, ``v.histo.*``)."""
+    return [_comparable(re.sub(r'"\$OUT/([^"]*)"', OUT_MARK + r"/\1", c))
+            for c in stage_commands(readme) if re.match(r"[rv]\.histo\.", c)]
+
+
+def printed_commands(log, out):
+    """The module commands a chain run printed, its output folder ``out`` marked."""
+    return [_comparable(_normal(line.split("--- run: ", 1)[1].replace(str(out), OUT_MARK)))
+            for line in log.splitlines() if line.startswith("--- run: ")]

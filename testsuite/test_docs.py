@@ -82,10 +82,14 @@ def test_manual_pictures_are_installed(module):
 
 
 def test_readme_tutorial_commands_are_the_chains():
-    """Each command of the tutorial's stages is one demo/chain.sh runs, in that order."""
-    commands = readme_tutorial.stage_commands()
+    """Each command of the tutorial's stages that is not one of the suite's
+    modules (those run in demo/steps.sh, and test_demo compares them with
+    what the demo ran) is one demo/chain.sh runs, in that order."""
+    commands = [c for c in readme_tutorial.stage_commands()
+                if not re.match(r"[rv]\.histo\.", c)]
     chain = readme_tutorial.chain_commands()
-    assert len(commands) >= 7
+    assert len(commands) >= 2
+    assert len(readme_tutorial.module_commands()) == 5
     missing = [c for c in commands if c not in chain]
     assert not missing, missing
     assert [chain.index(c) for c in commands] == sorted(chain.index(c) for c in commands)
