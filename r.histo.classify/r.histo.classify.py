@@ -123,13 +123,13 @@
 # %option
 # % key: window
 # % type: integer
-# % description: Moving window size of the refill (odd; default: from the thickness of the removed objects)
+# % description: Refill window size (odd; reach of a pass, distance of separate=; default: from the thickness of the removed objects)
 # % guisection: Removal
 # %end
 # %option
 # % key: iterations
 # % type: integer
-# % description: Maximum number of refill iterations (default: until filled)
+# % description: Maximum number of refill passes: cells farther than iterations x (window - 1) / 2 cells from every kept cell stay empty (default: until filled)
 # % guisection: Removal
 # %end
 # %option

@@ -461,6 +461,45 @@ def fill_from_surroundings(classes, holes, window=3, iterations=None, nodata=0, 
     return classes, holes
 
 
+def fill_from_nearest(classes, holes, window=3, reach=None, nodata=0, exclude=()):
+    """Fill ``holes`` with the class of the nearest known cells.
+
+    Known cells are those that are not holes, not ``nodata`` and not an
+    ``exclude`` label. Each hole cell takes the label of the known cell
+    closest to it (Euclidean distance between cell centres); when cells of
+    several labels are equally close, the one with the most known cells in
+    the window x window neighbourhood wins (the lowest label among equals;
+    the default 3 x 3 is the cell's immediate neighbours: a wider window
+    brings back the bias below).
+    Two classes on either side of a hole thus meet halfway across it,
+    whichever of them has more cells around: the modal class of a window
+    alone (:func:`fill_from_surroundings`) favours the class whose cells the
+    hole did not cover, a solid plot beside a street cut up by the letters
+    of its name, and lets it grow across the hole. Cells farther than
+    ``reach`` cells from every known cell stay holes. Returns ``(filled
+    classes, remaining holes)``.
+    """
+    classes = np.array(classes, copy=True)
+    holes = np.array(holes, dtype=bool, copy=True)
+    known = ~holes & (classes != nodata)
+    if len(exclude):
+        known &= ~np.isin(classes, list(exclude))
+    labels = np.unique(classes[known])
+    if not holes.any() or not len(labels):
+        return classes, holes
+    distances = np.stack([ndimage.distance_transform_edt(~(known & (classes == label)))
+                          for label in labels])
+    nearest = distances.min(axis=0)
+    # the window's count of each equally near label; the others never win
+    votes = np.stack([np.where(d <= nearest + 1e-9, _window_counts(known & (classes == label),
+                                                                    window), -1)
+                      for label, d in zip(labels, distances)])
+    fill = holes if reach is None else holes & (nearest <= reach)
+    classes[fill] = labels[votes.argmax(axis=0)][fill]
+    holes[fill] = False
+    return classes, holes
+
+
 _FOUR = ndimage.generate_binary_structure(2, 1)
 _EIGHT = np.ones((3, 3), dtype=bool)
 
@@ -585,18 +624,23 @@ def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, m
        its regions smaller than ``min_cells`` cells (a minimum mapping unit,
        :func:`small_regions`), such as pieces of letters classified as
        something else.
-    2. The holes are refilled from their surroundings
-       (:func:`fill_from_surroundings`) with a window computed from the
-       thickness of the removed objects (:func:`removal_window`) unless
-       ``window`` is given.
+    2. The holes are refilled from their surroundings, each cell with the
+       class of the nearest known cell (:func:`fill_from_nearest`, ties by
+       the 3 x 3 neighbourhood); with
+       ``iterations``, only as far as that many passes of the window would
+       reach (``iterations`` x ``window // 2`` cells). The window is computed
+       from the thickness of the removed objects (:func:`removal_window`)
+       unless given.
     3. For the ``separate`` labels (e.g. buildings): where the fill of a
-       hole joins two regions of such a class that were apart (a street name
-       printed across a narrow street between two plots), that class is
-       refused there and the hole is refilled from the other classes around.
-    4. Regions left smaller than ``min_cells`` are refilled once more.
+       hole joins two regions of such a class that were apart within the
+       window (a street name printed across a narrow street between two
+       plots), that class is refused there and the hole is refilled from the
+       nearest of the other classes around.
+    4. Regions left smaller than ``min_cells`` are refilled once more (the
+       modal class of their 3 x 3 surroundings, :func:`fill_from_surroundings`).
 
     Returns ``(classes, window used)``; cells that could not be filled (no
-    known neighbour within ``iterations``) become ``nodata``.
+    known cell within reach) become ``nodata``.
     """
     classes = np.asarray(classes)
     removed = np.isin(classes, list(remove)) if len(remove) else np.zeros(classes.shape, bool)
@@ -610,12 +654,13 @@ def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, m
         holes |= small_regions(base, min_cells, nodata)
     holes &= classes != nodata
     before = np.where(holes, nodata, classes)
-    out, left = fill_from_surroundings(classes, holes, window, iterations, nodata)
+    reach = None if iterations is None else iterations * (window // 2)
+    out, left = fill_from_nearest(classes, holes, reach=reach, nodata=nodata)
     for label in separate:
         joined = bridges(before, out, holes, min_cells, window, nodata, labels=(label,))
         if joined.any():
-            refilled, still = fill_from_surroundings(out, joined, window, iterations, nodata,
-                                                     exclude=(label,))
+            refilled, still = fill_from_nearest(out, joined, reach=reach, nodata=nodata,
+                                                exclude=(label,))
             refilled[still] = label
             out = refilled
     out[left] = nodata

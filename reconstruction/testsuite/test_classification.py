@@ -227,6 +227,41 @@ def test_fill_respects_iterations_exclusions_and_no_data():
         cl.fill_from_surroundings(classes, holes, window=4)
 
 
+def test_nearest_fill_meets_halfway_where_the_modal_window_favours_the_solid_class():
+    # a plot (1) beside a street (4) whose name covers columns 20-29: only
+    # specks of the street show between the letters (columns 23 and 26)
+    classes = np.full((30, 40), 4)
+    classes[:, :20] = 1
+    holes = np.zeros(classes.shape, bool)
+    holes[:, 20:30] = True
+    holes[::3, 23] = False
+    holes[1::3, 26] = False
+    inner = slice(5, 25)  # away from the map's edge
+    modal, _ = cl.fill_from_surroundings(classes, holes, window=9)
+    nearest, left = cl.fill_from_nearest(classes, holes)
+    assert not left.any()
+    # the midline between the plot (column 19) and the first street cells (23)
+    # is column 21: the nearest fill stops there, the modal one goes past it
+    assert (nearest[inner, 20:22] == 1).all() and not (nearest[inner, 22:] == 1).any()
+    assert (modal[inner, 22] == 1).all()
+    # no class is invented, known cells keep theirs, ties go to the 3 x 3 majority
+    assert np.array_equal(nearest[~holes], classes[~holes])
+    assert set(np.unique(nearest)) == {1, 4}
+
+
+def test_nearest_fill_respects_reach_exclusions_and_no_data():
+    classes = np.full((11, 11), 1)
+    classes[1:10, 1:10] = 2
+    holes = classes == 2
+    _, left = cl.fill_from_nearest(classes, holes, reach=1)
+    assert left.sum() == 7 * 7
+    filled, left = cl.fill_from_nearest(classes, holes, exclude=(1,))
+    assert np.array_equal(left, holes) and (filled[holes] == 2).all()
+    empty = np.zeros((5, 5), dtype=int)
+    filled, left = cl.fill_from_nearest(empty, empty == 0)
+    assert left.all()
+
+
 def test_small_regions_and_thin_parts():
     classes = np.full((12, 12), 4)
     classes[2:8, 2:8] = 1
@@ -289,10 +324,11 @@ def test_fill_leaves_no_hole_and_invents_no_class(seed, half):
     classes = rng.choice([1, 3, 4], size=(25, 25))
     holes = rng.random((25, 25)) < 0.4
     holes[0, 0] = False
-    filled, left = cl.fill_from_surroundings(classes, holes, window=2 * half + 1)
-    assert not left.any()
-    assert np.array_equal(filled[~holes], classes[~holes])
-    assert set(np.unique(filled)) <= {1, 3, 4}
+    for filled, left in (cl.fill_from_surroundings(classes, holes, window=2 * half + 1),
+                         cl.fill_from_nearest(classes, holes, window=2 * half + 1)):
+        assert not left.any()
+        assert np.array_equal(filled[~holes], classes[~holes])
+        assert set(np.unique(filled)) <= {1, 3, 4}
 
 
 def test_class_raster_maps_segment_labels_back():
