@@ -64,6 +64,7 @@ class CopiedBuildings:
     report: CopyReport
     layout: object = None
     rows: np.ndarray = None
+    copied_geometries: list = None
 
     def __len__(self):
         return len(self.ids)
@@ -76,6 +77,8 @@ class CopiedBuildings:
 
     def geometries(self):
         """Every copied geometry (building after building, object after object)."""
+        if self.copied_geometries is not None:
+            return self.copied_geometries
         return [g for tree in self.trees for obj in tree.values() for g in obj.get("geometry", ())]
 
     def geometry_counts(self):
@@ -176,10 +179,12 @@ def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None):
     highest, counted in the report); ``attributes``: name -> one value per
     building, added to the copied top-level objects (None values and names
     the object already has are left alone). The model is not changed.
+    Each building's vertices are numbered in the order its geometries first
+    use them (see :func:`_rows`).
     """
     buildings = [int(b) for b in buildings]
     report = CopyReport(buildings=len(buildings))
-    trees = []
+    trees, geometries, counts = [], [], []
     uses_extension = False
     for n, b in enumerate(buildings):
         oid = model.buildings[b]
@@ -188,6 +193,7 @@ def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None):
                                     lods)
         report.lod_fallback += fell
         objs = {}
+        before = len(geometries)
         for o, obj in tree.items():
             if model.extensions and not uses_extension:
                 uses_extension = _uses_extension(obj)
@@ -203,26 +209,26 @@ def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None):
                         kept.append(g)
                         report.geometries[g["lod"]] = report.geometries.get(g["lod"], 0) + 1
                 copy["geometry"] = kept
+                geometries.extend(kept)
             objs[o] = copy
         if attributes:
             _add_attributes(objs[oid], attributes, n)
         trees.append(objs)
+        counts.append(len(geometries) - before)
         report.objects += len(objs)
     copied = CopiedBuildings(ids=[model.buildings[b] for b in buildings], trees=trees,
                              vertices=None, vertex_start=None, scale=scale,
                              reference_system=model.reference_system,
                              extensions=model.extensions if uses_extension else None,
-                             report=report)
-    counts = copied.geometry_counts()
+                             report=report, copied_geometries=geometries)
     building_of = np.repeat(np.arange(len(buildings)), counts)
     offset = model.offset[buildings] if buildings else np.zeros(0, dtype=np.int64)
-    copied.layout = citygeometry.layout(copied.geometries(), offset[building_of])
+    copied.layout = citygeometry.layout(geometries, offset[building_of])
     source, row_owner, copied.rows = _rows(copied.layout.flat,
                                            building_of[copied.layout.entry_geometry],
                                            len(model.vertices))
     copied.vertices, exact = _to_grid(model, source, scale)
-    copied.vertex_start = np.zeros(len(buildings) + 1, dtype=np.int64)
-    np.cumsum(np.bincount(row_owner, minlength=len(buildings)), out=copied.vertex_start[1:])
+    copied.vertex_start = np.searchsorted(row_owner, np.arange(len(buildings) + 1))
     if not exact and len(source) and len(
             unique_rows(np.column_stack([row_owner, copied.vertices]))[0]) < len(source):
         _collapse(copied, row_owner)
@@ -231,23 +237,27 @@ def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None):
 
 def _rows(source, owner, count):
     """The vertex rows of copied entries: one row per (building, model vertex)
-    used, building after building, by model vertex within one.
+    used, building after building.
 
-    Returns the model vertex and the building of every row and the row of
-    every entry. Usually each vertex is used by one building only and one
-    pass over an array of the model's vertex count does it; else a sort."""
-    if len(source) == 0:
+    ``source``: the model vertex of every entry, ``owner``: its building,
+    ``count``: the model's vertex count. Returns the model vertex and the
+    building of every row and the row of every entry. Usually the entries
+    come building after building and each vertex is used by one building
+    only: the rows are then numbered in the order the entries first use them,
+    without a sort (a building's boundaries then index its rows in the order
+    they were written); else by model vertex within each building."""
+    E = len(source)
+    if E == 0:
         empty = np.zeros(0, dtype=np.int64)
         return empty, empty, empty
-    user = np.full(count, -1, dtype=np.int64)
-    user[source] = owner
-    if np.array_equal(user[source], owner):
-        used = np.nonzero(user >= 0)[0]
-        order = np.argsort(user[used], kind="stable")
-        row_source = used[order]
-        row_of = np.empty(count, dtype=np.int64)
-        row_of[row_source] = np.arange(len(row_source))
-        return row_source, user[row_source], row_of[source]
+    entry = np.arange(E)
+    first = np.full(count, E, dtype=np.int64)
+    np.minimum.at(first, source, entry)
+    at = first[source]                                  # the first entry using its vertex
+    if np.all(owner[1:] >= owner[:-1]) and np.array_equal(owner[at], owner):
+        new = at == entry
+        rank = np.cumsum(new) - 1
+        return source[new], owner[new], rank[at]
     keys, rows = np.unique(owner * count + source, return_inverse=True)
     return keys % count, keys // count, rows.ravel()
 
@@ -290,6 +300,7 @@ def _collapse(copied, owner):
                                    if g is not None]
     copied.vertices = uniq[used, 1:]
     copied.vertex_start[1:] = np.cumsum(np.bincount(uniq[used, 0], minlength=len(copied.ids)))
+    copied.copied_geometries = None
     copied.layout = citygeometry.layout(copied.geometries())
     copied.rows = copied.layout.flat
 
@@ -298,16 +309,26 @@ def objects_text(copied, index):
     """The JSON text of the copied city objects (members of a CityObjects
     object, without the braces) with vertex indices ``index[row]``, the
     boundaries written in bulk."""
+    return "".join(_objects_pieces(copied, index))
+
+
+def _objects_pieces(copied, index):
+    """:func:`objects_text` in pieces (joined once by the caller, not copied on the way)."""
     structure = {}
     for n in range(len(copied)):
         structure.update(copied.holed(n))
-    text = citygeometry.splice(structure, copied.boundary_texts(index))
-    if text is None:                    # an attribute that is the placeholder itself
+    fills = copied.boundary_texts(index)
+    pieces = citygeometry.pieces_around_holes(structure, len(fills))
+    if pieces is None:                  # an attribute that is the placeholder itself
         merged = {}
         for objs in copied.objects(index):
             merged.update(objs)
-        text = json.dumps(merged, separators=(",", ":"))
-    return text[1:-1]
+        return [json.dumps(merged, separators=(",", ":"))[1:-1]]
+    out = [None] * (2 * len(pieces) - 1)
+    out[0::2] = pieces
+    out[1::2] = fills
+    out[0], out[-1] = out[0][1:], out[-1][:-1]          # without the braces
+    return out
 
 
 # ---------------------------------------------------------------------------
@@ -351,23 +372,43 @@ def merged_metadata(metadata, lo, hi, copied, scale):
 
 def _placement(generated, copied):
     """Output index of every copied vertex (the generated vertex it equals,
-    or a new one after them) and the new rows, in order."""
-    G = len(generated)
-    if len(copied.vertices) == 0:
+    or a new one after them) and the new rows, in the order they are first
+    used (the copied rows' order: without duplicates the rows as they are)."""
+    G, C = len(generated), len(copied.vertices)
+    if C == 0:
         return np.zeros(0, dtype=np.int64), copied.vertices
     both = np.concatenate([generated, copied.vertices]) if G else copied.vertices
-    uniq, inv = unique_rows(both)
+    keys = _packed(both)
+    if keys is not None:
+        ordered = np.sort(keys)
+        if not np.any(ordered[1:] == ordered[:-1]):
+            return G + np.arange(C), copied.vertices            # no vertex met another
+        uniq, inv = np.unique(keys, return_inverse=True)
+    else:
+        uniq, inv = unique_rows(both)
     target = np.full(len(uniq), -1, dtype=np.int64)
     if G:
         target[inv[:G]] = np.arange(G)
     mine = inv[G:]
-    new = np.zeros(len(uniq), dtype=bool)
-    new[mine] = True
-    if G:
-        new[inv[:G]] = False
-    groups = np.nonzero(new)[0]
-    target[groups] = G + np.arange(len(groups))
-    return target[mine], uniq[groups]
+    row = np.arange(C)
+    first = np.full(len(uniq), C, dtype=np.int64)
+    np.minimum.at(first, mine, row)
+    at = first[mine]                                # the first copied row of its vertex
+    known = target[mine]
+    new = (at == row) & (known < 0)
+    rank = np.cumsum(new) - 1
+    return np.where(known >= 0, known, G + rank[at]), copied.vertices[new]
+
+
+def _packed(rows):
+    """One int64 per integer (x, y, z) row, equal for equal rows (None when
+    the extent is too large to pack the three into 63 bits)."""
+    lo = rows.min(axis=0)
+    span = rows.max(axis=0) - lo + 1
+    if int(span[0]) * int(span[1]) * int(span[2]) >= 2 ** 62:
+        return None
+    d = rows - lo
+    return (d[:, 0] * span[1] + d[:, 1]) * span[2] + d[:, 2]
 
 
 def _keys(body):
@@ -452,7 +493,7 @@ def _head_and_rows(doc, gen, translate, copied, scale):
 
 
 def _merge_text(text, copied):
-    from .cityjsonseq import vertices_texts
+    from .cityjson import _int_text
 
     head_end = text.find(',"CityObjects":{')
     vstart = text.rfind(',"vertices":')
@@ -467,14 +508,18 @@ def _merge_text(text, copied):
     gen = flat.reshape(-1, 3)
     _check_ids(copied, _keys(body))
     head, to_out, rows = _head_and_rows(doc, gen, translate, copied, scale)
-    objects = objects_text(copied, to_out)
-    new_vertices = vertices_texts(rows, np.array([0, len(rows)]))[0]
-    if len(gen) == 0:
-        vertices = new_vertices
-    elif len(rows) == 0:
-        vertices = inner
+    objects = _objects_pieces(copied, to_out)
+    if len(rows):
+        # "[x,y,z],[x,y,z" of the new rows, in bulk
+        values = rows.ravel()
+        prefix = np.full(rows.shape, 2, dtype=np.int64)
+        prefix[:, 0] = 1
+        prefix[0, 0] = 0
+        new_rows, _ = _int_text(np.abs(values), prefix.ravel() + 3 * (values < 0),
+                                ["[", "],[", ",", "[-", "],[-", ",-"])
+        vertices = ["[" if len(gen) == 0 else inner[:-1] + ",", new_rows, "]]"]
     else:
-        vertices = inner[:-1] + "," + new_vertices[1:]
+        vertices = [inner]
     head_text = json.dumps(head, separators=(",", ":"))
-    return "".join([head_text[:-1], ',"CityObjects":{', body, "," if body and objects else "",
-                    objects, '},"vertices":', vertices, "}"])
+    return "".join([head_text[:-1], ',"CityObjects":{', body, "," if body and objects else ""]
+                   + objects + ['},"vertices":'] + vertices + ["}"])
