@@ -68,7 +68,7 @@ def flat_indices(leaves):
 
 def _regroup(items, counts):
     """``items`` cut into consecutive lists of ``counts`` items."""
-    ends = list(itertools.accumulate(counts))
+    ends = np.cumsum(counts).tolist()
     return [items[a:b] for a, b in zip([0] + ends[:-1], ends)]
 
 
@@ -89,7 +89,8 @@ class Layout:
     the geometries grouped by depth; ``offsets``: where each leaf starts in
     ``flat``; ``entry_geometry``: the geometry (position in the list) of
     every entry; ``groups``: per depth ``(positions, first_leaf,
-    leaf_count, counts)``, ``counts`` the list lengths level by level.
+    leaf_count, counts)``, ``counts`` the list lengths level by level
+    (int64 arrays).
     Kept, a layout lets the same geometries be written again and again
     with other indices without walking their lists.
     """
@@ -107,7 +108,7 @@ def layout(geometries, shift=None):
     for depth, members in _by_depth(geometries).items():
         counts, level = [], [g["boundaries"] for _, g in members]
         for _ in range(depth):
-            counts.append([len(p) for p in level])
+            counts.append(np.fromiter(map(len, level), dtype=np.int64, count=len(level)))
             level = list(itertools.chain.from_iterable(level))
         positions = [k for k, _ in members]
         groups.append((positions, len(leaves), len(level), counts))
@@ -173,7 +174,7 @@ def texts(lay, new):
     out = [None] * lay.count
     for positions, start, n, counts in lay.groups:
         sizes = np.diff(lay.offsets[start:start + n + 1])
-        if n == 0 or not sizes.all() or not all(all(c) for c in counts):
+        if n == 0 or not sizes.all() or not all(c.all() for c in counts):
             group = _joined(lay, new, positions, start, n, counts)      # an empty list somewhere
         else:
             group = _nested_text(new[lay.offsets[start]:lay.offsets[start + n]], sizes, counts)
@@ -225,7 +226,7 @@ def _joined(lay, new, positions, start, n, counts):
     for k, piece in zip(full.tolist(), _pieces(text, at, offsets[full] - offsets[0])):
         level[k] = piece + "]"
     for c in reversed(counts):
-        ends = list(itertools.accumulate(c))
+        ends = np.cumsum(c).tolist()
         level = ["[" + ",".join(level[a:b]) + "]" for a, b in zip([0] + ends[:-1], ends)]
     return level
 

@@ -166,7 +166,13 @@ def _to_grid(model, src, scale):
     ratio = model.scale / scale
     k = np.rint(ratio)
     if v.dtype.kind == "i" and np.all(np.abs(ratio - k) < 1e-9) and np.all(k >= 1):
-        return v * k.astype(np.int64) + np.rint(model.translate / scale).astype(np.int64), True
+        shift = np.rint(model.translate / scale).astype(np.int64)
+        if np.all(k == 1):
+            v = v + shift                   # the same grid: no multiplication
+        else:
+            v = v * k.astype(np.int64)
+            v += shift
+        return v, True
     return np.rint((v * model.scale + model.translate) / scale).astype(np.int64), False
 
 
@@ -223,7 +229,7 @@ def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None):
                              report=report, copied_geometries=geometries)
     building_of = np.repeat(np.arange(len(buildings)), counts)
     offset = model.offset[buildings] if buildings else np.zeros(0, dtype=np.int64)
-    copied.layout = citygeometry.layout(geometries, offset[building_of])
+    copied.layout = citygeometry.layout(geometries, offset[building_of] if offset.any() else None)
     source, row_owner, copied.rows = _rows(copied.layout.flat,
                                            building_of[copied.layout.entry_geometry],
                                            len(model.vertices))
