@@ -148,10 +148,26 @@ def _int_text(values, prefix, table):
         raise ValueError("negative value")
     top = int(values.max())
     W = len(str(top))
-    SB, WB, sep_blocks, used_chars, sizes = _separator_tables(tuple(table), W)
+    tables = _separator_tables(tuple(table), W)
+    prefix = np.asarray(prefix, dtype=np.intp)
+    # in chunks that stay in the processor's cache (a fifth faster than in one go)
+    parts, size = [], np.empty(len(values), dtype=np.int64)
+    for a in range(0, len(values), _CHUNK):
+        chars, size[a:a + _CHUNK] = _int_chars(values[a:a + _CHUNK], prefix[a:a + _CHUNK],
+                                               W, top, tables)
+        parts.append(chars)
+    text = str(memoryview(parts[0] if len(parts) == 1 else np.concatenate(parts)), "ascii")
+    return text, np.cumsum(size) - size
+
+
+_CHUNK = 1 << 14
+
+
+def _int_chars(values, prefix, W, top, tables):
+    """The characters (uint8) of :func:`_int_text` for a chunk of values, and their count per value."""
+    SB, WB, sep_blocks, used_chars, sizes = tables
     n = len(values)
     chars = np.empty((n, SB + WB), dtype=np.uint32)
-    prefix = np.asarray(prefix, dtype=np.intp)
     for j in range(SB):
         chars[:, j] = sep_blocks[:, j][prefix]
     quads = _quads()
@@ -162,10 +178,7 @@ def _int_text(values, prefix, table):
         chars[:, j] = quads[block]
     code = np.searchsorted(10 ** np.arange(1, W, dtype=np.int64), values, side="right") + 1
     code += prefix * (W + 1)                    # (separator, digit count)
-    size = sizes[code]
-    text = str(memoryview(chars.view(np.uint8).reshape(n, 4 * (SB + WB))[used_chars[code]]),
-               "ascii")
-    return text, np.cumsum(size) - size
+    return chars.view(np.uint8).reshape(n, 4 * (SB + WB))[used_chars[code]], sizes[code]
 
 
 _SEPARATOR_TABLES = {}
