@@ -194,7 +194,7 @@ def _nested_text(values, sizes, counts):
     # a list starts at its first leaf's first entry; every list above a
     # leaf that starts one starts there too (no list is empty)
     starts = np.cumsum(sizes) - sizes
-    change = np.zeros(len(values), dtype=np.int64)
+    change = np.zeros(len(values), dtype=np.int8)
     change[starts] = 1
     first_leaf = np.arange(len(sizes))
     for c in reversed(counts):
@@ -219,7 +219,7 @@ def _joined(lay, new, positions, start, n, counts):
     sizes = np.diff(offsets)
     full = np.nonzero(sizes > 0)[0]
     values = new[offsets[0]:offsets[-1]]
-    prefix = np.ones(len(values), dtype=np.int64)
+    prefix = np.ones(len(values), dtype=np.int8)
     prefix[offsets[full] - offsets[0]] = 0
     text, at = _int_text(values, prefix, ["[", ","])
     level = ["[]"] * n

@@ -149,7 +149,7 @@ def _int_text(values, prefix, table):
     top = int(values.max())
     W = len(str(top))
     tables = _separator_tables(tuple(table), W)
-    prefix = np.asarray(prefix, dtype=np.intp)
+    prefix = np.asarray(prefix)
     # in chunks that stay in the processor's cache (a fifth faster than in one go)
     parts, size = [], np.empty(len(values), dtype=np.int64)
     for a in range(0, len(values), _CHUNK):
@@ -167,6 +167,7 @@ def _int_chars(values, prefix, W, top, tables):
     """The characters (uint8) of :func:`_int_text` for a chunk of values, and their count per value."""
     SB, WB, sep_blocks, used_chars, sizes = tables
     n = len(values)
+    prefix = prefix.astype(np.intp)
     chars = np.empty((n, SB + WB), dtype=np.uint32)
     for j in range(SB):
         chars[:, j] = sep_blocks[:, j][prefix]
@@ -222,7 +223,7 @@ def _split_by_solid(values, starts, S, face_level):
     the pair (offset of every face's first entry, first face of each solid).
     """
     values = np.asarray(values, dtype=np.int64)
-    prefix = np.full(len(values), 2, dtype=np.int64)
+    prefix = np.full(len(values), 2, dtype=np.int8)
     if face_level:
         face_start, solid_first_face = starts
         prefix[face_start[:-1]] = 1
@@ -241,7 +242,7 @@ def _vertices_text(vertices):
     """JSON text of an (n, 3) array of non-negative integers ``[[x,y,z],...]``."""
     if len(vertices) == 0:
         return "[]"
-    prefix = np.full(vertices.shape, 2, dtype=np.int64)
+    prefix = np.full(vertices.shape, 2, dtype=np.int8)
     prefix[:, 0] = 1
     prefix[0, 0] = 0
     text, _ = _int_text(vertices.ravel(), prefix.ravel(), ["[", "],[", ","])

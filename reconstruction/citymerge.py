@@ -499,7 +499,7 @@ def _head_and_rows(doc, gen, translate, copied, scale):
 
 
 def _merge_text(text, copied):
-    from .cityjson import _int_text
+    from .cityjsonseq import vertices_texts
 
     head_end = text.find(',"CityObjects":{')
     vstart = text.rfind(',"vertices":')
@@ -516,14 +516,8 @@ def _merge_text(text, copied):
     head, to_out, rows = _head_and_rows(doc, gen, translate, copied, scale)
     objects = _objects_pieces(copied, to_out)
     if len(rows):
-        # "[x,y,z],[x,y,z" of the new rows, in bulk
-        values = rows.ravel()
-        prefix = np.full(rows.shape, 2, dtype=np.int64)
-        prefix[:, 0] = 1
-        prefix[0, 0] = 0
-        new_rows, _ = _int_text(np.abs(values), prefix.ravel() + 3 * (values < 0),
-                                ["[", "],[", ",", "[-", "],[-", ",-"])
-        vertices = ["[" if len(gen) == 0 else inner[:-1] + ",", new_rows, "]]"]
+        new_rows = vertices_texts(rows, np.array([0, len(rows)]))[0]
+        vertices = [new_rows] if len(gen) == 0 else [inner[:-1], ",", new_rows[1:]]
     else:
         vertices = [inner]
     head_text = json.dumps(head, separators=(",", ":"))
