@@ -87,8 +87,8 @@ class Layout:
 
     ``flat``: every index (plus its geometry's shift), leaf after leaf,
     the geometries grouped by depth; ``offsets``: where each leaf starts in
-    ``flat``; ``entry_geometry``: the geometry (position in the list) of
-    every entry; ``groups``: per depth ``(positions, first_leaf,
+    ``flat``; ``leaf_geometry``: the geometry (position in the list) of
+    every leaf (:attr:`entry_geometry`: of every entry); ``groups``: per depth ``(positions, first_leaf,
     leaf_count, counts)``, ``counts`` the list lengths level by level
     (int64 arrays).
     Kept, a layout lets the same geometries be written again and again
@@ -98,7 +98,12 @@ class Layout:
     groups: list
     flat: np.ndarray
     offsets: np.ndarray
-    entry_geometry: np.ndarray
+    leaf_geometry: np.ndarray
+
+    @property
+    def entry_geometry(self):
+        """The geometry (position in the list) of every entry of ``flat``."""
+        return np.repeat(self.leaf_geometry, np.diff(self.offsets))
 
 
 def layout(geometries, shift=None):
@@ -119,10 +124,10 @@ def layout(geometries, shift=None):
         owner.append(per_top)
     flat, offsets = flat_indices(leaves)
     leaf_owner = np.concatenate(owner) if owner else np.zeros(0, dtype=np.int64)
-    entry_geometry = np.repeat(leaf_owner, np.diff(offsets))
+    lay = Layout(len(geometries), groups, flat, offsets, leaf_owner)
     if shift is not None and len(flat):
-        flat = flat + np.asarray(shift, dtype=np.int64)[entry_geometry]
-    return Layout(len(geometries), groups, flat, offsets, entry_geometry)
+        lay.flat = flat + np.asarray(shift, dtype=np.int64)[lay.entry_geometry]
+    return lay
 
 
 def indices(geometries, shift=None):

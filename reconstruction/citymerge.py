@@ -13,6 +13,7 @@ The copied buildings keep their ids and LoDs; appearances (materials,
 textures) and geometry templates are not copied.
 """
 
+import collections
 import json
 from dataclasses import dataclass, field
 
@@ -89,11 +90,13 @@ class CopiedBuildings:
         """The city objects of building ``n`` with :data:`~reconstruction.citygeometry.HOLE`
         for every geometry's boundaries (see :func:`citygeometry.splice`)."""
         objs = {}
+        hole = citygeometry.HOLE
         for oid, obj in self.trees[n].items():
-            objs[oid] = dict(obj)
-            if "geometry" in obj:
-                objs[oid]["geometry"] = [dict(g, boundaries=citygeometry.HOLE)
-                                         for g in obj["geometry"]]
+            if obj.get("geometry"):
+                objs[oid] = dict(obj)
+                objs[oid]["geometry"] = [dict(g, boundaries=hole) for g in obj["geometry"]]
+            else:
+                objs[oid] = obj                 # nothing to put in: the copy as it is
         return objs
 
     def local_index(self):
@@ -123,13 +126,13 @@ class CopiedBuildings:
         return out
 
 
-def _chosen_lods(geometries, lods):
-    """The LoDs to copy of one building tree, and whether it fell back to its highest."""
-    present = {g.get("lod") for g in geometries if _copyable(g)}
+def _chosen_lods(present, lods):
+    """The LoDs to copy of one building tree whose copyable geometries have
+    the LoDs ``present``, and whether it fell back to its highest."""
     if not present:
         return set(), False
     if lods == "all":
-        return present, False
+        return set(present), False
     if lods:
         wanted = {citygeometry.lod_value(x) for x in lods}
         chosen = {p for p in present if citygeometry.lod_value(p) in wanted}
@@ -192,28 +195,29 @@ def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None):
     report = CopyReport(buildings=len(buildings))
     trees, geometries, counts = [], [], []
     uses_extension = False
+    chosen_of = {}                      # LoDs present -> (LoDs copied, fell back)
     for n, b in enumerate(buildings):
         oid = model.buildings[b]
-        tree = {o: model.objects[o] for o in model.tree(oid)}
-        chosen, fell = _chosen_lods([g for obj in tree.values() for g in obj.get("geometry", ())],
-                                    lods)
+        tree = [(o, model.objects[o]) for o in model.tree(oid)]
+        present = frozenset(g.get("lod") for _, obj in tree for g in obj.get("geometry", ())
+                            if _copyable(g))
+        if present not in chosen_of:
+            chosen_of[present] = _chosen_lods(present, lods)
+        chosen, fell = chosen_of[present]
         report.lod_fallback += fell
         objs = {}
         before = len(geometries)
-        for o, obj in tree.items():
+        for o, obj in tree:
             if model.extensions and not uses_extension:
                 uses_extension = _uses_extension(obj)
             copy = dict(obj)
             if "geometry" in obj:
-                kept = []
-                for g in obj["geometry"]:
-                    if not _copyable(g):
-                        report.skipped_geometries += 1
-                    elif g.get("lod") in chosen:
-                        if "material" in g or "texture" in g:
-                            g = {k: v for k, v in g.items() if k not in ("material", "texture")}
-                        kept.append(g)
-                        report.geometries[g["lod"]] = report.geometries.get(g["lod"], 0) + 1
+                kept = [g for g in obj["geometry"] if g.get("lod") in chosen and _copyable(g)]
+                report.skipped_geometries += sum(not _copyable(g) for g in obj["geometry"]) \
+                    if len(kept) < len(obj["geometry"]) else 0
+                if any("material" in g or "texture" in g for g in kept):
+                    kept = [{k: v for k, v in g.items() if k not in ("material", "texture")}
+                            for g in kept]
                 copy["geometry"] = kept
                 geometries.extend(kept)
             objs[o] = copy
@@ -222,6 +226,7 @@ def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None):
         trees.append(objs)
         counts.append(len(geometries) - before)
         report.objects += len(objs)
+    report.geometries = dict(collections.Counter(g["lod"] for g in geometries))
     copied = CopiedBuildings(ids=[model.buildings[b] for b in buildings], trees=trees,
                              vertices=None, vertex_start=None, scale=scale,
                              reference_system=model.reference_system,
@@ -230,9 +235,10 @@ def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None):
     building_of = np.repeat(np.arange(len(buildings)), counts)
     offset = model.offset[buildings] if buildings else np.zeros(0, dtype=np.int64)
     copied.layout = citygeometry.layout(geometries, offset[building_of] if offset.any() else None)
-    source, row_owner, copied.rows = _rows(copied.layout.flat,
-                                           building_of[copied.layout.entry_geometry],
-                                           len(model.vertices))
+    lay = copied.layout
+    source, row_owner, copied.rows = _rows(
+        lay.flat, np.repeat(building_of[lay.leaf_geometry], np.diff(lay.offsets)),
+        len(model.vertices))
     copied.vertices, exact = _to_grid(model, source, scale)
     copied.vertex_start = np.searchsorted(row_owner, np.arange(len(buildings) + 1))
     if not exact and len(source) and len(
