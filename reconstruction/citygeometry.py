@@ -209,11 +209,15 @@ def _nested_text(values, sizes, counts):
     # a new geometry: its leaf and every list above changed (for depth 0 the
     # leaf is the geometry's boundaries); within one at most ``depth`` do
     first = starts[first_leaf]
-    change[0] = depth + 1
-    table = ["]" * k + "," + "[" * k for k in range(depth + 1)] + ["[" * (depth + 1)]
+    change[0] = depth + 2
+    # a geometry's first entry closes the one before (cut after the closing brackets)
+    close, open_ = "]" * (depth + 1), "[" * (depth + 1)
+    table = ["]" * k + "," + "[" * k for k in range(depth + 1)] + [close + open_, open_]
     text, at = _int_text(values, change, table)
-    close = "]" * (depth + 1)
-    return [piece + close for piece in _pieces(text, at, first)]
+    pieces = _pieces(text, at[first] + len(close), np.arange(len(first)))
+    pieces[0] = text[:len(pieces[0]) + len(close)]
+    pieces.append(pieces.pop() + close)
+    return pieces
 
 
 def _joined(lay, new, positions, start, n, counts):

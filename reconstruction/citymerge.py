@@ -389,15 +389,14 @@ def _placement(generated, copied):
     G, C = len(generated), len(copied.vertices)
     if C == 0:
         return np.zeros(0, dtype=np.int64), copied.vertices
-    both = np.concatenate([generated, copied.vertices]) if G else copied.vertices
-    keys = _packed(both)
+    keys = _packed([generated, copied.vertices] if G else [copied.vertices])
     if keys is not None:
         ordered = np.sort(keys)
         if not np.any(ordered[1:] == ordered[:-1]):
             return G + np.arange(C), copied.vertices            # no vertex met another
         uniq, inv = np.unique(keys, return_inverse=True)
     else:
-        uniq, inv = unique_rows(both)
+        uniq, inv = unique_rows(np.concatenate([generated, copied.vertices]))
     target = np.full(len(uniq), -1, dtype=np.int64)
     if G:
         target[inv[:G]] = np.arange(G)
@@ -412,15 +411,22 @@ def _placement(generated, copied):
     return np.where(known >= 0, known, G + rank[at]), copied.vertices[new]
 
 
-def _packed(rows):
-    """One int64 per integer (x, y, z) row, equal for equal rows (None when
-    the extent is too large to pack the three into 63 bits)."""
-    lo = rows.min(axis=0)
-    span = rows.max(axis=0) - lo + 1
+def _packed(parts):
+    """One int64 per integer (x, y, z) row of the arrays ``parts``, equal for
+    equal rows (None when the extent is too large to pack the three into 63 bits)."""
+    lo = np.min([p.min(axis=0) for p in parts], axis=0)
+    span = np.max([p.max(axis=0) for p in parts], axis=0) - lo + 1
     if int(span[0]) * int(span[1]) * int(span[2]) >= 2 ** 62:
         return None
-    d = rows - lo
-    return (d[:, 0] * span[1] + d[:, 1]) * span[2] + d[:, 2]
+    keys = []
+    for p in parts:
+        k = p[:, 0] - lo[0]
+        k *= span[1]
+        k += p[:, 1] - lo[1]
+        k *= span[2]
+        k += p[:, 2] - lo[2]
+        keys.append(k)
+    return np.concatenate(keys) if len(keys) > 1 else keys[0]
 
 
 def _keys(body):
