@@ -53,7 +53,8 @@ class CopiedBuildings:
     (extensions only when a copied object uses one). ``layout`` (a
     :class:`~reconstruction.citygeometry.Layout` of :meth:`geometries`) and
     ``rows`` (the vertex row of each of its entries) let the buildings be
-    written with any numbering of the rows without walking their lists again.
+    written with any numbering of the rows without walking their lists again;
+    ``copied_geometries``: the list :meth:`geometries` returns, kept.
     """
     ids: list
     trees: list
