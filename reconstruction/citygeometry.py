@@ -88,9 +88,9 @@ class Layout:
     ``flat``: every index (plus its geometry's shift), leaf after leaf,
     the geometries grouped by depth; ``offsets``: where each leaf starts in
     ``flat``; ``leaf_geometry``: the geometry (position in the list) of
-    every leaf (:attr:`entry_geometry`: of every entry); ``groups``: per depth ``(positions, first_leaf,
-    leaf_count, counts)``, ``counts`` the list lengths level by level
-    (int64 arrays).
+    every leaf (:attr:`entry_geometry`: of every entry); ``groups``: per
+    depth ``(positions, first_leaf, leaf_count, counts)``, ``counts`` the
+    list lengths level by level (int64 arrays).
     Kept, a layout lets the same geometries be written again and again
     with other indices without walking their lists.
     """

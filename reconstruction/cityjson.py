@@ -164,7 +164,8 @@ _CHUNK = 1 << 14
 
 
 def _int_chars(values, prefix, W, top, tables):
-    """The characters (uint8) of :func:`_int_text` for a chunk of values, and their count per value."""
+    """The characters (uint8) of :func:`_int_text` for a chunk of values,
+    and their count per value."""
     SB, WB, sep_blocks, used_chars, sizes = tables
     n = len(values)
     prefix = prefix.astype(np.intp)
