@@ -29,6 +29,10 @@ def main(shared_data, found_json=None):
     from histo_testing import import_delft_alignment
 
     folder = os.path.join(shared_data, "delft_1961_subset", "input")
+    if not os.path.isfile(os.path.join(folder, "delft_1961.tif")):
+        gs.fatal("No Delft 1961 subset in <{}>: give the shared data folder (e.g. "
+                 "../shared/data, as an absolute path or relative to where the script "
+                 "runs)".format(os.path.abspath(shared_data)))
     gs.run_command("r.in.gdal", input=os.path.join(folder, "delft_1961.tif"), output="delft",
                    flags="o", quiet=True, overwrite=True)
     for name, output in (("training_points_delft_1961", "delft_training"),

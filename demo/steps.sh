@@ -49,10 +49,11 @@ start_run() {
     : > "$TIMES"
 }
 
-# A stage's command, printed ("--- run: COMMAND", so a log shows what ran)
-# and timed into $TIMES when the caller set it: stage STAGE COMMAND...
+# A stage's command, printed on standard error ("--- run: COMMAND", so a log
+# shows what ran, also where the module's output goes to a file) and timed
+# into $TIMES when the caller set it: stage STAGE COMMAND...
 stage() {
-    echo "--- run: ${*:2}"
+    echo "--- run: ${*:2}" >&2
     if [ -n "${TIMES:-}" ]; then
         timed "$TIMES" "$@"
     else

@@ -206,23 +206,29 @@ def _classify_sheet(inputs, windows, tiles, side, grid, training, config, flags,
     gs.message(_("Chosen segmentation: threshold={} minsize={} (F={:.3f}); segmenting {} tiles "
                  "of up to {}x{} cells...").format(pair[0], pair[1], tuning.f[tuning.best],
                                                    len(tiles), side, side))
+    timing = [("tuning", time.perf_counter() - start)]
+    # the tiles are classified as their segmentations finish (the training points' tiles
+    # first), so the classification works while the next tiles are segmented
+    tiles = classify_tiled.training_first(tiles, training)
+    segmented = grasstiles.segment_tiles(inputs, pair, tiles, grid, config)
     names = {}
-    for k, name in grasstiles.segment_tiles(inputs, pair, tiles, grid, config):
-        names[tiles[k]] = name
-        gs.percent(len(names), len(tiles), 1)
-    timing = [("segmentation", time.perf_counter() - start)]
 
     def read_bands(tile):
         env = grasstiles.window_env(grid, tile)
         return [grassio.read_raster(name, np.float64, env) for name in inputs]
 
     def read_segments(tile):
+        while tile not in names:
+            k, name = next(segmented)
+            names[tiles[k]] = name
         return grassio.read_raster(names[tile], np.int32, grasstiles.window_env(grid, tile))
 
-    gs.message(_("Classifying and cleaning {} tiles...").format(len(tiles)))
-    result = classify_tiled.classify_tiles(
-        tiles, read_bands, read_segments, training, config, grid, config.pairs, tuning,
-        side, keep_segments=keep_segments, message=gs.message, percent=lambda d, t: gs.percent(d, t, 1))
+    gs.message(_("Segmenting, classifying and cleaning {} tiles...").format(len(tiles)))
+    with contextlib.closing(segmented):
+        result = classify_tiled.classify_tiles(
+            tiles, read_bands, read_segments, training, config, grid, config.pairs, tuning,
+            side, keep_segments=keep_segments, message=gs.message,
+            percent=lambda d, t: gs.percent(d, t, 1))
     result.timing = timing + result.timing
     return result
 

@@ -68,7 +68,7 @@ def flat_indices(leaves):
 
 def _regroup(items, counts):
     """``items`` cut into consecutive lists of ``counts`` items."""
-    ends = list(itertools.accumulate(counts))
+    ends = np.cumsum(counts).tolist()
     return [items[a:b] for a, b in zip([0] + ends[:-1], ends)]
 
 
@@ -87,9 +87,10 @@ class Layout:
 
     ``flat``: every index (plus its geometry's shift), leaf after leaf,
     the geometries grouped by depth; ``offsets``: where each leaf starts in
-    ``flat``; ``entry_geometry``: the geometry (position in the list) of
-    every entry; ``groups``: per depth ``(positions, first_leaf,
-    leaf_count, counts)``, ``counts`` the list lengths level by level.
+    ``flat``; ``leaf_geometry``: the geometry (position in the list) of
+    every leaf (:attr:`entry_geometry`: of every entry); ``groups``: per
+    depth ``(positions, first_leaf, leaf_count, counts)``, ``counts`` the
+    list lengths level by level (int64 arrays).
     Kept, a layout lets the same geometries be written again and again
     with other indices without walking their lists.
     """
@@ -97,7 +98,12 @@ class Layout:
     groups: list
     flat: np.ndarray
     offsets: np.ndarray
-    entry_geometry: np.ndarray
+    leaf_geometry: np.ndarray
+
+    @property
+    def entry_geometry(self):
+        """The geometry (position in the list) of every entry of ``flat``."""
+        return np.repeat(self.leaf_geometry, np.diff(self.offsets))
 
 
 def layout(geometries, shift=None):
@@ -107,7 +113,7 @@ def layout(geometries, shift=None):
     for depth, members in _by_depth(geometries).items():
         counts, level = [], [g["boundaries"] for _, g in members]
         for _ in range(depth):
-            counts.append([len(p) for p in level])
+            counts.append(np.fromiter(map(len, level), dtype=np.int64, count=len(level)))
             level = list(itertools.chain.from_iterable(level))
         positions = [k for k, _ in members]
         groups.append((positions, len(leaves), len(level), counts))
@@ -118,10 +124,10 @@ def layout(geometries, shift=None):
         owner.append(per_top)
     flat, offsets = flat_indices(leaves)
     leaf_owner = np.concatenate(owner) if owner else np.zeros(0, dtype=np.int64)
-    entry_geometry = np.repeat(leaf_owner, np.diff(offsets))
+    lay = Layout(len(geometries), groups, flat, offsets, leaf_owner)
     if shift is not None and len(flat):
-        flat = flat + np.asarray(shift, dtype=np.int64)[entry_geometry]
-    return Layout(len(geometries), groups, flat, offsets, entry_geometry)
+        lay.flat = flat + np.asarray(shift, dtype=np.int64)[lay.entry_geometry]
+    return lay
 
 
 def indices(geometries, shift=None):
@@ -173,7 +179,7 @@ def texts(lay, new):
     out = [None] * lay.count
     for positions, start, n, counts in lay.groups:
         sizes = np.diff(lay.offsets[start:start + n + 1])
-        if n == 0 or not sizes.all() or not all(all(c) for c in counts):
+        if n == 0 or not sizes.all() or not all(c.all() for c in counts):
             group = _joined(lay, new, positions, start, n, counts)      # an empty list somewhere
         else:
             group = _nested_text(new[lay.offsets[start]:lay.offsets[start + n]], sizes, counts)
@@ -193,7 +199,7 @@ def _nested_text(values, sizes, counts):
     # a list starts at its first leaf's first entry; every list above a
     # leaf that starts one starts there too (no list is empty)
     starts = np.cumsum(sizes) - sizes
-    change = np.zeros(len(values), dtype=np.int64)
+    change = np.zeros(len(values), dtype=np.int8)
     change[starts] = 1
     first_leaf = np.arange(len(sizes))
     for c in reversed(counts):
@@ -203,11 +209,15 @@ def _nested_text(values, sizes, counts):
     # a new geometry: its leaf and every list above changed (for depth 0 the
     # leaf is the geometry's boundaries); within one at most ``depth`` do
     first = starts[first_leaf]
-    change[0] = depth + 1
-    table = ["]" * k + "," + "[" * k for k in range(depth + 1)] + ["[" * (depth + 1)]
+    change[0] = depth + 2
+    # a geometry's first entry closes the one before (cut after the closing brackets)
+    close, open_ = "]" * (depth + 1), "[" * (depth + 1)
+    table = ["]" * k + "," + "[" * k for k in range(depth + 1)] + [close + open_, open_]
     text, at = _int_text(values, change, table)
-    close = "]" * (depth + 1)
-    return [piece + close for piece in _pieces(text, at, first)]
+    pieces = _pieces(text, at[first] + len(close), np.arange(len(first)))
+    pieces[0] = text[:len(pieces[0]) + len(close)]
+    pieces.append(pieces.pop() + close)
+    return pieces
 
 
 def _joined(lay, new, positions, start, n, counts):
@@ -218,14 +228,14 @@ def _joined(lay, new, positions, start, n, counts):
     sizes = np.diff(offsets)
     full = np.nonzero(sizes > 0)[0]
     values = new[offsets[0]:offsets[-1]]
-    prefix = np.ones(len(values), dtype=np.int64)
+    prefix = np.ones(len(values), dtype=np.int8)
     prefix[offsets[full] - offsets[0]] = 0
     text, at = _int_text(values, prefix, ["[", ","])
     level = ["[]"] * n
     for k, piece in zip(full.tolist(), _pieces(text, at, offsets[full] - offsets[0])):
         level[k] = piece + "]"
     for c in reversed(counts):
-        ends = list(itertools.accumulate(c))
+        ends = np.cumsum(c).tolist()
         level = ["[" + ",".join(level[a:b]) + "]" for a, b in zip([0] + ends[:-1], ends)]
     return level
 

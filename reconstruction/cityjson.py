@@ -137,8 +137,9 @@ def _int_text(values, prefix, table):
 
     Every value gets a row of characters (separator, then its digits right
     aligned, written four at a time from a table of 0000-9999); the text is
-    the row-major selection of the characters in use. Returns the text and
-    the offset in it of each value's separator.
+    the row-major selection of the characters in use (which, and how many,
+    looked up by separator and digit count in one table). Returns the text
+    and the offset in it of each value's separator.
     """
     values = np.asarray(values, dtype=np.int64)
     if len(values) == 0:
@@ -146,33 +147,66 @@ def _int_text(values, prefix, table):
     if values.min() < 0:
         raise ValueError("negative value")
     top = int(values.max())
-    seps = [t.encode("ascii") for t in table]
-    sep_len = np.array([len(t) for t in seps], dtype=np.int64)
-    S, W = int(sep_len.max()), len(str(top))
-    SB, WB = -(-S // 4), -(-W // 4)           # 4-character blocks of separator, digits
-    width = 4 * (SB + WB)
-    chars = np.empty((len(values), SB + WB), dtype=np.uint32)
-    sep_chars = np.zeros((len(seps), 4 * SB), dtype=np.uint8)
-    for code, sep in enumerate(seps):
-        sep_chars[code, :len(sep)] = np.frombuffer(sep, dtype=np.uint8)
-    chars[:, :SB] = sep_chars.view(np.uint32)[prefix]
+    W = len(str(top))
+    tables = _separator_tables(tuple(table), W)
+    prefix = np.asarray(prefix)
+    # in chunks that stay in the processor's cache (a fifth faster than in one go)
+    parts, size = [], np.empty(len(values), dtype=np.int64)
+    for a in range(0, len(values), _CHUNK):
+        chars, size[a:a + _CHUNK] = _int_chars(values[a:a + _CHUNK], prefix[a:a + _CHUNK],
+                                               W, top, tables)
+        parts.append(chars)
+    text = str(memoryview(parts[0] if len(parts) == 1 else np.concatenate(parts)), "ascii")
+    return text, np.cumsum(size) - size
+
+
+_CHUNK = 1 << 14
+
+
+def _int_chars(values, prefix, W, top, tables):
+    """The characters (uint8) of :func:`_int_text` for a chunk of values,
+    and their count per value."""
+    SB, WB, sep_blocks, used_chars, sizes = tables
+    n = len(values)
+    prefix = prefix.astype(np.intp)
+    chars = np.empty((n, SB + WB), dtype=np.uint32)
+    for j in range(SB):
+        chars[:, j] = sep_blocks[:, j][prefix]
     quads = _quads()
     rest = values.astype(np.int32) if top < 2 ** 31 else values.copy()
     block = np.empty_like(rest)
     for j in range(SB + WB - 1, SB - 1, -1):
         np.divmod(rest, 10000, out=(rest, block))
         chars[:, j] = quads[block]
-    digits = np.searchsorted(10 ** np.arange(1, W, dtype=np.int64), values, side="right") + 1
-    lead = sep_len[prefix]
-    col = np.arange(width)
-    masks = np.zeros((S + 1, W + 1, width), dtype=bool)
-    for n in range(S + 1):
-        for d in range(W + 1):
-            masks[n, d] = (col < n) | (col >= width - d)
-    used = masks[lead, digits]
-    size = lead + digits
-    text = chars.view(np.uint8).reshape(len(values), width)[used].tobytes().decode("ascii")
-    return text, np.cumsum(size) - size
+    code = np.searchsorted(10 ** np.arange(1, W, dtype=np.int64), values, side="right") + 1
+    code += prefix * (W + 1)                    # (separator, digit count)
+    return chars.view(np.uint8).reshape(n, 4 * (SB + WB))[used_chars[code]], sizes[code]
+
+
+_SEPARATOR_TABLES = {}
+
+
+def _separator_tables(table, W):
+    """For :func:`_int_text`: the 4-character blocks of separators (SB) and
+    digits (WB) of a row, the separators as uint32 blocks, and per
+    (separator, digit count) the characters of a row in use and their count."""
+    key = (table, W)
+    if key not in _SEPARATOR_TABLES:
+        seps = [t.encode("ascii") for t in table]
+        sep_len = np.array([len(t) for t in seps], dtype=np.int64)
+        SB, WB = -(-int(sep_len.max()) // 4), -(-W // 4)
+        width = 4 * (SB + WB)
+        sep_chars = np.zeros((len(seps), 4 * SB), dtype=np.uint8)
+        for code, sep in enumerate(seps):
+            sep_chars[code, :len(sep)] = np.frombuffer(sep, dtype=np.uint8)
+        col, digits = np.arange(width), np.arange(W + 1)
+        used = (col < sep_len[:, None, None]) | (col >= width - digits[None, :, None])
+        sizes = (sep_len[:, None] + digits[None, :]).ravel()
+        if len(_SEPARATOR_TABLES) > 64:
+            _SEPARATOR_TABLES.clear()
+        _SEPARATOR_TABLES[key] = (SB, WB, np.ascontiguousarray(sep_chars.view(np.uint32)),
+                                  np.ascontiguousarray(used.reshape(-1, width)), sizes)
+    return _SEPARATOR_TABLES[key]
 
 
 def _pieces(text, offsets, first):
@@ -190,7 +224,7 @@ def _split_by_solid(values, starts, S, face_level):
     the pair (offset of every face's first entry, first face of each solid).
     """
     values = np.asarray(values, dtype=np.int64)
-    prefix = np.full(len(values), 2, dtype=np.int64)
+    prefix = np.full(len(values), 2, dtype=np.int8)
     if face_level:
         face_start, solid_first_face = starts
         prefix[face_start[:-1]] = 1
@@ -209,7 +243,7 @@ def _vertices_text(vertices):
     """JSON text of an (n, 3) array of non-negative integers ``[[x,y,z],...]``."""
     if len(vertices) == 0:
         return "[]"
-    prefix = np.full(vertices.shape, 2, dtype=np.int64)
+    prefix = np.full(vertices.shape, 2, dtype=np.int8)
     prefix[:, 0] = 1
     prefix[0, 0] = 0
     text, _ = _int_text(vertices.ravel(), prefix.ravel(), ["[", "],[", ","])

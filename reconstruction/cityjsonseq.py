@@ -41,12 +41,13 @@ def vertices_texts(rows, starts):
     out = ["[]"] * len(counts)
     if len(rows) == 0:
         return out
-    prefix = np.full(rows.shape, 2, dtype=np.int64)
+    prefix = np.full(rows.shape, 2, dtype=np.int8)
     prefix[:, 0] = 1
     first = starts[:-1][counts > 0]
     prefix[first, 0] = 0
     flat = rows.ravel()
-    prefix = prefix.ravel() + 3 * (flat < 0)
+    prefix = prefix.ravel()
+    prefix[flat < 0] += 3
     text, offsets = _int_text(np.abs(flat), prefix, _SEPARATORS)
     for k, piece in zip(np.nonzero(counts > 0)[0].tolist(), _pieces(text, offsets, 3 * first)):
         out[k] = piece + "]]"

@@ -13,6 +13,7 @@ The copied buildings keep their ids and LoDs; appearances (materials,
 textures) and geometry templates are not copied.
 """
 
+import collections
 import json
 from dataclasses import dataclass, field
 
@@ -52,7 +53,8 @@ class CopiedBuildings:
     (extensions only when a copied object uses one). ``layout`` (a
     :class:`~reconstruction.citygeometry.Layout` of :meth:`geometries`) and
     ``rows`` (the vertex row of each of its entries) let the buildings be
-    written with any numbering of the rows without walking their lists again.
+    written with any numbering of the rows without walking their lists again;
+    ``copied_geometries``: the list :meth:`geometries` returns, kept.
     """
     ids: list
     trees: list
@@ -64,6 +66,7 @@ class CopiedBuildings:
     report: CopyReport
     layout: object = None
     rows: np.ndarray = None
+    copied_geometries: list = None
 
     def __len__(self):
         return len(self.ids)
@@ -76,6 +79,8 @@ class CopiedBuildings:
 
     def geometries(self):
         """Every copied geometry (building after building, object after object)."""
+        if self.copied_geometries is not None:
+            return self.copied_geometries
         return [g for tree in self.trees for obj in tree.values() for g in obj.get("geometry", ())]
 
     def geometry_counts(self):
@@ -86,11 +91,13 @@ class CopiedBuildings:
         """The city objects of building ``n`` with :data:`~reconstruction.citygeometry.HOLE`
         for every geometry's boundaries (see :func:`citygeometry.splice`)."""
         objs = {}
+        hole = citygeometry.HOLE
         for oid, obj in self.trees[n].items():
-            objs[oid] = dict(obj)
-            if "geometry" in obj:
-                objs[oid]["geometry"] = [dict(g, boundaries=citygeometry.HOLE)
-                                         for g in obj["geometry"]]
+            if obj.get("geometry"):
+                objs[oid] = dict(obj)
+                objs[oid]["geometry"] = [dict(g, boundaries=hole) for g in obj["geometry"]]
+            else:
+                objs[oid] = obj                 # nothing to put in: the copy as it is
         return objs
 
     def local_index(self):
@@ -120,13 +127,13 @@ class CopiedBuildings:
         return out
 
 
-def _chosen_lods(geometries, lods):
-    """The LoDs to copy of one building tree, and whether it fell back to its highest."""
-    present = {g.get("lod") for g in geometries if _copyable(g)}
+def _chosen_lods(present, lods):
+    """The LoDs to copy of one building tree whose copyable geometries have
+    the LoDs ``present``, and whether it fell back to its highest."""
     if not present:
         return set(), False
     if lods == "all":
-        return present, False
+        return set(present), False
     if lods:
         wanted = {citygeometry.lod_value(x) for x in lods}
         chosen = {p for p in present if citygeometry.lod_value(p) in wanted}
@@ -163,7 +170,13 @@ def _to_grid(model, src, scale):
     ratio = model.scale / scale
     k = np.rint(ratio)
     if v.dtype.kind == "i" and np.all(np.abs(ratio - k) < 1e-9) and np.all(k >= 1):
-        return v * k.astype(np.int64) + np.rint(model.translate / scale).astype(np.int64), True
+        shift = np.rint(model.translate / scale).astype(np.int64)
+        if np.all(k == 1):
+            v = v + shift                   # the same grid: no multiplication
+        else:
+            v = v * k.astype(np.int64)
+            v += shift
+        return v, True
     return np.rint((v * model.scale + model.translate) / scale).astype(np.int64), False
 
 
@@ -176,53 +189,59 @@ def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None):
     highest, counted in the report); ``attributes``: name -> one value per
     building, added to the copied top-level objects (None values and names
     the object already has are left alone). The model is not changed.
+    Each building's vertices are numbered in the order its geometries first
+    use them (see :func:`_rows`).
     """
     buildings = [int(b) for b in buildings]
     report = CopyReport(buildings=len(buildings))
-    trees = []
+    trees, geometries, counts = [], [], []
     uses_extension = False
+    chosen_of = {}                      # LoDs present -> (LoDs copied, fell back)
     for n, b in enumerate(buildings):
         oid = model.buildings[b]
-        tree = {o: model.objects[o] for o in model.tree(oid)}
-        chosen, fell = _chosen_lods([g for obj in tree.values() for g in obj.get("geometry", ())],
-                                    lods)
+        tree = [(o, model.objects[o]) for o in model.tree(oid)]
+        present = frozenset(g.get("lod") for _, obj in tree for g in obj.get("geometry", ())
+                            if _copyable(g))
+        if present not in chosen_of:
+            chosen_of[present] = _chosen_lods(present, lods)
+        chosen, fell = chosen_of[present]
         report.lod_fallback += fell
         objs = {}
-        for o, obj in tree.items():
+        before = len(geometries)
+        for o, obj in tree:
             if model.extensions and not uses_extension:
                 uses_extension = _uses_extension(obj)
             copy = dict(obj)
             if "geometry" in obj:
-                kept = []
-                for g in obj["geometry"]:
-                    if not _copyable(g):
-                        report.skipped_geometries += 1
-                    elif g.get("lod") in chosen:
-                        if "material" in g or "texture" in g:
-                            g = {k: v for k, v in g.items() if k not in ("material", "texture")}
-                        kept.append(g)
-                        report.geometries[g["lod"]] = report.geometries.get(g["lod"], 0) + 1
+                kept = [g for g in obj["geometry"] if g.get("lod") in chosen and _copyable(g)]
+                report.skipped_geometries += sum(not _copyable(g) for g in obj["geometry"]) \
+                    if len(kept) < len(obj["geometry"]) else 0
+                if any("material" in g or "texture" in g for g in kept):
+                    kept = [{k: v for k, v in g.items() if k not in ("material", "texture")}
+                            for g in kept]
                 copy["geometry"] = kept
+                geometries.extend(kept)
             objs[o] = copy
         if attributes:
             _add_attributes(objs[oid], attributes, n)
         trees.append(objs)
+        counts.append(len(geometries) - before)
         report.objects += len(objs)
+    report.geometries = dict(collections.Counter(g["lod"] for g in geometries))
     copied = CopiedBuildings(ids=[model.buildings[b] for b in buildings], trees=trees,
                              vertices=None, vertex_start=None, scale=scale,
                              reference_system=model.reference_system,
                              extensions=model.extensions if uses_extension else None,
-                             report=report)
-    counts = copied.geometry_counts()
+                             report=report, copied_geometries=geometries)
     building_of = np.repeat(np.arange(len(buildings)), counts)
     offset = model.offset[buildings] if buildings else np.zeros(0, dtype=np.int64)
-    copied.layout = citygeometry.layout(copied.geometries(), offset[building_of])
-    source, row_owner, copied.rows = _rows(copied.layout.flat,
-                                           building_of[copied.layout.entry_geometry],
-                                           len(model.vertices))
+    copied.layout = citygeometry.layout(geometries, offset[building_of] if offset.any() else None)
+    lay = copied.layout
+    source, row_owner, copied.rows = _rows(
+        lay.flat, np.repeat(building_of[lay.leaf_geometry], np.diff(lay.offsets)),
+        len(model.vertices))
     copied.vertices, exact = _to_grid(model, source, scale)
-    copied.vertex_start = np.zeros(len(buildings) + 1, dtype=np.int64)
-    np.cumsum(np.bincount(row_owner, minlength=len(buildings)), out=copied.vertex_start[1:])
+    copied.vertex_start = np.searchsorted(row_owner, np.arange(len(buildings) + 1))
     if not exact and len(source) and len(
             unique_rows(np.column_stack([row_owner, copied.vertices]))[0]) < len(source):
         _collapse(copied, row_owner)
@@ -231,23 +250,27 @@ def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None):
 
 def _rows(source, owner, count):
     """The vertex rows of copied entries: one row per (building, model vertex)
-    used, building after building, by model vertex within one.
+    used, building after building.
 
-    Returns the model vertex and the building of every row and the row of
-    every entry. Usually each vertex is used by one building only and one
-    pass over an array of the model's vertex count does it; else a sort."""
-    if len(source) == 0:
+    ``source``: the model vertex of every entry, ``owner``: its building,
+    ``count``: the model's vertex count. Returns the model vertex and the
+    building of every row and the row of every entry. Usually the entries
+    come building after building and each vertex is used by one building
+    only: the rows are then numbered in the order the entries first use them,
+    without a sort (a building's boundaries then index its rows in the order
+    they were written); else by model vertex within each building."""
+    E = len(source)
+    if E == 0:
         empty = np.zeros(0, dtype=np.int64)
         return empty, empty, empty
-    user = np.full(count, -1, dtype=np.int64)
-    user[source] = owner
-    if np.array_equal(user[source], owner):
-        used = np.nonzero(user >= 0)[0]
-        order = np.argsort(user[used], kind="stable")
-        row_source = used[order]
-        row_of = np.empty(count, dtype=np.int64)
-        row_of[row_source] = np.arange(len(row_source))
-        return row_source, user[row_source], row_of[source]
+    entry = np.arange(E)
+    first = np.full(count, E, dtype=np.int64)
+    np.minimum.at(first, source, entry)
+    at = first[source]                                  # the first entry using its vertex
+    if np.all(owner[1:] >= owner[:-1]) and np.array_equal(owner[at], owner):
+        new = at == entry
+        rank = np.cumsum(new) - 1
+        return source[new], owner[new], rank[at]
     keys, rows = np.unique(owner * count + source, return_inverse=True)
     return keys % count, keys // count, rows.ravel()
 
@@ -290,6 +313,7 @@ def _collapse(copied, owner):
                                    if g is not None]
     copied.vertices = uniq[used, 1:]
     copied.vertex_start[1:] = np.cumsum(np.bincount(uniq[used, 0], minlength=len(copied.ids)))
+    copied.copied_geometries = None
     copied.layout = citygeometry.layout(copied.geometries())
     copied.rows = copied.layout.flat
 
@@ -298,16 +322,26 @@ def objects_text(copied, index):
     """The JSON text of the copied city objects (members of a CityObjects
     object, without the braces) with vertex indices ``index[row]``, the
     boundaries written in bulk."""
+    return "".join(_objects_pieces(copied, index))
+
+
+def _objects_pieces(copied, index):
+    """:func:`objects_text` in pieces (joined once by the caller, not copied on the way)."""
     structure = {}
     for n in range(len(copied)):
         structure.update(copied.holed(n))
-    text = citygeometry.splice(structure, copied.boundary_texts(index))
-    if text is None:                    # an attribute that is the placeholder itself
+    fills = copied.boundary_texts(index)
+    pieces = citygeometry.pieces_around_holes(structure, len(fills))
+    if pieces is None:                  # an attribute that is the placeholder itself
         merged = {}
         for objs in copied.objects(index):
             merged.update(objs)
-        text = json.dumps(merged, separators=(",", ":"))
-    return text[1:-1]
+        return [json.dumps(merged, separators=(",", ":"))[1:-1]]
+    out = [None] * (2 * len(pieces) - 1)
+    out[0::2] = pieces
+    out[1::2] = fills
+    out[0], out[-1] = out[0][1:], out[-1][:-1]          # without the braces
+    return out
 
 
 # ---------------------------------------------------------------------------
@@ -351,23 +385,49 @@ def merged_metadata(metadata, lo, hi, copied, scale):
 
 def _placement(generated, copied):
     """Output index of every copied vertex (the generated vertex it equals,
-    or a new one after them) and the new rows, in order."""
-    G = len(generated)
-    if len(copied.vertices) == 0:
+    or a new one after them) and the new rows, in the order they are first
+    used (the copied rows' order: without duplicates the rows as they are)."""
+    G, C = len(generated), len(copied.vertices)
+    if C == 0:
         return np.zeros(0, dtype=np.int64), copied.vertices
-    both = np.concatenate([generated, copied.vertices]) if G else copied.vertices
-    uniq, inv = unique_rows(both)
+    keys = _packed([generated, copied.vertices] if G else [copied.vertices])
+    if keys is not None:
+        ordered = np.sort(keys)
+        if not np.any(ordered[1:] == ordered[:-1]):
+            return G + np.arange(C), copied.vertices            # no vertex met another
+        uniq, inv = np.unique(keys, return_inverse=True)
+    else:
+        uniq, inv = unique_rows(np.concatenate([generated, copied.vertices]))
     target = np.full(len(uniq), -1, dtype=np.int64)
     if G:
         target[inv[:G]] = np.arange(G)
     mine = inv[G:]
-    new = np.zeros(len(uniq), dtype=bool)
-    new[mine] = True
-    if G:
-        new[inv[:G]] = False
-    groups = np.nonzero(new)[0]
-    target[groups] = G + np.arange(len(groups))
-    return target[mine], uniq[groups]
+    row = np.arange(C)
+    first = np.full(len(uniq), C, dtype=np.int64)
+    np.minimum.at(first, mine, row)
+    at = first[mine]                                # the first copied row of its vertex
+    known = target[mine]
+    new = (at == row) & (known < 0)
+    rank = np.cumsum(new) - 1
+    return np.where(known >= 0, known, G + rank[at]), copied.vertices[new]
+
+
+def _packed(parts):
+    """One int64 per integer (x, y, z) row of the arrays ``parts``, equal for
+    equal rows (None when the extent is too large to pack the three into 63 bits)."""
+    lo = np.min([p.min(axis=0) for p in parts], axis=0)
+    span = np.max([p.max(axis=0) for p in parts], axis=0) - lo + 1
+    if int(span[0]) * int(span[1]) * int(span[2]) >= 2 ** 62:
+        return None
+    keys = []
+    for p in parts:
+        k = p[:, 0] - lo[0]
+        k *= span[1]
+        k += p[:, 1] - lo[1]
+        k *= span[2]
+        k += p[:, 2] - lo[2]
+        keys.append(k)
+    return np.concatenate(keys) if len(keys) > 1 else keys[0]
 
 
 def _keys(body):
@@ -467,14 +527,12 @@ def _merge_text(text, copied):
     gen = flat.reshape(-1, 3)
     _check_ids(copied, _keys(body))
     head, to_out, rows = _head_and_rows(doc, gen, translate, copied, scale)
-    objects = objects_text(copied, to_out)
-    new_vertices = vertices_texts(rows, np.array([0, len(rows)]))[0]
-    if len(gen) == 0:
-        vertices = new_vertices
-    elif len(rows) == 0:
-        vertices = inner
+    objects = _objects_pieces(copied, to_out)
+    if len(rows):
+        new_rows = vertices_texts(rows, np.array([0, len(rows)]))[0]
+        vertices = [new_rows] if len(gen) == 0 else [inner[:-1], ",", new_rows[1:]]
     else:
-        vertices = inner[:-1] + "," + new_vertices[1:]
+        vertices = [inner]
     head_text = json.dumps(head, separators=(",", ":"))
-    return "".join([head_text[:-1], ',"CityObjects":{', body, "," if body and objects else "",
-                    objects, '},"vertices":', vertices, "}"])
+    return "".join([head_text[:-1], ',"CityObjects":{', body, "," if body and objects else ""]
+                   + objects + ['},"vertices":'] + vertices + ["}"])

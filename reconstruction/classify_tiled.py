@@ -6,7 +6,9 @@ large to tune on whole or to hold in one process:
 1. :func:`tune_on_windows`: the segmentation parameters are chosen on a
    sample of windows (:func:`reconstruction.tiling.tuning_windows`): each
    pair's VW and Moran's I are the cell-weighted means over the windows;
-2. the caller segments every tile's outer window with the chosen pair;
+2. the caller segments every tile's outer window with the chosen pair
+   (in the order of :func:`training_first`, while the first ones are
+   classified: ``read_segments`` may wait for a tile's segmentation);
 3. :func:`classify_tiles`: the ensemble is fitted once, on the segments of
    the training points (each seen in the tile whose core holds it), and
    predicts the segments of each tile; each tile's core keeps its classes.
@@ -43,6 +45,15 @@ def tune_on_windows(criteria, cells, alpha=1.0):
 def _training_in(tile, training):
     keep = tile.holds(training.rows, training.cols)
     return np.flatnonzero(keep)
+
+
+def training_first(tiles, training):
+    """The tiles whose cores hold training points first, then the others, each
+    in their order: the order to segment them in when the classification of
+    the first tiles (which needs the model, fitted on the training tiles)
+    runs while the next ones are segmented."""
+    holding = [len(_training_in(tile, training)) > 0 for tile in tiles]
+    return [t for t, h in zip(tiles, holding) if h] + [t for t, h in zip(tiles, holding) if not h]
 
 
 def classify_tiles(tiles, read_bands, read_segments, training, config, grid, pairs, tuning,

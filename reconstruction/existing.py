@@ -105,12 +105,16 @@ class ExistingModel:
 
     def tree(self, building):
         """Ids of a top-level object and all its descendants (parents first)."""
-        out, todo = [], [building]
-        while todo:
-            oid = todo.pop(0)
-            if oid in self.objects and oid not in out:
-                out.append(oid)
-                todo.extend(self.objects[oid].get("children", []))
+        objects = self.objects
+        if building not in objects:
+            return []
+        out, seen, k = [building], {building}, 0
+        while k < len(out):
+            for child in objects[out[k]].get("children", ()):
+                if child in objects and child not in seen:
+                    seen.add(child)
+                    out.append(child)
+            k += 1
         return out
 
 

@@ -53,9 +53,14 @@ def _run_all(jobs, nprocs):
             name, _start_run, what = chain[0]
             with grassio.doing(what):
                 grassio.finish_tool(proc, "i.segment")
-            yield name
+            # the next runs start before the caller gets this one: while it reads and
+            # works on it, ``nprocs`` runs go on
             if len(chain) > 1:
                 running[key] = (chain[1:], chain[1][1]())
+            while jobs and len(running) < nprocs:
+                waiting = jobs.pop(0)
+                running[id(waiting)] = (waiting, waiting[0][1]())
+            yield name
     finally:
         for _chain, proc in running.values():
             proc.terminate()

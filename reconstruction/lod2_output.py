@@ -78,12 +78,25 @@ class ExistingMatch:
     request: ExistingRequest
     candidates: np.ndarray
     matches: existing.Matches
+    #: per footprint count, the arrays of building() and copied()
+    _building: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def building(self, count):
-        """Per footprint (``count`` of them) the index of its existing building, -1 for none."""
-        out = np.full(count, -1, dtype=np.int64)
-        out[self.candidates] = self.matches.building
-        return out
+        """Per footprint (``count`` of them) the index of its existing building,
+        -1 for none (worked out once; do not change the array)."""
+        if count not in self._building:
+            out = np.full(count, -1, dtype=np.int64)
+            out[self.candidates] = self.matches.building
+            self._building[count] = out
+        return self._building[count]
+
+    def copied(self, count):
+        """The footprints (indices, of ``count``) whose existing building is
+        copied (worked out once)."""
+        key = ("copied", count)
+        if key not in self._building:
+            self._building[key] = np.nonzero(self.building(count) >= 0)[0]
+        return self._building[key]
 
 
 @dataclass
@@ -220,7 +233,7 @@ def matched_heights(match, geometries, choice="auto"):
     from .heights import height_columns
     from .lod2_inputs import AlignedFootprints
 
-    hit = np.nonzero(match.building(len(geometries)) >= 0)[0]
+    hit = match.copied(len(geometries))
     if not len(hit):
         return None
     columns = {name: [values[i] for i in hit.tolist()]
@@ -237,7 +250,7 @@ def without_copied(prepared, match):
     that ``match`` (an :class:`ExistingMatch` or None) copies: they are not built."""
     if match is None:
         return prepared
-    copied = np.nonzero(match.building(len(prepared.footprints.geometries)) >= 0)[0]
+    copied = match.copied(len(prepared.footprints.geometries))
     keep = np.nonzero(~np.isin(prepared.source, copied))[0]
     if len(keep) == len(prepared.source):
         return prepared
@@ -258,11 +271,13 @@ def _subset(values, keep):
 
 
 def build(prepared, config, match=None):
-    """:func:`reconstruction.lod2.build` of the footprints that ``match`` does
-    not copy; an empty result when it copies every one."""
+    """:func:`reconstruction.lod2.build` of ``prepared``, the footprints that
+    ``match`` does not copy (:func:`without_copied`'s result: v.histo.lod2
+    reports their count before building); an empty result when it copies
+    every one. (Footprints it copies that are built anyway are left out
+    when written, see :func:`write_model`.)"""
     from . import lod2
 
-    prepared = without_copied(prepared, match)
     if len(prepared.buildings) or match is None or not len(match.matches.matched):
         return lod2.build(prepared, config)
     ss, _, _, _ = build_solids(Buildings([], [], [], [], [], np.zeros((0, 3))))
@@ -295,7 +310,7 @@ def copy_matched(match, footprints, count):
     in footprint order, with their footprint's plot, source and category as
     attributes where they have none of their own."""
     building = match.building(count)
-    matched = np.nonzero(building >= 0)[0]
+    matched = match.copied(count)
     cats = footprints.cats if footprints.cats is not None else list(range(1, count + 1))
     attributes = {"footprint": [cats[i] for i in matched.tolist()]}
     for name, values in ((PLOT, footprints.plot), (SOURCE, footprints.source)):
@@ -320,9 +335,8 @@ def write_model(result, footprints, request, match=None):
     copied, report = None, OutputReport(generated=len(result.ids))
     if match is not None:
         count = len(footprints.geometries)
-        building = match.building(count)
         before = len(result.ids)
-        result = without_footprints(result, np.nonzero(building >= 0)[0])
+        result = without_footprints(result, match.copied(count))
         copied = copy_matched(match, footprints, count)
         report = OutputReport(generated=len(result.ids), copied=len(copied),
                               replaced=before - len(result.ids), copy=copied.report,

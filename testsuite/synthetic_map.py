@@ -78,6 +78,7 @@ _LAYER_COLOUR = np.array([
 ], dtype=np.float64)
 
 _SUB = 3          # sub-pixels per pixel side (anti-aliasing)
+_BAND_SUBPIXELS = 1 << 22  # sub-pixels coloured at a time (memory of the rendering)
 _MISREGISTERED_BAND = 0  # red
 _MISREGISTRATION = (0, 1)  # rows, cols: one pixel to the east
 
@@ -496,6 +497,9 @@ def _symbols(rng, layout, extent, labels_geom):
     plots = [p for p, _, _ in layout["plots"]]
     plots_union = unary_union(plots)
     green = unary_union(layout["gardens"]) if layout["gardens"] else Polygon()
+    near_plots, inner_plots = plots_union.buffer(12), plots_union.buffer(-2)
+    for geom in (plots_union, green, near_plots, inner_plots, layout["canal"]):
+        shapely.prepare(geom)
     symbols = []
     wanted = {"plot": int(rng.integers(5, 9)), "street": int(rng.integers(4, 7))}
     tries = 0
@@ -507,9 +511,9 @@ def _symbols(rng, layout, extent, labels_geom):
         square = box(x - side / 2, y - side / 2, x + side / 2, y + side / 2)
         where = "plot" if plots_union.contains(square.centroid) else "street"
         if where == "street" and (square.intersects(layout["canal"]) or square.intersects(green)
-                                  or not square.intersects(plots_union.buffer(12))):
+                                  or not square.intersects(near_plots)):
             continue
-        if where == "plot" and not plots_union.buffer(-2).contains(square.centroid):
+        if where == "plot" and not inner_plots.contains(square.centroid):
             continue
         if not wanted[where] or any(square.intersects(t) for t in taken):
             continue
@@ -535,15 +539,17 @@ class _Canvas:
         self.layer = np.full((self.n, self.n), _PAPER, dtype=np.int8)
 
     def burn(self, geom, value, mask=None):
+        """Burn ``geom`` in as ``value``; returns the window (row and column slices) it
+        may have changed, or None."""
         if geom is None or geom.is_empty:
-            return
+            return None
         minx, miny, maxx, maxy = geom.bounds
         c0 = max(int(math.floor(minx / self.step)), 0)
         c1 = min(int(math.ceil(maxx / self.step)) + 1, self.n)
         r0 = max(int(math.floor((self.extent - maxy) / self.step)), 0)
         r1 = min(int(math.ceil((self.extent - miny) / self.step)) + 1, self.n)
         if c0 >= c1 or r0 >= r1:
-            return
+            return None
         xs = (np.arange(c0, c1) + 0.5) * self.step
         ys = self.extent - (np.arange(r0, r1) + 0.5) * self.step
         gx, gy = np.meshgrid(xs, ys)
@@ -552,6 +558,7 @@ class _Canvas:
         if mask is not None:
             inside &= mask[r0:r1, c0:c1]
         self.layer[r0:r1, c0:c1][inside] = value
+        return slice(r0, r1), slice(c0, c1)
 
 
 def _smooth_field(rng, shape, sigma):
@@ -564,13 +571,19 @@ def _smooth_field(rng, shape, sigma):
 def _render(rng, layer, plot_ids, n_plots, size):
     """Colours of the sub-pixel layers, averaged to pixels, with scan defects."""
     sub = _SUB
-    colours = _LAYER_COLOUR[layer]                        # (n, n, 3)
     # printing: each plot's pink varies a little
     tint = rng.normal(0, 5, size=(n_plots + 1, 3))
     tint[0] = 0
-    on_plot = (layer == _FILL)
-    colours[on_plot] += tint[plot_ids[on_plot]]
-    rgb = colours.reshape(size, sub, size, sub, 3).mean(axis=(1, 3))  # mixed edge pixels
+    rgb = np.empty((size, size, 3))
+    band_rows = max(1, _BAND_SUBPIXELS // (layer.shape[1] * sub))  # pixel rows per band
+    for r0 in range(0, size, band_rows):  # in bands of rows: bounded memory
+        r1 = min(size, r0 + band_rows)
+        part = layer[r0 * sub:r1 * sub]
+        colours = _LAYER_COLOUR[part]                     # (rows, n, 3)
+        on_plot = (part == _FILL)
+        colours[on_plot] += tint[plot_ids[r0 * sub:r1 * sub][on_plot]]
+        # mixed edge pixels
+        rgb[r0:r1] = colours.reshape(r1 - r0, sub, size, sub, 3).mean(axis=(1, 3))
     # bleaching: smooth brightening and yellowing, strongest towards one corner
     yy, xx = np.mgrid[0:size, 0:size] / float(size)
     gx, gy = rng.uniform(-1, 1, size=2)
@@ -642,16 +655,20 @@ def generate(seed=1, size=600, res=1.0, origin=(84000.0, 446000.0)):
     extent = size * res
     layout = _layout(rng, extent)
     canvas = _Canvas(size, res)
-    sub_ids = np.zeros((canvas.n, canvas.n), dtype=np.int32)
+    # which plot each sub-pixel's fill belongs to (1-based; 0: none)
+    sub_ids = np.zeros((canvas.n, canvas.n),
+                       dtype=np.int16 if len(layout["plots"]) < 2 ** 15 else np.int32)
 
     # ground: gardens and parks, with trees
     for g in layout["gardens"]:
         canvas.burn(g, _GREEN)
         minx, miny, maxx, maxy = g.bounds
         n_trees = int(g.area / 180)
+        room = g.buffer(-2.5)  # where a tree's centre may stand
+        shapely.prepare(room)
         for _ in range(n_trees):
             p = Point(rng.uniform(minx, maxx), rng.uniform(miny, maxy))
-            if g.buffer(-2.5).contains(p):
+            if room.contains(p):
                 canvas.burn(p.buffer(rng.uniform(1.2, 2.2), quad_segs=4), _TREE)
     # canal: water and its darker bank lines
     canvas.burn(layout["canal"], _WATER)
@@ -660,11 +677,12 @@ def generate(seed=1, size=600, res=1.0, origin=(84000.0, 446000.0)):
     plots = [p for p, _, _ in layout["plots"]]
     kinds = [k for _, k, _ in layout["plots"]]
     for i, poly in enumerate(plots):
-        canvas.burn(poly, _FILL)
-        minx, miny, maxx, maxy = poly.bounds
-        # remember which plot each sub-pixel belongs to (for the print tint)
-        before = canvas.layer == _FILL
-        sub_ids[before & (sub_ids == 0)] = i + 1
+        window = canvas.burn(poly, _FILL)
+        # remember which plot each sub-pixel belongs to (for the print tint): the fill
+        # sub-pixels without a plot yet are all in the window this burn changed
+        if window is not None:
+            ids = sub_ids[window]
+            ids[(canvas.layer[window] == _FILL) & (ids == 0)] = i + 1
         canvas.burn(poly.difference(poly.buffer(-0.9, join_style="mitre")), _OUTLINE)
     base = canvas.layer.copy()
 
@@ -679,12 +697,12 @@ def generate(seed=1, size=600, res=1.0, origin=(84000.0, 446000.0)):
         canvas.burn(square, _SYMBOL_INK)
         canvas.burn(digits, _SYMBOL_PAPER, mask=canvas.layer == _SYMBOL_INK)
 
-    rgb = _render(rng, canvas.layer.astype(np.intp), sub_ids, len(plots), size)
+    rgb = _render(rng, canvas.layer, sub_ids, len(plots), size)
 
     centre = _SUB // 2
     truth = _LAYER_CLASS[base[centre::_SUB, centre::_SUB]]
     drawn = _LAYER_CLASS[canvas.layer[centre::_SUB, centre::_SUB]]
-    sub_class = _LAYER_CLASS[canvas.layer]
+    sub_class = _LAYER_CLASS.astype(np.int8)[canvas.layer]
     cover = {label: (sub_class == label).reshape(size, _SUB, size, _SUB).mean(axis=(1, 3))
              for label in CLASSES}
     ink = np.isin(canvas.layer, (_INK, _SYMBOL_INK)).reshape(size, _SUB, size, _SUB)
@@ -884,6 +902,7 @@ def current_footprints(rng, smap, map_year=MAP_YEAR):
                     int(rng.integers(1950, 2023)), i + 1, "rebuilt")
     # away from every plot (and off the water): garden houses, villas, new estates
     away = unary_union(plots).buffer(25)
+    shapely.prepare(away)
     minx, miny, maxx, maxy = smap.west, smap.south, smap.east, smap.north
     placed = 0
     for _ in range(400):

@@ -5,10 +5,9 @@ the same seed, prints the report's table (demo/delft_report.py: our figures
 and the thesis's, the thesis's final plots scored by the same code) and
 asserts the issue's figures: F-score >= 0.95, no ground-truth plot lost, no
 overlapping footprints, 100 % valid solids, a schema-valid CityJSON 2.0.2,
-byte-identical CityJSON from the two runs, a mean turning-function distance
-below the thesis's final plots'. The figure still short of the issue (>= 95 %
-of the thesis's 651 aligned footprints found) is asserted in a test marked
-xfail (not strict): reported as XFAIL with the figure, XPASS once it holds.
+byte-identical CityJSON from the two runs, >= 95 % of the thesis's 651
+aligned footprints found, a mean turning-function distance below the
+thesis's final plots' (same code, same 10 digitised plots).
 The time of the chain (under 60 s) is a benchmark figure
 (testsuite/benchmarks/bench_chain.py), not a test. Skipped without
 ../shared/data/delft_1961_subset.
@@ -130,8 +129,6 @@ def test_turning_distance_below_the_thesis_final_plots(chain):
     assert ours < thesis
 
 
-@pytest.mark.xfail(strict=False, reason="issue 18: fewer than 95 % of the thesis's 651 "
-                   "aligned footprints among the aligned ones (helper align95 works on it)")
 def test_thesis_aligned_footprints_found(chain):
     found = chain["report"]["thesis_aligned"]
     print("\nthesis's aligned footprints found (identical outline): {} of {} ({} %); the "

@@ -254,8 +254,8 @@ def test_demo_writes_one_picture_per_stage(demo):
 
 def test_readme_tutorial_commands_are_what_the_demo_ran(demo):
     """The tutorial's module commands are those the demo ran, in that order
-    (the stage functions print each: "--- run: ...")."""
-    ran = readme_tutorial.printed_commands(demo["stdout"], demo["out"] / ".demo-next")
+    (the stage functions print each on standard error: "--- run: ...")."""
+    ran = readme_tutorial.printed_commands(demo["stderr"], demo["out"] / ".demo-next")
     shown = readme_tutorial.module_commands()
     assert len(ran) == 5 and shown == ran, (shown, ran)
 

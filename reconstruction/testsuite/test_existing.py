@@ -361,3 +361,33 @@ def test_every_footprint_copied_leaves_no_generated_building(sample, schema_dir)
     assert cityjson.consistency_errors(doc) == []
     back = cityjsonseq.collect(sequence_of((ss, sem, ids, attrs, text), copied)[1])
     assert citygeometry.resolved(back) == citygeometry.resolved(doc)
+
+
+@pytest.mark.parametrize("far", [0, 2 ** 40])
+def test_copied_vertices_equal_to_others_are_shared_in_first_use_order(far):
+    """A copied vertex equal to a generated one takes its index, copied
+    duplicates become one new vertex, numbered in the order first used
+    (``far``: an extent too large to pack into one integer key)."""
+    from types import SimpleNamespace
+
+    generated = np.array([[0, 0, 0], [1, 1, 1], [far, 0, 0]])
+    copied = SimpleNamespace(vertices=np.array([[5, 5, 5], [1, 1, 1], [7, 7, 7], [5, 5, 5],
+                                                [far, 0, 0], [6, 6, 6]]))
+    to_out, rows = citymerge._placement(generated, copied)
+    assert to_out.tolist() == [3, 1, 4, 3, 2, 5]
+    assert rows.tolist() == [[5, 5, 5], [7, 7, 7], [6, 6, 6]]
+    alone, rows = citymerge._placement(np.zeros((0, 3), dtype=np.int64), copied)
+    assert alone.tolist() == [0, 1, 2, 0, 3, 4] and len(rows) == 5
+    distinct = SimpleNamespace(vertices=np.array([[9, 9, 9], [8, 8, 8]]))
+    to_out, rows = citymerge._placement(generated, distinct)
+    assert to_out.tolist() == [3, 4] and rows.tolist() == [[9, 9, 9], [8, 8, 8]]
+
+
+def test_copied_rows_in_first_use_order_and_per_building_when_shared():
+    source, owner, rows = citymerge._rows(np.array([5, 3, 5, 2]), np.array([0, 0, 0, 1]), 8)
+    assert (source.tolist(), owner.tolist(), rows.tolist()) == ([5, 3, 2], [0, 0, 1],
+                                                                [0, 1, 0, 2])
+    # a model vertex used by two buildings: a row in each, by model vertex
+    source, owner, rows = citymerge._rows(np.array([5, 3, 5, 3]), np.array([0, 0, 1, 1]), 8)
+    assert (source.tolist(), owner.tolist(), rows.tolist()) == ([3, 5, 3, 5], [0, 0, 1, 1],
+                                                                [1, 0, 3, 2])

@@ -142,7 +142,7 @@ def test_copied_footprints_are_not_built(sample, tmp_path):
         assert match.matches.report.by_geometry == 2
         less = lod2_output.without_copied(prepared, match)
         assert less.report.rings == len(built_ids) == len(less.buildings)
-        result = lod2_output.build(prepared, lod2.Lod2Config(), match)
+        result = lod2_output.build(less, lod2.Lod2Config(), match)
         assert result.ids == built_ids
         report = lod2_output.write_model(result, footprints, lod2_output.OutputRequest(
             str(tmp_path / "m.city.json"), reference_system=28992), match)

@@ -53,3 +53,15 @@ def test_tuning_on_windows_weighs_the_criteria_by_cells():
     tuning, mean = classify_tiled.tune_on_windows(criteria, [3, 1])
     assert np.allclose(mean, [(1.5, 0.5), (2.5, 0.15)])
     assert tuning.best in (0, 1) and len(tuning.f) == 2
+
+
+def test_tiles_holding_training_points_are_segmented_first_each_in_their_order():
+    import types
+
+    tiles = tiling.plan_tiles(300, 300, 150, 25)  # 3 x 3 tiles of 100-cell cores
+    assert len(tiles) == 9
+    # points in the cores of tiles 8, 1 and 1 again (row-major order)
+    training = types.SimpleNamespace(rows=np.array([250, 10, 20]), cols=np.array([250, 150, 160]))
+    order = classify_tiled.training_first(tiles, training)
+    assert order[:2] == [tiles[1], tiles[8]]
+    assert order[2:] == [t for k, t in enumerate(tiles) if k not in (1, 8)]

@@ -140,11 +140,16 @@ def main():
               "untiled agree on {:.2%} of {} cells (goal >= 99 %: {})".format(
                   largest, largest, tiles, wall, cpu, peak / 1e9, agreement, int(both.sum()),
                   "met" if agreement >= 0.99 else "NOT met"), flush=True)
-    print("\n| size | MP | tiles | wall s | s/MP | CPU s | CPU s/MP | peak GB |")
-    print("|---|---|---|---|---|---|---|---|")
+    # the tuning sample costs the same at every size: the CPU time per megapixel added
+    # (from the previous row) is what stays flat when the tiles scale
+    print("\n| size | MP | tiles | wall s | s/MP | CPU s | CPU s/MP | CPU s per added MP | peak GB |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    previous = None
     for size, mp, wall, cpu, peak, tiles, _stages in rows:
-        print("| {0} x {0} | {1:.2f} | {2} | {3:.0f} | {4:.1f} | {5:.0f} | {6:.1f} | {7:.2f} |".format(
-            size, mp, tiles, wall, wall / mp, cpu, cpu / mp, peak / 1e9))
+        added = "" if previous is None else "{:.1f}".format((cpu - previous[1]) / (mp - previous[0]))
+        print("| {0} x {0} | {1:.2f} | {2} | {3:.0f} | {4:.1f} | {5:.0f} | {6:.1f} | {7} | {8:.2f} |"
+              .format(size, mp, tiles, wall, wall / mp, cpu, cpu / mp, added, peak / 1e9))
+        previous = (mp, cpu)
     print("load average after: {:.1f}".format(os.getloadavg()[0]))
     return 0
 
