@@ -56,9 +56,7 @@ def footprint_figures(geometries, columns):
 def lod2_figures(out):
     """v.histo.lod2 -v's figures (OUT/lod2.txt) and the model's buildings by height source."""
     with open(os.path.join(out, "lod2.txt")) as f:
-        # the "--- run: COMMAND" line demo/steps.sh prints before the figures is no figure
-        lod2 = dict(line.strip().split("=", 1) for line in f
-                    if "=" in line and not line.startswith("---"))
+        lod2 = dict(line.strip().split("=", 1) for line in f if "=" in line)
     model = load(out, "model.city.json")
     heights = collections.Counter(o["attributes"].get("height_source")
                                   for o in model["CityObjects"].values())
