@@ -28,13 +28,14 @@ def build(out, shared_data):
 
     plots = len(grassio.read_areas("plots", table=False)[0])
     seconds = cr.stage_seconds(out)
+    model = cr.model(out)
     return {
         "seconds": seconds,
         "total_seconds": round(sum(seconds.values()), 3),
         "plots": plots,
         "subdivide": cr.footprint_figures(*cr.footprints()),
-        "lod2": cr.lod2_figures(out),
-        "cityjson": cr.schema_figures(out, os.path.join(shared_data, "..", "schemas"),
+        "lod2": cr.lod2_figures(out, model),
+        "cityjson": cr.schema_figures(model, os.path.join(shared_data, "..", "schemas"),
                                       SCHEMA_OBJECTS),
     }
 

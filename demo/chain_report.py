@@ -53,11 +53,16 @@ def footprint_figures(geometries, columns):
             "plots_with_footprints": len(set(columns[contract.PLOT]))}
 
 
-def lod2_figures(out):
-    """v.histo.lod2 -v's figures (OUT/lod2.txt) and the model's buildings by height source."""
+def model(out):
+    """The chain's CityJSON model, OUT/model.city.json (read once, for
+    :func:`lod2_figures` and :func:`schema_figures`)."""
+    return load(out, "model.city.json")
+
+
+def lod2_figures(out, model):
+    """v.histo.lod2 -v's figures (OUT/lod2.txt) and the ``model``'s buildings by height source."""
     with open(os.path.join(out, "lod2.txt")) as f:
         lod2 = dict(line.strip().split("=", 1) for line in f if "=" in line)
-    model = load(out, "model.city.json")
     heights = collections.Counter(o["attributes"].get("height_source")
                                   for o in model["CityObjects"].values())
     return dict({k: (float(v) if "." in v else int(v)) for k, v in lod2.items()},
@@ -65,8 +70,8 @@ def lod2_figures(out):
                 crs=model["metadata"].get("referenceSystem"))
 
 
-def schema_figures(out, schemas, max_objects=None):
-    """The CityJSON against the official 2.0.2 schemas in ``schemas`` (its folder
+def schema_figures(model, schemas, max_objects=None):
+    """The CityJSON ``model`` against the official 2.0.2 schemas in ``schemas`` (its folder
     cityjson-2.0.2), by the library's cityjson.schema_errors, as the module tests
     check it: the document and every city object, or the first ``max_objects``
     (about 40 objects a second)."""
@@ -75,7 +80,6 @@ def schema_figures(out, schemas, max_objects=None):
     folder = os.path.join(schemas, "cityjson-2.0.2")
     if not os.path.isdir(folder):
         return {"schema": None, "errors": None, "valid": None}
-    model = load(out, "model.city.json")
     errors = cityjson.schema_errors(model, folder, max_objects)
     checked = len(model["CityObjects"]) if max_objects is None else \
         min(max_objects, len(model["CityObjects"]))
@@ -113,9 +117,11 @@ def write(out, report, rows):
 def footprint_rows(fp, lod2, plots, thesis=("", "")):
     """Table rows of :func:`footprint_figures` and :func:`lod2_figures`; ``thesis``:
     the thesis's aligned and generated footprints."""
+    from reconstruction import contract
+
     return [
-        ("aligned footprints", fp["by_source"].get("aligned", 0), thesis[0]),
-        ("generated footprints", fp["by_source"].get("2pm", 0), thesis[1]),
+        ("aligned footprints", fp["by_source"].get(contract.SOURCE_ALIGNED, 0), thesis[0]),
+        ("generated footprints", fp["by_source"].get(contract.SOURCE_PROCEDURAL, 0), thesis[1]),
         ("plots with footprints", "{}/{}".format(fp["plots_with_footprints"], plots), ""),
         ("overlapping footprint pairs (> {} m²)".format(fp["overlap_tolerance_m2"]),
          fp["overlapping_pairs"], ""),

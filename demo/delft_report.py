@@ -99,6 +99,7 @@ def build(out, shared_data):
     thesis = plot_scores(grassio.read_areas(THESIS_PLOTS, table=False)[0], gt_points,
                          gt_polygons)
     seconds = cr.stage_seconds(out)
+    model = cr.model(out)
     return {
         "seconds": seconds,
         "total_seconds": round(sum(seconds.values()), 3),
@@ -108,8 +109,8 @@ def build(out, shared_data):
         "align": cr.load(out, "align.json"),
         "thesis_aligned": thesis_aligned_found(out),
         "subdivide": cr.footprint_figures(*cr.footprints()),
-        "lod2": cr.lod2_figures(out),
-        "cityjson": cr.schema_figures(out, os.path.join(shared_data, "..", "schemas")),
+        "lod2": cr.lod2_figures(out, model),
+        "cityjson": cr.schema_figures(model, os.path.join(shared_data, "..", "schemas")),
     }
 
 
