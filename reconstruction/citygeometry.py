@@ -12,9 +12,11 @@ Python.
 import contextlib
 import gc
 import itertools
+import json
 from dataclasses import dataclass
 
 import numpy as np
+import orjson
 
 #: list levels above the leaves, by geometry type (a GeometryInstance's
 #: boundaries are the one vertex where its template is put)
@@ -26,17 +28,26 @@ SURFACE_DEPTH = {"MultiSurface": 0, "CompositeSurface": 0, "Solid": 1, "MultiSol
 
 
 @contextlib.contextmanager
-def gc_paused():
+def gc_paused(keep=False):
     """Python's cyclic garbage collector paused: building or parsing millions
     of small lists (a city model's boundaries) otherwise triggers collection
     after collection over the whole heap, which makes parsing a 50 MB model
-    three to four times slower."""
+    three to four times slower.
+
+    ``keep``: what was built is kept (a parsed city model, read once and
+    used to the end): the objects are then moved out of the collector's
+    generations (``gc.freeze``) instead of being walked once more by the
+    first collection after the pause and again whenever an older generation
+    is collected (a 50 MB model: 0.4 s a walk). Its lists and dicts hold no
+    reference cycles and are still freed when no longer used."""
     enabled = gc.isenabled()
     gc.disable()
     try:
         yield
     finally:
         if enabled:
+            if keep:
+                gc.freeze()
             gc.enable()
 
 
@@ -245,14 +256,30 @@ HOLE = "\x00"
 _HOLE_TEXT = '"\\u0000"'
 
 
-def pieces_around_holes(structure, holes):
-    """``json.dumps(structure)`` cut at the :data:`HOLE` strings the structure
-    holds (``holes`` of them): the texts between them, one more than the
-    holes; None when the structure has other strings equal to HOLE (the
-    caller then writes it another way)."""
-    import json
+def json_text(structure):
+    """The compact JSON text of ``structure``, written by orjson (six times
+    faster than ``json.dumps`` on a city model's attributes and semantics):
+    strings in UTF-8 rather than ``\\u`` escapes, NaN as null, numpy arrays
+    and scalars as lists and numbers; by ``json.dumps`` what orjson does not
+    write (a string with a lone surrogate, an integer over 64 bits)."""
+    try:
+        return orjson.dumps(structure, option=orjson.OPT_SERIALIZE_NUMPY).decode()
+    except orjson.JSONEncodeError:
+        return json.dumps(structure, separators=(",", ":"), default=_plain)
 
-    text = json.JSONEncoder(separators=(",", ":"), check_circular=False).encode(structure)
+
+def _plain(value):
+    if isinstance(value, (np.ndarray, np.generic)):
+        return value.tolist()
+    raise TypeError("cannot write {!r} in JSON".format(value))
+
+
+def pieces_around_holes(structure, holes):
+    """:func:`json_text` of ``structure`` cut at the :data:`HOLE` strings the
+    structure holds (``holes`` of them): the texts between them, one more
+    than the holes; None when the structure has other strings equal to HOLE
+    (the caller then writes it another way)."""
+    text = json_text(structure)
     pieces = text.split(_HOLE_TEXT)
     return pieces if len(pieces) == holes + 1 else None
 

@@ -232,7 +232,7 @@ def read_model(path, types=("Building",)):
         f = open(path, encoding="utf-8")
     except OSError as error:
         raise InputError("Cannot read the existing model '{}': {}".format(path, error.strerror))
-    with f, citygeometry.gc_paused():
+    with f, citygeometry.gc_paused(keep=True):
         try:
             # a CityJSONSeq is a complete JSON object on its first line and
             # more lines after it; a one-line CityJSON file is parsed once

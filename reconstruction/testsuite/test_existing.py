@@ -329,6 +329,45 @@ def test_an_attribute_like_the_placeholder_is_written_plainly(sample):
     assert cityjson.consistency_errors(back) == []
 
 
+def test_a_model_read_is_kept_out_of_later_garbage_collections(sample):
+    """The parsed model's millions of lists are frozen (gc.freeze) once read,
+    not walked again by every later collection of an older generation."""
+    import gc
+
+    before = gc.get_freeze_count()
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    lists = sum(len(g["boundaries"]) for o in model.objects.values() for g in o.get("geometry", ()))
+    assert gc.isenabled()
+    assert gc.get_freeze_count() - before >= lists
+
+
+def test_copied_attributes_that_json_dumps_and_orjson_write_differently(sample):
+    """The copied objects are written by orjson: non-ASCII text stays text,
+    NaN becomes null (valid JSON), numpy numbers are numbers; a model with a string
+    orjson refuses (a lone surrogate) is written by json.dumps instead (NaN
+    then as NaN), in both the single file and the sequence."""
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    gen = generated(BOXES)
+    extra = {"straat": ["Oude Delft éè", "字"], "gauge": [[float("nan"), 1.0], 2.5],
+             "count": list(np.array([7, 8], dtype=np.int64))}
+    for odd, expected in ((None, ["Oude Delft éè", "字"]),
+                          ("\ud800", ["\ud800", "\ud800"])):
+        attributes = dict(extra, **({"straat": [odd] * 2} if odd else {}))
+        copied = citymerge.copy_buildings(model, [0, 1], attributes=attributes)
+        text = citymerge.merge(gen[4], copied)
+        merged = json.loads(text)
+        assert not odd or "\\ud800" in text
+        back = cityjsonseq.collect(sequence_of(gen, copied)[1])
+        for doc in (merged, back):
+            got = [doc["CityObjects"][model.buildings[b]]["attributes"] for b in (0, 1)]
+            assert [a["straat"] for a in got] == expected
+            assert [a["count"] for a in got] == [7, 8]
+            assert got[1]["gauge"] == 2.5
+            nan = got[0]["gauge"][0]                # orjson writes null, json.dumps NaN
+            assert (nan != nan) if odd else (nan is None)
+        assert cityjson.consistency_errors(merged) == []
+
+
 def test_cityjsonseq_of_generated_buildings_only(schema_dir):
     gen = generated(BOXES + [shapely.box(85100, 446500, 85112, 446509)])
     count, f = sequence_of(gen, None)
