@@ -134,15 +134,20 @@ def verdict(ok):
     return "goal met" if ok else "goal NOT met"
 
 
-def median_time(fn, runs):
+def median_time(fn, runs, setup=None):
     """Median wall time and median CPU time of the process (the machine is
-    shared: CPU time is the steadier figure)."""
+    shared: CPU time is the steadier figure) of ``fn()``, what it returns
+    freed after the clock stops; with ``setup``, of ``fn(setup())()`` (the
+    setup untimed, what it made freed after the clock stops)."""
     wall, cpu = [], []
     for _ in range(runs):
+        made = setup() if setup is not None else None
+        step = fn(made) if setup is not None else fn
         t, c = time.perf_counter(), time.process_time()
-        fn()
+        result = step()
         wall.append(time.perf_counter() - t)
         cpu.append(time.process_time() - c)
+        del result, made, step
     return Timing(statistics.median(wall), statistics.median(cpu))
 
 
@@ -185,24 +190,29 @@ def main():
         bag_ids = [b.rsplit(".", 1)[1] for b in model.buildings]
         out = os.path.join(folder, "out.city.json")
 
-        def merge(ids):
-            m = existing.read_model(single)
+        def merge(m, ids):
             matches = existing.match(m, aligned, ids=ids)
             copied = citymerge.copy_buildings(m, matches.building[matches.matched])
             cityjson.write_text(out, citymerge.merge(text, copied))
             return matches
 
-        assert merge(bag_ids).report.by_id == args.buildings
-        assert merge(None).report.by_geometry == args.buildings
+        def after_read(ids):
+            """Median time of the steps after a fresh read (the model freed untimed)."""
+            def steps(m):
+                return lambda: merge(m, ids)
+            return median_time(steps, args.runs, setup=lambda: existing.read_model(single))
+
+        assert merge(existing.read_model(single), bag_ids).report.by_id == args.buildings
+        assert merge(existing.read_model(single), None).report.by_geometry == args.buildings
         t_read = median_time(lambda: existing.read_model(single), args.runs)
         t_read_seq = median_time(lambda: existing.read_model(seq), args.runs)
-        t_id = median_time(lambda: merge(bag_ids), args.runs) - t_read
-        t_geom = median_time(lambda: merge(None), args.runs) - t_read
+        t_id = after_read(bag_ids)
+        t_geom = after_read(None)
         print("read existing model: {} (CityJSON), {} (CityJSONSeq)".format(t_read, t_read_seq))
-        print("merge by id (match, copy, merge, write): {} = {} the read".format(
+        print("merge by id (match, copy, merge, write, after the read): {} = {} the read".format(
             t_id, t_id.ratio(t_read)))
-        print("merge by geometry (footprints, match, copy, merge, write): {} = {} the read"
-              .format(t_geom, t_geom.ratio(t_read)))
+        print("merge by geometry (footprints, match, copy, merge, write, after the read): "
+              "{} = {} the read".format(t_geom, t_geom.ratio(t_read)))
         matches = existing.match(model, aligned, ids=bag_ids)
         copied = citymerge.copy_buildings(model, matches.building[matches.matched])
         steps = {
