@@ -120,6 +120,8 @@ def run_main(main, *args):
     if threading.current_thread() is threading.main_thread():
         _MODULE_PID.append(os.getpid())
         signal.signal(signal.SIGTERM, _terminate)
+        # Ctrl-C is a KeyboardInterrupt again (the script's start-up handler exits at once)
+        signal.signal(signal.SIGINT, signal.default_int_handler)
     RUNNING.append(main)
     try:
         return main(*args)

@@ -8,6 +8,7 @@ interrupted run (SIGINT, SIGTERM) leaves no output and no ``tmp_histo_*``
 map, with one ``ERROR:`` line and no traceback.
 """
 
+import contextlib
 import os
 import signal
 import subprocess
@@ -273,3 +274,35 @@ def test_sigterm_removes_generalize_temporary_maps(mapset, tmp_path):
     gs.mapcalc("cls = if(row() % 40 < 30 && col() % 60 < 50, 1, 2)", quiet=True)
     _signal_when(gs, "v.histo.generalize", dict(raster="cls", **{"class": 1}, output="gen"),
                  signal.SIGTERM, message="Generalising", tmp=tmp_path)
+
+
+MODULES = ("r.histo.classify", "v.histo.generalize", "v.histo.align", "v.histo.subdivide",
+           "v.histo.lod2")
+
+
+@pytest.mark.parametrize("module", MODULES)
+def test_ctrl_c_while_grass_parses_the_options_is_one_error_line(mapset, tmp_path, module):
+    """SIGINT while the module waits for g.parser (made slow here by a g.parser
+    that sleeps first, and says when it started): one ERROR line, no traceback."""
+    import shutil
+
+    started = tmp_path / "started"
+    slow = tmp_path / "g.parser"
+    slow.write_text("#!/bin/sh\ntouch '{}'\nsleep 30\nexec '{}' \"$@\"\n".format(
+        started, shutil.which("g.parser")))
+    slow.chmod(0o755)
+    env = dict(os.environ, PATH="{}:{}".format(tmp_path, os.environ["PATH"]))
+    proc = subprocess.Popen([module, "--quiet"], env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, start_new_session=True)
+    try:
+        _wait_for(started.exists, proc, timeout=60)
+        assert proc.poll() is None, "the module ended before g.parser started"
+        proc.send_signal(signal.SIGINT)
+        proc.wait(timeout=60)
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(proc.pid, signal.SIGKILL)    # the sleeping g.parser, which holds stderr
+    err = proc.stderr.read().decode()
+    assert proc.returncode == 1, err
+    assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
+    assert error_lines(err) == ["ERROR: Interrupted while starting"], err

@@ -146,9 +146,14 @@
 # %end
 
 import os
+import signal
 import sys
 
-import grass.script as gs
+# Ctrl-C before the module runs (while Python loads it, while GRASS parses its
+# options): one error line, as during its work (grassio.run_main takes over)
+signal.signal(signal.SIGINT, lambda *_: sys.exit("ERROR: Interrupted while starting"))
+
+import grass.script as gs  # noqa: E402
 
 
 def find_core():
