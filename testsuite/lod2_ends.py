@@ -9,7 +9,9 @@ slope: a sliver face a few millimetres high, as the skeleton makes over a
 footprint's very short edges, is degrees off. Such faces take no part: the
 shallowest face is the shallowest whose pitch is known within
 :data:`PITCH_TOL`, and a face is a hip end only when it is steeper by more
-than half a degree beyond its own uncertainty. The footprint ring is the
+than half a degree beyond its own uncertainty. A wall face is vertical
+within solidset.SEMANTIC_ANGLE (5 degrees): its top may lean in from the
+edge by as much. The footprint ring is the
 ground surface reversed (edge k runs from its vertex k to k + 1), as
 v.histo.lod2 writes it; edges shared with other footprints are found with
 :func:`reconstruction.street_edges.street_edges` on the rings read back.
@@ -18,11 +20,15 @@ v.histo.lod2 writes it; edges shared with other footprints are found with
 import numpy as np
 
 from reconstruction import street_edges as se
+from reconstruction.solidset import SEMANTIC_ANGLE
 
 #: the coordinate resolution of the models read (m): v.histo.lod2 writes millimetres
 RESOLUTION = 1e-3
 #: a face's pitch is known when its uncertainty is at most this (degrees)
 PITCH_TOL = 0.25
+#: how far a wall face may lean per metre of height: v.histo.lod2 makes a face
+#: a WallSurface when it is vertical within solidset.SEMANTIC_ANGLE degrees
+LEAN = float(np.tan(np.radians(SEMANTIC_ANGLE)))
 
 
 def _surfaces(obj):
@@ -116,7 +122,9 @@ def ends_of(ring, walls, roofs, eaves_z, tol=0.05, resolution=RESOLUTION):
     for k in range(n):
         a, b = ring[k], ring[(k + 1) % n]
         for w in walls:
-            if w[:, 2].max() > eaves_z + tol and _on_edge(w, a, b) and \
+            # a wall face is vertical within SEMANTIC_ANGLE: its top may lean in by that much
+            lean = 2e-3 + max(float(w[:, 2].max()) - eaves_z, 0.0) * LEAN
+            if w[:, 2].max() > eaves_z + tol and _on_edge(w, a, b, lean) and \
                     _rise(w, a, b, eaves_z + tol) >= 0.5 * np.hypot(*(b - a)[:2]):
                 out[k] = "wall"
                 break

@@ -58,3 +58,19 @@ def test_a_sliver_face_a_few_millimetres_high_sets_no_pitch():
     sliver = np.array([a + [0, 0, z], a + 0.006 * u + [0, 0, z], top + [0, 0, z]])
     assert le._pitch(sliver) < pitch - 1.5
     assert le.ends_of(ring, walls, roofs + [sliver], z) == {}
+
+
+def test_a_wall_leaning_within_the_wall_angle_is_a_wall_end():
+    """v.histo.lod2 makes a face a WallSurface when it is vertical within 5
+    degrees: such a face rising above the eaves on an edge is a wall end, as
+    the near-vertical lower faces of a mansard capped by a millimetre edge were."""
+    doc = model([box(X0, Y0, X0 + 6, Y0 + 12)], "flat")
+    oid, ring, walls, roofs, attrs = le.buildings(doc)[0]
+    z = attrs["ground_height"] + attrs["eaves_height"]
+    a, b = ring[0], ring[1]
+    u = (b - a) / np.linalg.norm(b - a)
+    inward = np.array([-u[1], u[0], 0.0]) * 2.0 * np.tan(np.radians(3.0))   # 3 degrees over 2 m
+    up = np.array([0, 0, z + 2.0])
+    lean = np.array([a + [0, 0, z], b + [0, 0, z], b + inward + up, a + inward + up])
+    assert le.ends_of(ring, walls, roofs, z) == {}
+    assert le.ends_of(ring, walls + [lean], roofs, z) == {0: "wall"}
