@@ -248,7 +248,7 @@ def mansard_caps(footprints, which):
     idx = np.nonzero(np.asarray(which, dtype=bool))[0]
     out = np.zeros(len(footprints))
     if len(idx):
-        polygons = shapely.polygons([np.asarray(footprints[i], dtype=float) for i in idx])
+        polygons = [shapely.Polygon(np.asarray(footprints[i], dtype=float)) for i in idx]
         out[idx] = MANSARD_CAP * shapely.length(
             shapely.maximum_inscribed_circle(polygons, tolerance=1e-3))
     return out

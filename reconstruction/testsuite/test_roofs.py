@@ -89,6 +89,14 @@ def test_mansard_inset_below_half_the_shortest_edge():
     assert len(top) == 1 and Polygon(v[top[0], :2]).area > 0
 
 
+def test_mansard_caps_are_0_9_of_the_inscribed_radius_where_asked():
+    thin = np.array([[0, 0], [10, 0], [10, 1.5], [0, 1.5]], dtype=float)
+    caps = roofs.mansard_caps([RECT, L_SHAPE, thin, L_SHAPE], [True, True, True, False])
+    # the L's circle touches its outer sides x = 0, y = 0 and its inner corner (4, 4)
+    r_l = 4 * math.sqrt(2) / (1 + math.sqrt(2))
+    assert caps == pytest.approx([0.45 * 6, 0.9 * r_l, 0.45 * 1.5, 0.0], abs=1e-3)
+
+
 def test_envelope_matches_cgal_on_convex_footprints():
     if not roof_skeleton.cgal_available():
         pytest.skip("pySVCGAL not installed")
