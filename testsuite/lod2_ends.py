@@ -4,9 +4,9 @@ An *end* of a building is an edge of its footprint with a gable end or a
 crow-stepped facade (a wall standing on the edge that rises above the eaves)
 or a hip end (the roof face on the edge steeper than the building's
 shallowest eaves face, by more than half a degree). A face's pitch is only
-known to the model's coordinate resolution (1 mm) over its extent up the
-slope: a sliver face a few millimetres high, as the skeleton makes over a
-footprint's very short edges, is degrees off. Such faces take no part: the
+known to the model's coordinate resolution (1 mm) over its width: a sliver
+face, a few millimetres high as the skeleton makes over a footprint's very
+short edges, or a needle along the slope, is degrees off. Such faces take no part: the
 shallowest face is the shallowest whose pitch is known within
 :data:`PITCH_TOL`, and a face is a hip end only when it is steeper by more
 than half a degree beyond its own uncertainty. A wall face is vertical
@@ -56,22 +56,28 @@ def buildings(model):
     return out
 
 
-def _pitch(face):
-    """Pitch (degrees) of a planar face (k, 3): Newell's normal."""
+def _newell(face):
+    """Newell's normal of a face (k, 3), its length twice the face's area."""
     x, y, z = face[:, 0], face[:, 1], face[:, 2]
     xn, yn, zn = np.roll(x, -1), np.roll(y, -1), np.roll(z, -1)
-    n = np.array([np.sum((y - yn) * (z + zn)), np.sum((z - zn) * (x + xn)),
-                  np.sum((x - xn) * (y + yn))])
+    return np.array([np.sum((y - yn) * (z + zn)), np.sum((z - zn) * (x + xn)),
+                     np.sum((x - xn) * (y + yn))])
+
+
+def _pitch(face):
+    """Pitch (degrees) of a planar face (k, 3): Newell's normal."""
+    n = _newell(face)
     return float(np.degrees(np.arccos(min(abs(n[2]) / max(np.linalg.norm(n), 1e-12), 1.0))))
 
 
-def _pitch_error(face, pitch, resolution=RESOLUTION):
+def _pitch_error(face, resolution=RESOLUTION):
     """Uncertainty (degrees) of the pitch of ``face`` (k, 3): two coordinate
-    steps of ``resolution`` over the face's extent up the slope (its rise
-    over the sine of its pitch)."""
-    rise = float(np.ptp(face[:, 2]))
-    extent = rise / max(np.sin(np.radians(pitch)), 1e-12)
-    return float(np.degrees(np.arctan2(2.0 * resolution, extent)))
+    steps of ``resolution`` over its width (twice its area over its diameter,
+    a triangle's smallest altitude), which is small for a sliver, be it a few
+    millimetres high or a needle along the slope."""
+    diameter = float(np.max(np.linalg.norm(face[:, None] - face[None], axis=-1)))
+    width = np.linalg.norm(_newell(face)) / max(diameter, 1e-12)
+    return float(np.degrees(np.arctan2(2.0 * resolution, width)))
 
 
 def _on_edge(points, a, b, tol=2e-3):
@@ -113,7 +119,7 @@ def ends_of(ring, walls, roofs, eaves_z, tol=0.05, resolution=RESOLUTION):
         low = np.abs(face[:, 2] - eaves_z) < tol
         if low.sum() >= 2:
             p = _pitch(face)
-            eaves_faces.append((face, p, _pitch_error(face, p, resolution)))
+            eaves_faces.append((face, p, _pitch_error(face, resolution)))
     # the long faces: the shallowest sloped face whose pitch is known (flat
     # pieces at the eaves are no faces of it)
     sloped = [(p, e) for _, p, e in eaves_faces if p > 1.0]

@@ -58,6 +58,11 @@ def test_a_sliver_face_a_few_millimetres_high_sets_no_pitch():
     sliver = np.array([a + [0, 0, z], a + 0.006 * u + [0, 0, z], top + [0, 0, z]])
     assert le._pitch(sliver) < pitch - 1.5
     assert le.ends_of(ring, walls, roofs + [sliver], z) == {}
+    # a needle up the slope from the eaves, its second vertex 2 cm up and 1 mm off the line
+    top = a + 2.0 * u + 2.0 / np.tan(np.radians(pitch)) * inward + [0, 0, 2.0]
+    needle = np.array([a, 0.01 * top + 0.99 * a + 1e-3 * inward, top]) + [0, 0, z]
+    assert le._pitch(needle) < pitch - 1.5 and np.ptp(needle[:, 2]) > 1.0
+    assert le.ends_of(ring, walls, roofs + [needle], z) == {}
 
 
 def test_a_wall_leaning_within_the_wall_angle_is_a_wall_end():
