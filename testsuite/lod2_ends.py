@@ -125,22 +125,24 @@ def ends_of(ring, walls, roofs, eaves_z, tol=0.05, resolution=RESOLUTION):
     sloped = [(p, e) for _, p, e in eaves_faces if p > 1.0]
     shallow = min((p for p, e in sloped if e <= PITCH_TOL),
                   default=min(sloped, key=lambda pe: pe[1])[0] if sloped else None)
+    # a wall face is vertical within SEMANTIC_ANGLE: its top may lean in by that much
+    tall = [(w, 2e-3 + (float(w[:, 2].max()) - eaves_z) * LEAN) for w in walls
+            if w[:, 2].max() > eaves_z + tol]
+    steep = [] if shallow is None else [
+        face[np.abs(face[:, 2] - eaves_z) < tol] for face, pitch, error in eaves_faces
+        if pitch - error > shallow + 0.5]
     for k in range(n):
         a, b = ring[k], ring[(k + 1) % n]
-        for w in walls:
-            # a wall face is vertical within SEMANTIC_ANGLE: its top may lean in by that much
-            lean = 2e-3 + max(float(w[:, 2].max()) - eaves_z, 0.0) * LEAN
-            if w[:, 2].max() > eaves_z + tol and _on_edge(w, a, b, lean) and \
-                    _rise(w, a, b, eaves_z + tol) >= 0.5 * np.hypot(*(b - a)[:2]):
+        length = float(np.hypot(*(b - a)[:2]))
+        for w, lean in tall:
+            if _on_edge(w, a, b, lean) and _rise(w, a, b, eaves_z + tol) >= 0.5 * length:
                 out[k] = "wall"
                 break
-        if k in out or shallow is None:
+        if k in out:
             continue
-        for face, pitch, error in eaves_faces:
-            low = face[np.abs(face[:, 2] - eaves_z) < tol]
-            if len(low) >= 2 and _on_edge(low, a, b) and \
-                    np.ptp(low[:, :2] @ ((b - a)[:2] / max(np.hypot(*(b - a)[:2]), 1e-12))) \
-                    > 0.5 * np.hypot(*(b - a)[:2]) and pitch - error > shallow + 0.5:
+        for low in steep:
+            if _on_edge(low, a, b) and \
+                    np.ptp(low[:, :2] @ ((b - a)[:2] / max(length, 1e-12))) > 0.5 * length:
                 out[k] = "hip"
                 break
     return out
