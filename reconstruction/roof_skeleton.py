@@ -194,6 +194,88 @@ def cgal_roofs(footprints, pitches, heights):
             nz += (b[0] - a[0]) * (cc[1] - a[1]) - (b[1] - a[1]) * (cc[0] - a[0])
         if nz < 0:
             faces = [f[::-1] for f in faces]
-        out[i] = Roof(v, faces, False, float(v[:, 2].max()))
+        out[i] = Roof(v, merge_needles(v, weld(v, faces, n)), False, float(v[:, 2].max()))
     return out
+
+
+#: a triangle whose vertex lies within this (m) of its opposite side is a
+#: needle; vertices closer than this are one (val3dity snaps them together)
+NEEDLE_WIDTH = 1e-3
+
+
+def weld(vertices, faces, fixed=0, tol=NEEDLE_WIDTH):
+    """``faces`` with the vertices closer than ``tol`` to an earlier one
+    replaced by it (the first ``fixed``, the footprint's, are never merged
+    with each other), repeated vertices in a ring dropped, and the rings
+    left with fewer than three vertices gone. The skeleton ends arcs a
+    fraction of a millimetre apart where a face over a very short edge
+    closes; val3dity would snap those vertices together."""
+    v = np.asarray(vertices, dtype=float)
+    V = len(v)
+    rep = np.arange(V)
+    if V > 1:
+        d = np.linalg.norm(v[:, None, :] - v[None, :, :], axis=-1)
+        close = np.triu(d < tol, k=1)
+        close[:fixed, :fixed] = False
+        for i, j in zip(*np.nonzero(close)):
+            if rep[j] == j:
+                rep[j] = rep[i]
+    if np.all(rep == np.arange(V)):
+        return [list(f) for f in faces]
+    out = []
+    for f in faces:
+        ring = [int(rep[k]) for k in f]
+        ring = [k for t, k in enumerate(ring) if k != ring[t - 1]] if len(ring) > 1 else ring
+        if len(set(ring)) >= 3:
+            out.append(ring)
+    return out
+
+
+def merge_needles(vertices, faces, width=NEEDLE_WIDTH):
+    """``faces`` (rings of indices into ``vertices`` (V, 3), consistently
+    oriented) without their needles: a triangle whose vertex ``m`` lies
+    within ``width`` of the opposite side ``a -> b`` (between them) goes, and
+    ``m`` goes into the face across that side, between ``b`` and ``a``.
+
+    The skeleton makes such triangles along its arcs where a face over a
+    very short footprint edge ends; once the vertices are rounded to the
+    millimetre, a needle may face downwards, which is a self-intersecting
+    shell (val3dity). The face across stays planar within ``width``.
+    Triangles whose opposite side has no face across (the footprint's
+    boundary) are kept."""
+    faces = [list(f) for f in faces]
+    v = np.asarray(vertices, dtype=float)
+    done = False
+    while not done:
+        done = True
+        across = {(a, b): k for k, f in enumerate(faces) for a, b in zip(f, f[1:] + f[:1])}
+        for k, f in enumerate(faces):
+            if len(f) != 3:
+                continue
+            for j in range(3):
+                a, m, b = f[j - 1], f[j], f[(j + 1) % 3]      # the ring runs a -> m -> b -> a
+                other = across.get((a, b))
+                if other is None or m in faces[other] or \
+                        not _near_side(v[m], v[a], v[b], width):
+                    continue
+                g = faces[other]
+                at = g.index(a)
+                faces[other] = g[:at + 1] + [m] + g[at + 1:]
+                faces[k] = []
+                done = False
+                break
+            if not done:
+                break
+        faces = [f for f in faces if f]
+    return faces
+
+
+def _near_side(m, a, b, width):
+    """True when point ``m`` lies within ``width`` of the segment ``a`` - ``b``, between its ends."""
+    d = b - a
+    dd = float(d @ d)
+    if dd <= 0:
+        return False
+    t = float((m - a) @ d) / dd
+    return 0.0 < t < 1.0 and float(np.linalg.norm(a + t * d - m)) < width
 

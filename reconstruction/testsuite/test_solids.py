@@ -279,3 +279,21 @@ def test_a_mansard_keeps_its_inset_beside_millimetre_edges(xy):
     lower = pitch[pitch > 1.0]
     assert len(lower) and np.allclose(lower, math.degrees(math.atan2(attic, inset)), atol=0.5)
 
+
+
+#: a row house of today's cadastre, 12 vertices, its long sides jogged by 2-4 cm and a
+#: notch in its back (synthetic): the skeleton ends arcs a fraction of a millimetre
+#: apart and makes needle faces along them, which rounded to the millimetre faced
+#: downwards (a self-intersecting shell for val3dity) and the roof fell back
+JOGGED = np.array([[0.0, 0.0], [4.812, 2.934], [4.833, 2.9], [8.174, 4.938], [8.153, 4.971],
+                   [9.855, 6.009], [5.747, 12.747], [0.755, 9.703], [1.919, 7.793],
+                   [-0.049, 7.179], [-0.953, 8.661], [-4.108, 6.737]])
+
+
+@pytest.mark.parametrize("kind", ["hip", "mansard"])
+def test_skeleton_roofs_of_jogged_outlines_are_valid_without_fallback(kind):
+    if not roof_skeleton.cgal_available():
+        pytest.skip("pySVCGAL not installed")
+    ss, kept, got, log = build(JOGGED, kind, eaves=8.0, attic=4.0, u=0.5)
+    assert list(got) == [kind] and not log, log
+    assert validation.validate(ss) == [None]
