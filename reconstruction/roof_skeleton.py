@@ -271,7 +271,8 @@ def merge_needles(vertices, faces, width=NEEDLE_WIDTH):
 
 
 def _near_side(m, a, b, width):
-    """True when point ``m`` lies within ``width`` of the segment ``a`` - ``b``, between its ends."""
+    """True when point ``m`` lies within ``width`` of the segment ``a`` - ``b``, between
+    its ends."""
     d = b - a
     dd = float(d @ d)
     if dd <= 0:
