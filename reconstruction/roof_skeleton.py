@@ -245,38 +245,39 @@ def merge_needles(vertices, faces, width=NEEDLE_WIDTH):
     boundary) are kept."""
     faces = [list(f) for f in faces]
     v = np.asarray(vertices, dtype=float)
-    done = False
-    while not done:
-        done = True
+    while True:
+        needles = _needles(v, faces, width)
+        if not needles:
+            return faces
         across = {(a, b): k for k, f in enumerate(faces) for a, b in zip(f, f[1:] + f[:1])}
-        for k, f in enumerate(faces):
-            if len(f) != 3:
-                continue
-            for j in range(3):
-                a, m, b = f[j - 1], f[j], f[(j + 1) % 3]      # the ring runs a -> m -> b -> a
-                other = across.get((a, b))
-                if other is None or m in faces[other] or \
-                        not _near_side(v[m], v[a], v[b], width):
-                    continue
+        for k, j in needles:
+            f = faces[k]
+            a, m, b = f[j - 1], f[j], f[(j + 1) % 3]      # the ring runs a -> m -> b -> a
+            other = across.get((a, b))
+            if other is not None and m not in faces[other]:
                 g = faces[other]
                 at = g.index(a)
                 faces[other] = g[:at + 1] + [m] + g[at + 1:]
                 faces[k] = []
-                done = False
                 break
-            if not done:
-                break
+        else:
+            return faces                                  # needles on the boundary only
         faces = [f for f in faces if f]
-    return faces
 
 
-def _near_side(m, a, b, width):
-    """True when point ``m`` lies within ``width`` of the segment ``a`` - ``b``, between
-    its ends."""
-    d = b - a
-    dd = float(d @ d)
-    if dd <= 0:
-        return False
-    t = float((m - a) @ d) / dd
-    return 0.0 < t < 1.0 and float(np.linalg.norm(a + t * d - m)) < width
+def _needles(v, faces, width):
+    """(face, corner) of the triangles among ``faces`` whose vertex ``corner``
+    lies within ``width`` of the opposite side, between its ends: all at once."""
+    k = np.array([i for i, f in enumerate(faces) if len(f) == 3], dtype=np.int64)
+    if not len(k):
+        return []
+    p = v[np.array([faces[i] for i in k])]                  # (T, 3, 3)
+    m = p
+    a = np.roll(p, 1, axis=1)                               # the vertex before each corner
+    d = np.roll(p, -1, axis=1) - a                          # its opposite side, a -> b
+    dd = np.einsum("tjx,tjx->tj", d, d)
+    t = np.einsum("tjx,tjx->tj", m - a, d) / np.where(dd > 0, dd, 1.0)
+    gap = np.linalg.norm(a + t[..., None] * d - m, axis=-1)
+    hit = (dd > 0) & (t > 0.0) & (t < 1.0) & (gap < width)
+    return [(int(k[i]), int(j)) for i, j in zip(*np.nonzero(hit))]
 
