@@ -234,18 +234,21 @@ def weld(vertices, faces, fixed=0, tol=NEEDLE_WIDTH):
 def merge_needles(vertices, faces, width=NEEDLE_WIDTH):
     """``faces`` (rings of indices into ``vertices`` (V, 3), consistently
     oriented) without their needles: a triangle whose vertex ``m`` lies
-    within ``width`` of the opposite side ``a -> b`` (between them) goes, and
-    ``m`` goes into the face across that side, between ``b`` and ``a``.
+    within ``width`` of the opposite side ``a - b`` (between them) and the
+    triangle across that side, ``a -> b -> c``, become ``a -> m -> c`` and
+    ``m -> b -> c`` (the side flipped to ``m - c``).
 
     The skeleton makes such triangles along its arcs where a face over a
     very short footprint edge ends; once the vertices are rounded to the
     millimetre, a needle may face downwards, which is a self-intersecting
-    shell (val3dity). The face across stays planar within ``width``.
-    Triangles whose opposite side has no face across (the footprint's
-    boundary) are kept."""
+    shell (val3dity). The two new triangles lie within ``width`` of the
+    plane of the one across. Not a polygon with ``m`` nearly on its side:
+    val3dity's triangulation of it has a needle too, its normal astray
+    (error 204). Needles with no triangle across (the footprint's boundary,
+    a polygon face) are kept."""
     faces = [list(f) for f in faces]
     v = np.asarray(vertices, dtype=float)
-    while True:
+    for _ in range(len(faces)):                           # each split removes a needle
         needles = _needles(v, faces, width)
         if not needles:
             return faces
@@ -254,15 +257,23 @@ def merge_needles(vertices, faces, width=NEEDLE_WIDTH):
             f = faces[k]
             a, m, b = f[j - 1], f[j], f[(j + 1) % 3]      # the ring runs a -> m -> b -> a
             other = across.get((a, b))
-            if other is not None and m not in faces[other]:
-                g = faces[other]
-                at = g.index(a)
-                faces[other] = g[:at + 1] + [m] + g[at + 1:]
-                faces[k] = []
+            if other is None or len(faces[other]) != 3 or m in faces[other]:
+                continue
+            g = faces[other]
+            c = g[(g.index(a) + 2) % 3]                       # it runs a -> b -> c
+            if _off_line(v[c], v[a], v[b]) > 2.0 * width:     # not a needle itself
+                faces[other] = [a, m, c]
+                faces[k] = [m, b, c]
                 break
         else:
-            return faces                                  # needles on the boundary only
-        faces = [f for f in faces if f]
+            return faces                                  # no needle can go
+    return faces
+
+
+def _off_line(p, a, b):
+    """Distance of point ``p`` to the line through ``a`` and ``b``."""
+    d = b - a
+    return float(np.linalg.norm(np.cross(p - a, d)) / max(np.linalg.norm(d), 1e-300))
 
 
 def _needles(v, faces, width):

@@ -245,7 +245,8 @@ def test_weld_and_merge_needles_keep_the_roof_closed():
     welded = roof_skeleton.weld(v, faces, fixed=4)
     assert [2, 6, 4] not in welded and [2, 3, 4] in welded and _closed(welded, boundary)
     merged = roof_skeleton.merge_needles(v, welded)
-    assert [0, 4, 5] not in merged and [0, 1, 4, 5] in merged and len(merged) == 5
+    assert [0, 4, 5] not in merged and [0, 1, 4] not in merged and len(merged) == 6
+    assert [4, 5, 1] in merged and [5, 0, 1] in merged and all(len(f) == 3 for f in merged)
     assert _closed(merged, boundary)
     # nothing to do: the same faces
     plain = [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]
