@@ -70,6 +70,27 @@ def lod2_figures(out, model):
                 crs=model["metadata"].get("referenceSystem"))
 
 
+def ends_figures(model):
+    """The roof ends of the ``model`` read back from its geometry alone
+    (testsuite/lod2_ends.py, as the module's tests read them): ``ends`` the
+    edges with a gable or crow-stepped wall rising above the eaves or a hip
+    end steeper than the long faces, ``on_shared`` those on an edge shared
+    with a neighbour, by kind (``wall``, ``hip``): what the roof rules
+    promise never to build."""
+    folder = os.path.join(ROOT, "testsuite")
+    if folder not in sys.path:
+        sys.path.insert(0, folder)
+    import lod2_ends
+
+    return lod2_ends.ends_on_shared(model)
+
+
+def ends_text(figures):
+    """:func:`ends_figures` in a few words."""
+    return "{} walls, {} hip ends (of {} ends)".format(figures["wall"], figures["hip"],
+                                                      figures["ends"])
+
+
 def schema_figures(model, schemas, max_objects=None):
     """The CityJSON ``model`` against the official 2.0.2 schemas in ``schemas`` (its folder
     cityjson-2.0.2), by the library's cityjson.schema_errors, as the module tests

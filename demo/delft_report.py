@@ -23,7 +23,11 @@ Definitions:
   it among the current ones); also reported: when the current footprint
   identical to it (its category in <current>) is aligned at all;
 - two footprints overlap when their intersection exceeds 0.01 m²
-  (chain_report.OVERLAP_TOLERANCE).
+  (chain_report.OVERLAP_TOLERANCE);
+- a roof end is on a shared edge when a gable or crow-stepped wall rises
+  above the eaves, or a hip end steeper than the long faces stands, on an
+  edge within 0.1 m of a neighbour's over half its length
+  (chain_report.ends_figures, read from the model's geometry).
 """
 
 import os
@@ -110,6 +114,7 @@ def build(out, shared_data):
         "thesis_aligned": thesis_aligned_found(out),
         "subdivide": cr.footprint_figures(*cr.footprints()),
         "lod2": cr.lod2_figures(out, model),
+        "ends": cr.ends_figures(model),
         "cityjson": cr.schema_figures(model, os.path.join(shared_data, "..", "schemas")),
     }
 
@@ -144,6 +149,7 @@ def rows(report):
          "{}/{} ({} %)".format(found["same_footprint"], found["thesis"],
                                found["same_footprint_percent"]), ""),
     ] + cr.footprint_rows(fp, lod2, ours["plots"], (found["thesis"], "")) + [
+        ("roof ends on shared edges", cr.ends_text(report["ends"]), ""),
         ("CityJSON 2.0.2 schema", cr.schema_text(report["cityjson"]), ""),
     ] + cr.time_rows(report["seconds"])
 

@@ -194,6 +194,101 @@ def cgal_roofs(footprints, pitches, heights):
             nz += (b[0] - a[0]) * (cc[1] - a[1]) - (b[1] - a[1]) * (cc[0] - a[0])
         if nz < 0:
             faces = [f[::-1] for f in faces]
-        out[i] = Roof(v, faces, False, float(v[:, 2].max()))
+        out[i] = Roof(v, merge_needles(v, weld(v, faces, n)), False, float(v[:, 2].max()))
     return out
+
+
+#: a triangle whose vertex lies within this (m) of its opposite side is a
+#: needle; vertices closer than this are one (val3dity snaps them together)
+NEEDLE_WIDTH = 1e-3
+
+
+def weld(vertices, faces, fixed=0, tol=NEEDLE_WIDTH):
+    """``faces`` with the vertices closer than ``tol`` to an earlier one
+    replaced by it (the first ``fixed``, the footprint's, are never merged
+    with each other), repeated vertices in a ring dropped, and the rings
+    left with fewer than three vertices gone. The skeleton ends arcs a
+    fraction of a millimetre apart where a face over a very short edge
+    closes; val3dity would snap those vertices together."""
+    v = np.asarray(vertices, dtype=float)
+    V = len(v)
+    rep = np.arange(V)
+    if V > 1:
+        d = np.linalg.norm(v[:, None, :] - v[None, :, :], axis=-1)
+        close = np.triu(d < tol, k=1)
+        close[:fixed, :fixed] = False
+        for i, j in zip(*np.nonzero(close)):
+            if rep[j] == j:
+                rep[j] = rep[i]
+    if np.all(rep == np.arange(V)):
+        return [list(f) for f in faces]
+    out = []
+    for f in faces:
+        ring = [int(rep[k]) for k in f]
+        ring = [k for t, k in enumerate(ring) if k != ring[t - 1]] if len(ring) > 1 else ring
+        if len(set(ring)) >= 3:
+            out.append(ring)
+    return out
+
+
+def merge_needles(vertices, faces, width=NEEDLE_WIDTH):
+    """``faces`` (rings of indices into ``vertices`` (V, 3), consistently
+    oriented) without their needles: a triangle whose vertex ``m`` lies
+    within ``width`` of the opposite side ``a - b`` (between them) and the
+    triangle across that side, ``a -> b -> c``, become ``a -> m -> c`` and
+    ``m -> b -> c`` (the side flipped to ``m - c``).
+
+    The skeleton makes such triangles along its arcs where a face over a
+    very short footprint edge ends; once the vertices are rounded to the
+    millimetre, a needle may face downwards, which is a self-intersecting
+    shell (val3dity). The two new triangles lie within ``width`` of the
+    plane of the one across. Not a polygon with ``m`` nearly on its side:
+    val3dity's triangulation of it has a needle too, its normal astray
+    (error 204). Needles with no triangle across (the footprint's boundary,
+    a polygon face) are kept."""
+    faces = [list(f) for f in faces]
+    v = np.asarray(vertices, dtype=float)
+    for _ in range(len(faces)):                           # each split removes a needle
+        needles = _needles(v, faces, width)
+        if not needles:
+            return faces
+        across = {(a, b): k for k, f in enumerate(faces) for a, b in zip(f, f[1:] + f[:1])}
+        for k, j in needles:
+            f = faces[k]
+            a, m, b = f[j - 1], f[j], f[(j + 1) % 3]      # the ring runs a -> m -> b -> a
+            other = across.get((a, b))
+            if other is None or len(faces[other]) != 3 or m in faces[other]:
+                continue
+            g = faces[other]
+            c = g[(g.index(a) + 2) % 3]                       # it runs a -> b -> c
+            if _off_line(v[c], v[a], v[b]) > 2.0 * width:     # not a needle itself
+                faces[other] = [a, m, c]
+                faces[k] = [m, b, c]
+                break
+        else:
+            return faces                                  # no needle can go
+    return faces
+
+
+def _off_line(p, a, b):
+    """Distance of point ``p`` to the line through ``a`` and ``b``."""
+    d = b - a
+    return float(np.linalg.norm(np.cross(p - a, d)) / max(np.linalg.norm(d), 1e-300))
+
+
+def _needles(v, faces, width):
+    """(face, corner) of the triangles among ``faces`` whose vertex ``corner``
+    lies within ``width`` of the opposite side, between its ends: all at once."""
+    k = np.array([i for i, f in enumerate(faces) if len(f) == 3], dtype=np.int64)
+    if not len(k):
+        return []
+    p = v[np.array([faces[i] for i in k])]                  # (T, 3, 3)
+    m = p
+    a = np.roll(p, 1, axis=1)                               # the vertex before each corner
+    d = np.roll(p, -1, axis=1) - a                          # its opposite side, a -> b
+    dd = np.einsum("tjx,tjx->tj", d, d)
+    t = np.einsum("tjx,tjx->tj", m - a, d) / np.where(dd > 0, dd, 1.0)
+    gap = np.linalg.norm(a + t[..., None] * d - m, axis=-1)
+    hit = (dd > 0) & (t > 0.0) & (t < 1.0) & (gap < width)
+    return [(int(k[i]), int(j)) for i, j in zip(*np.nonzero(hit))]
 

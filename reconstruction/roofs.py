@@ -9,7 +9,9 @@ The roof set of Morlighem (2021), Section 3.4.2, built in numpy:
   is then scaled so that its ridge sits exactly at the roof height.
 - **gable**: a hip roof whose ends are vertical.
 - **mansard**: the skeleton truncated at the roof height with a flat top; the
-  inset (horizontal run of the lower faces) stays below half the shortest edge.
+  inset (horizontal run of the lower faces) stays below :data:`MANSARD_CAP`
+  of the radius of the largest circle in the footprint, so that the flat top
+  is there (for a rectangle: below 0.45 of its width).
 - **stepped**: a gable roof whose street end (the shortest edge until the
   street edge is known) is a crow-stepped facade of the given step height and
   thickness, kept inside the footprint.
@@ -31,6 +33,7 @@ import math
 from typing import NamedTuple, Optional
 
 import numpy as np
+import shapely
 
 from .outlines import end_edges, opposite_edges, outline_facts
 from .roof_envelope import MAX_VERTICES as ENVELOPE_MAX_VERTICES
@@ -57,6 +60,8 @@ ROOF_PROBABILITIES = {
 SPLIT_YEAR = 1915
 #: Roofs lower than this (m) are flat when the type is drawn (thesis: < 1 m).
 MIN_PITCHED_HEIGHT = 1.0
+#: a mansard's inset is at most this share of the footprint's inscribed radius
+MANSARD_CAP = 0.9
 
 
 def draw_roof_types(n_vertices, years, attic, uniforms, probabilities=None):
@@ -173,6 +178,7 @@ def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None
     attic = np.asarray(attic, dtype=float)
     flat = np.array([k == "flat" for k in roof_types], dtype=bool) | (attic <= 1e-3)
     bodies = _stepped_bodies(footprints, roof_types, flat, facts, config.thickness)
+    caps = mansard_caps(footprints, [k == "mansard" and not f for k, f in zip(roof_types, flat)])
     plan = RoofPlan(kinds, {}, [], {}, [], {})
     for i, (xy, kind) in enumerate(zip(footprints, roof_types)):
         h = float(attic[i])
@@ -185,8 +191,7 @@ def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None
         convex = convex_all[i] and n <= ENVELOPE_MAX_VERTICES
         if kind == "mansard":
             lo, hi = config.inset
-            cap = 0.45 * float(facts.shortest[i])
-            ins = max(min(lo + (hi - lo) * uniforms[i, 1], cap), 1e-3)
+            ins = max(min(lo + (hi - lo) * uniforms[i, 1], caps[i]), 1e-3)
             if convex:
                 plan.envelope.append(EnvelopeJob(i, xy, np.full(n, h / ins), h))
             else:
@@ -229,6 +234,24 @@ def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None
         if ends:
             plan.ends[i] = ends
     return plan
+
+
+def mansard_caps(footprints, which):
+    """Per footprint the largest inset of a mansard roof (m): :data:`MANSARD_CAP`
+    of the radius of the largest circle inside it, where ``which`` (else 0).
+
+    Not the footprint's shortest edge: the lower faces of the short edges of
+    a footprint end below the top, as hip faces do, and a cadastre outline
+    has edges of a few millimetres; capped by those, its mansard had lower
+    faces within a degree of vertical, walls above the eaves on every edge,
+    the shared ones too."""
+    idx = np.nonzero(np.asarray(which, dtype=bool))[0]
+    out = np.zeros(len(footprints))
+    if len(idx):
+        polygons = [shapely.Polygon(np.asarray(footprints[i], dtype=float)) for i in idx]
+        out[idx] = MANSARD_CAP * shapely.length(
+            shapely.maximum_inscribed_circle(polygons, tolerance=1e-3))
+    return out
 
 
 def _free(shared, edge):

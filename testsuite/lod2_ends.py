@@ -3,7 +3,15 @@
 An *end* of a building is an edge of its footprint with a gable end or a
 crow-stepped facade (a wall standing on the edge that rises above the eaves)
 or a hip end (the roof face on the edge steeper than the building's
-shallowest eaves face, by more than half a degree). The footprint ring is the
+shallowest eaves face, by more than half a degree). A face's pitch is only
+known to the model's coordinate resolution (1 mm) over its width: a sliver
+face, a few millimetres high as the skeleton makes over a footprint's very
+short edges, or a needle along the slope, is degrees off. Such faces take no part: the
+shallowest face is the shallowest whose pitch is known within
+:data:`PITCH_TOL`, and a face is a hip end only when it is steeper by more
+than half a degree beyond its own uncertainty. A wall face is vertical
+within solidset.SEMANTIC_ANGLE (5 degrees): its top may lean in from the
+edge by as much. The footprint ring is the
 ground surface reversed (edge k runs from its vertex k to k + 1), as
 v.histo.lod2 writes it; edges shared with other footprints are found with
 :func:`reconstruction.street_edges.street_edges` on the rings read back.
@@ -12,6 +20,15 @@ v.histo.lod2 writes it; edges shared with other footprints are found with
 import numpy as np
 
 from reconstruction import street_edges as se
+from reconstruction.solidset import SEMANTIC_ANGLE
+
+#: the coordinate resolution of the models read (m): v.histo.lod2 writes millimetres
+RESOLUTION = 1e-3
+#: a face's pitch is known when its uncertainty is at most this (degrees)
+PITCH_TOL = 0.25
+#: how far a wall face may lean per metre of height: v.histo.lod2 makes a face
+#: a WallSurface when it is vertical within solidset.SEMANTIC_ANGLE degrees
+LEAN = float(np.tan(np.radians(SEMANTIC_ANGLE)))
 
 
 def _surfaces(obj):
@@ -39,13 +56,28 @@ def buildings(model):
     return out
 
 
-def _pitch(face):
-    """Pitch (degrees) of a planar face (k, 3): Newell's normal."""
+def _newell(face):
+    """Newell's normal of a face (k, 3), its length twice the face's area."""
     x, y, z = face[:, 0], face[:, 1], face[:, 2]
     xn, yn, zn = np.roll(x, -1), np.roll(y, -1), np.roll(z, -1)
-    n = np.array([np.sum((y - yn) * (z + zn)), np.sum((z - zn) * (x + xn)),
-                  np.sum((x - xn) * (y + yn))])
+    return np.array([np.sum((y - yn) * (z + zn)), np.sum((z - zn) * (x + xn)),
+                     np.sum((x - xn) * (y + yn))])
+
+
+def _pitch(face):
+    """Pitch (degrees) of a planar face (k, 3): Newell's normal."""
+    n = _newell(face)
     return float(np.degrees(np.arccos(min(abs(n[2]) / max(np.linalg.norm(n), 1e-12), 1.0))))
+
+
+def _pitch_error(face, resolution=RESOLUTION):
+    """Uncertainty (degrees) of the pitch of ``face`` (k, 3): two coordinate
+    steps of ``resolution`` over its width (twice its area over its diameter,
+    a triangle's smallest altitude), which is small for a sliver, be it a few
+    millimetres high or a needle along the slope."""
+    diameter = float(np.max(np.linalg.norm(face[:, None] - face[None], axis=-1)))
+    width = np.linalg.norm(_newell(face)) / max(diameter, 1e-12)
+    return float(np.degrees(np.arctan2(2.0 * resolution, width)))
 
 
 def _on_edge(points, a, b, tol=2e-3):
@@ -75,33 +107,42 @@ def _rise(wall, a, b, level):
     return float(along.max() - along.min())
 
 
-def ends_of(ring, walls, roofs, eaves_z, tol=0.05):
+def ends_of(ring, walls, roofs, eaves_z, tol=0.05, resolution=RESOLUTION):
     """The edges of ``ring`` with a roof end: {edge: "wall" | "hip"}. A wall
     end rises above the eaves over at least half the edge (a gable end, a
-    stepped facade; not the side of a stepped facade, flush with the party wall)."""
+    stepped facade; not the side of a stepped facade, flush with the party
+    wall); a hip end see the module doc (``resolution``: the coordinates')."""
     n = len(ring)
     out = {}
     eaves_faces = []
     for face in roofs:
         low = np.abs(face[:, 2] - eaves_z) < tol
         if low.sum() >= 2:
-            eaves_faces.append((face, _pitch(face)))
-    # the long faces: the shallowest sloped face (flat pieces at the eaves are no faces of it)
-    shallow = min((p for _, p in eaves_faces if p > 1.0), default=None)
+            p = _pitch(face)
+            eaves_faces.append((face, p, _pitch_error(face, resolution)))
+    # the long faces: the shallowest sloped face whose pitch is known (flat
+    # pieces at the eaves are no faces of it)
+    sloped = [(p, e) for _, p, e in eaves_faces if p > 1.0]
+    shallow = min((p for p, e in sloped if e <= PITCH_TOL),
+                  default=min(sloped, key=lambda pe: pe[1])[0] if sloped else None)
+    # a wall face is vertical within SEMANTIC_ANGLE: its top may lean in by that much
+    tall = [(w, 2e-3 + (float(w[:, 2].max()) - eaves_z) * LEAN) for w in walls
+            if w[:, 2].max() > eaves_z + tol]
+    steep = [] if shallow is None else [
+        face[np.abs(face[:, 2] - eaves_z) < tol] for face, pitch, error in eaves_faces
+        if pitch - error > shallow + 0.5]
     for k in range(n):
         a, b = ring[k], ring[(k + 1) % n]
-        for w in walls:
-            if w[:, 2].max() > eaves_z + tol and _on_edge(w, a, b) and \
-                    _rise(w, a, b, eaves_z + tol) >= 0.5 * np.hypot(*(b - a)[:2]):
+        length = float(np.hypot(*(b - a)[:2]))
+        for w, lean in tall:
+            if _on_edge(w, a, b, lean) and _rise(w, a, b, eaves_z + tol) >= 0.5 * length:
                 out[k] = "wall"
                 break
-        if k in out or shallow is None:
+        if k in out:
             continue
-        for face, pitch in eaves_faces:
-            low = face[np.abs(face[:, 2] - eaves_z) < tol]
-            if len(low) >= 2 and _on_edge(low, a, b) and \
-                    np.ptp(low[:, :2] @ ((b - a)[:2] / max(np.hypot(*(b - a)[:2]), 1e-12))) \
-                    > 0.5 * np.hypot(*(b - a)[:2]) and pitch > shallow + 0.5:
+        for low in steep:
+            if _on_edge(low, a, b) and \
+                    np.ptp(low[:, :2] @ ((b - a)[:2] / max(length, 1e-12))) > 0.5 * length:
                 out[k] = "hip"
                 break
     return out
@@ -111,13 +152,15 @@ def model_ends(model):
     """Per building (in model order): id, ring (n, 2), its ends (edge -> kind),
     the shared flags of its edges, and its attributes."""
     rows = buildings(model)
+    resolution = float(max(model["transform"]["scale"]))
     rings = [r[1][:, :2] for r in rows]
     res = se.street_edges(rings)
     out = []
     for i, (oid, ring, walls, roofs, attrs) in enumerate(rows):
         z = float(attrs.get("ground_height", 0.0)) + float(attrs.get("eaves_height", 0.0))
         shared = res.shared[res.edges.start[i]:res.edges.start[i + 1]]
-        out.append((oid, ring[:, :2], ends_of(ring, walls, roofs, z), shared, attrs))
+        out.append((oid, ring[:, :2], ends_of(ring, walls, roofs, z, resolution=resolution),
+                    shared, attrs))
     return out, res
 
 

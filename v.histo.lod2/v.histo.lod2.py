@@ -194,7 +194,7 @@
 # % key: inset
 # % type: double
 # % key_desc: min,max
-# % description: Range of the mansard inset (m), kept below half the shortest edge
+# % description: Range of the mansard inset (m), kept below 0.9 of the footprint's inscribed radius
 # % answer: 1,2
 # % guisection: Roofs
 # %end

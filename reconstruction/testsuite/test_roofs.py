@@ -89,6 +89,14 @@ def test_mansard_inset_below_half_the_shortest_edge():
     assert len(top) == 1 and Polygon(v[top[0], :2]).area > 0
 
 
+def test_mansard_caps_are_0_9_of_the_inscribed_radius_where_asked():
+    thin = np.array([[0, 0], [10, 0], [10, 1.5], [0, 1.5]], dtype=float)
+    caps = roofs.mansard_caps([RECT, L_SHAPE, thin, L_SHAPE], [True, True, True, False])
+    # the L's circle touches its outer sides x = 0, y = 0 and its inner corner (4, 4)
+    r_l = 4 * math.sqrt(2) / (1 + math.sqrt(2))
+    assert caps == pytest.approx([0.45 * 6, 0.9 * r_l, 0.45 * 1.5, 0.0], abs=1e-3)
+
+
 def test_envelope_matches_cgal_on_convex_footprints():
     if not roof_skeleton.cgal_available():
         pytest.skip("pySVCGAL not installed")
@@ -218,3 +226,28 @@ def test_stepped_facades_in_bulk_match_one_by_one():
         assert together[k].faces == alone[0].faces
         assert together[k].chains == alone[0].chains
         assert np.allclose(together[k].vertices, alone[0].vertices, atol=1e-9)
+
+
+def _closed(faces, boundary):
+    """True when every directed edge of ``faces`` has its reverse, but the ``boundary`` ones."""
+    edges = {(a, b) for f in faces for a, b in zip(f, f[1:] + f[:1])}
+    return all((b, a) in edges or (a, b) in boundary for a, b in edges)
+
+
+def test_weld_and_merge_needles_keep_the_roof_closed():
+    # a pyramid over the unit square (apex 4) with a needle along its edge 0 - 4:
+    # vertex 5 lies 0.3 mm off that edge, and vertex 6 0.2 mm from the apex
+    v = np.array([[0, 0, 0], [2, 0, 0], [2, 2, 0], [0, 2, 0], [1, 1, 1],
+                  [0.5, 0.5 + 3e-4, 0.5], [1.0002, 1, 1]], dtype=float)
+    boundary = {(0, 1), (1, 2), (2, 3), (3, 0)}
+    faces = [[0, 1, 4], [1, 2, 4], [2, 3, 6], [2, 6, 4], [3, 0, 5], [3, 5, 4, 6], [0, 4, 5]]
+    assert _closed(faces, boundary)
+    welded = roof_skeleton.weld(v, faces, fixed=4)
+    assert [2, 6, 4] not in welded and [2, 3, 4] in welded and _closed(welded, boundary)
+    merged = roof_skeleton.merge_needles(v, welded)
+    assert [0, 4, 5] not in merged and [0, 1, 4] not in merged and len(merged) == 6
+    assert [4, 5, 1] in merged and [5, 0, 1] in merged and all(len(f) == 3 for f in merged)
+    assert _closed(merged, boundary)
+    # nothing to do: the same faces
+    plain = [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]
+    assert roof_skeleton.weld(v, plain, 4) == plain == roof_skeleton.merge_needles(v, plain)

@@ -254,3 +254,46 @@ def test_semantics_from_the_normals_kept_since_validation():
     part = solidset.take(ss, [5, 2, 7])
     assert np.array_equal(solidset.semantics(part), solidset.semantics(
         solidset.SolidSet(part.vertices, part.rings, part.face_start, part.solid_start)))
+
+
+#: footprints with edges of a few millimetres, as cadastre outlines have them:
+#: an L (the skeleton's) and a rectangle with a cut corner (the envelope's)
+SLIVERED = [np.array([[0, 0], [12, 0], [12, 6], [6, 6], [6, 14], [0.005, 14],
+                      [0.005, 13.996], [0, 13.996]], dtype=float),
+            np.array([[0, 0], [12, 0], [12, 7.992], [11.994, 8], [0, 8]], dtype=float)]
+
+
+@pytest.mark.parametrize("xy", SLIVERED, ids=["concave", "convex"])
+def test_a_mansard_keeps_its_inset_beside_millimetre_edges(xy):
+    """The inset is capped by the largest circle in the footprint, not by its
+    shortest edge: a 5 mm edge made the lower faces walls above the eaves,
+    on every edge."""
+    attic, inset = 3.0, 1.5
+    ss, kept, got, log = build(xy, "mansard", eaves=8.0, attic=attic, inset=(inset, inset))
+    assert list(got) == ["mansard"] and not log
+    assert validation.validate(ss) == [None]
+    sem = solidset.semantics(ss)
+    assert np.sum(sem == solidset.WALL) == len(xy)        # the walls up to the eaves, no more
+    normal = solidset.face_geometry(ss).normal[sem == solidset.ROOF]
+    pitch = np.degrees(np.arccos(np.abs(normal[:, 2]) / np.linalg.norm(normal, axis=1)))
+    lower = pitch[pitch > 1.0]
+    assert len(lower) and np.allclose(lower, math.degrees(math.atan2(attic, inset)), atol=0.5)
+
+
+
+#: a row house of today's cadastre, 12 vertices, its long sides jogged by 2-4 cm and a
+#: notch in its back (synthetic): the skeleton ends arcs a fraction of a millimetre
+#: apart and makes needle faces along them, which rounded to the millimetre faced
+#: downwards (a self-intersecting shell for val3dity) and the roof fell back
+JOGGED = np.array([[0.0, 0.0], [4.812, 2.934], [4.833, 2.9], [8.174, 4.938], [8.153, 4.971],
+                   [9.855, 6.009], [5.747, 12.747], [0.755, 9.703], [1.919, 7.793],
+                   [-0.049, 7.179], [-0.953, 8.661], [-4.108, 6.737]])
+
+
+@pytest.mark.parametrize("kind", ["hip", "mansard"])
+def test_skeleton_roofs_of_jogged_outlines_are_valid_without_fallback(kind):
+    if not roof_skeleton.cgal_available():
+        pytest.skip("pySVCGAL not installed")
+    ss, kept, got, log = build(JOGGED, kind, eaves=8.0, attic=4.0, u=0.5)
+    assert list(got) == [kind] and not log, log
+    assert validation.validate(ss) == [None]
