@@ -30,14 +30,32 @@ NORMALS_TOL = 20.0
 DOWN_TOL = 0.01
 
 
-def _bent_faces(rings, unit):
-    """Indices of the ``rings`` (shapely linear rings of faces, their
-    coordinates permuted so that x, y are the face's projection plane and z
-    the dropped axis) with a triangle of their constrained Delaunay
-    triangulation whose normal deviates from the face's ``unit`` normal (in
-    the same permuted axes) by more than :data:`NORMALS_TOL` degrees, as
-    val3dity tests planarity. GEOS triangulates in x, y and keeps every
-    vertex's z: the triangles come back in 3D."""
+def _plane_coordinates(rel, unit):
+    """Points ``rel`` (relative to their face's centroid) in an orthonormal
+    frame of their face's plane (``unit``: the face's unit normal, one row
+    per point): x, y in the plane, z off it."""
+    helper = np.zeros_like(unit)
+    helper[:, 2] = 1.0
+    steep = np.abs(unit[:, 2]) > 0.9
+    helper[steep] = [1.0, 0.0, 0.0]
+    u = np.cross(helper, unit)
+    u /= np.linalg.norm(u, axis=1)[:, None]
+    v = np.cross(unit, u)
+    return np.column_stack([np.einsum("ij,ij->i", rel, u), np.einsum("ij,ij->i", rel, v),
+                            np.einsum("ij,ij->i", rel, unit)])
+
+
+def _bent_faces(rings):
+    """Indices of the ``rings`` (shapely linear rings of faces in their
+    plane's frame, :func:`_plane_coordinates`) with a triangle of their
+    constrained Delaunay triangulation whose normal deviates from the face's
+    (z) by more than :data:`NORMALS_TOL` degrees, as val3dity tests
+    planarity: it triangulates each face on its fitted plane (Delaunay
+    triangles depend on the projection: on a vertical wall, dropping an
+    axis instead gave other triangles than val3dity's, and missed a sliver
+    between the collinear corners of a crow-stepped facade). GEOS
+    triangulates in x, y and keeps every vertex's z: the triangles come
+    back in 3D."""
     import shapely
 
     tris = shapely.constrained_delaunay_triangles(shapely.polygons(rings))
@@ -48,7 +66,7 @@ def _bent_faces(rings, unit):
     face = owner[::4]
     n = np.cross(q[:, 1] - q[:, 0], q[:, 2] - q[:, 0])
     length = np.linalg.norm(n, axis=1)
-    cos = np.abs(np.einsum("ij,ij->i", n, unit[face])) / np.maximum(length, 1e-300)
+    cos = np.abs(n[:, 2]) / np.maximum(length, 1e-300)
     bad = (length > 1e-12) & (cos < math.cos(math.radians(NORMALS_TOL)))
     return np.unique(face[bad])
 
@@ -149,8 +167,13 @@ def validate(ss, tol=PLANARITY_TOL):
         # same height) have only horizontal triangles, and need none
         j = np.nonzero(simple & (fz_max[big] > fz_min[big]))[0]
         if len(j):
-            unit_perm = np.take_along_axis(unit[big[j]], perm[axis[j]], axis=1)
-            bent = j[_bent_faces(rings[j], unit_perm)]
+            tilted = np.isin(pos, j)
+            plane = _plane_coordinates(pts[tilted] - centroid[ef[tilted]], unit[ef[tilted]])
+            start_j = np.searchsorted(pos[tilted], j)
+            closed_j = np.insert(plane, np.r_[start_j[1:], len(plane)], plane[start_j], axis=0)
+            ids_j = np.insert(np.searchsorted(j, pos[tilted]), np.r_[start_j[1:], len(plane)],
+                              np.arange(len(j)))
+            bent = j[_bent_faces(shapely.linearrings(closed_j, indices=ids_j))]
             flag(face_solid[big[bent]], "non-planar face (normals deviate > 20 degrees)")
     # vertices val3dity would snap together (closer than its 1 mm snap_tol)
     vsol_entry = face_solid[entry_face]
