@@ -30,6 +30,17 @@ NORMALS_TOL = 20.0
 DOWN_TOL = 0.01
 
 
+def _closed_rings(points, begin):
+    """Shapely linear rings of the runs of ``points`` (one ring after the
+    other) that start at the offsets ``begin``, each closed on its first point."""
+    import shapely
+
+    ends = np.r_[begin[1:], len(points)]
+    closed = np.insert(points, ends, points[begin], axis=0)
+    ids = np.repeat(np.arange(len(begin)), ends - begin + 1)
+    return shapely.linearrings(closed, indices=ids)
+
+
 def _plane_coordinates(rel, unit):
     """Points ``rel`` (relative to their face's centroid) in an orthonormal
     frame of their face's plane (``unit``: the face's unit normal, one row
@@ -154,11 +165,7 @@ def validate(ss, tol=PLANARITY_TOL):
         # works in x, y; the triangulation below keeps z)
         perm = np.array([[1, 2, 0], [0, 2, 1], [0, 1, 2]])
         xyz = np.take_along_axis(pts, perm[drop], axis=1)
-        # close each ring
-        begin = np.searchsorted(ef, big)
-        closed = np.insert(xyz, np.r_[begin[1:], len(xyz)], xyz[begin], axis=0)
-        ids = np.insert(pos, np.r_[begin[1:], len(xyz)], np.arange(len(big)))
-        rings = shapely.linearrings(closed, indices=ids)
+        rings = _closed_rings(xyz, np.searchsorted(ef, big))
         simple = shapely.is_simple(rings)
         flag(face_solid[big[~simple]], "self-intersecting ring")
         # normals deviation (val3dity's 204): the triangles of each face's
@@ -169,11 +176,7 @@ def validate(ss, tol=PLANARITY_TOL):
         if len(j):
             tilted = np.isin(pos, j)
             plane = _plane_coordinates(pts[tilted] - centroid[ef[tilted]], unit[ef[tilted]])
-            start_j = np.searchsorted(pos[tilted], j)
-            closed_j = np.insert(plane, np.r_[start_j[1:], len(plane)], plane[start_j], axis=0)
-            ids_j = np.insert(np.searchsorted(j, pos[tilted]), np.r_[start_j[1:], len(plane)],
-                              np.arange(len(j)))
-            bent = j[_bent_faces(shapely.linearrings(closed_j, indices=ids_j))]
+            bent = j[_bent_faces(_closed_rings(plane, np.searchsorted(pos[tilted], j)))]
             flag(face_solid[big[bent]], "non-planar face (normals deviate > 20 degrees)")
     # vertices val3dity would snap together (closer than its 1 mm snap_tol)
     vsol_entry = face_solid[entry_face]
