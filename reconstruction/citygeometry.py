@@ -16,7 +16,6 @@ import json
 from dataclasses import dataclass
 
 import numpy as np
-import orjson
 
 #: list levels above the leaves, by geometry type (a GeometryInstance's
 #: boundaries are the one vertex where its template is put)
@@ -262,6 +261,8 @@ def json_text(structure):
     strings in UTF-8 rather than ``\\u`` escapes, NaN as null, numpy arrays
     and scalars as lists and numbers; by ``json.dumps`` what orjson does not
     write (a string with a lone surrogate, an integer over 64 bits)."""
+    import orjson        # here, not at start-up: only copied buildings are written with it
+
     try:
         return orjson.dumps(structure, option=orjson.OPT_SERIALIZE_NUMPY).decode()
     except orjson.JSONEncodeError:
