@@ -44,6 +44,7 @@ Matching (:func:`match`), by id first, then by geometry:
   of at least ``min_overlap``. Each building matches at most one footprint.
 """
 
+import functools
 import json
 import os
 import sqlite3
@@ -139,6 +140,7 @@ def _proj_db():
     return None
 
 
+@functools.lru_cache(maxsize=64)
 def horizontal_epsg(code):
     """The horizontal CRS of a compound EPSG CRS (7415 -> 28992), else the code itself.
 

@@ -70,6 +70,7 @@ def replacing(path, mode="w", encoding="utf-8", newline=None):
 
 
 def write_text(path, text):
-    """Write ``text`` to ``path`` as :func:`replacing` does."""
-    with replacing(path) as f:
+    """Write ``text`` (str, or bytes already encoded in UTF-8) to ``path`` as
+    :func:`replacing` does."""
+    with replacing(path, "w" if isinstance(text, str) else "wb") as f:
         f.write(text)
