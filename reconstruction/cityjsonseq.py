@@ -180,17 +180,21 @@ def write(f, ss, semantics, ids, attributes=None, reference_system=None, title=N
 def _copied_features(copied, lo, chunk):
     """The feature lines of the copied buildings, ``chunk`` buildings a text:
     one json.dumps of the chunk's objects around holes for the boundaries
-    and vertices, which are written in bulk."""
-    per = copied.geometry_counts()
+    and vertices, which are written in bulk (the boundaries as they were
+    read where they index the building's own vertices as stored:
+    :attr:`~reconstruction.citymerge.CopiedBuildings.stored_local`)."""
+    as_read = copied.stored_local
+    per = [0] * len(copied) if as_read else copied.geometry_counts()
     first = ring_offsets(per).astype(int).tolist()
-    fills_all = copied.boundary_texts()
+    fills_all = [] if as_read else copied.boundary_texts()
     verts = vertices_texts(copied.vertices - lo, copied.vertex_start)
     for a in range(0, len(copied), chunk):
         b = min(len(copied), a + chunk)
         g0, g1 = first[a], first[b]
         fills = fills_all[g0:g1]
         structure = [{"type": "CityJSONFeature", "id": copied.ids[n],
-                      "CityObjects": copied.holed(n), "vertices": citygeometry.HOLE}
+                      "CityObjects": copied.trees[n] if as_read else copied.holed(n),
+                      "vertices": citygeometry.HOLE}
                      for n in range(a, b)]
         pieces = citygeometry.pieces_around_holes(structure, g1 - g0 + b - a)
         if pieces is None:                 # an attribute that is the placeholder itself

@@ -60,7 +60,10 @@ class CopiedBuildings:
     the output grid); ``stored_global``: the geometries' boundaries, as the
     model stores them, index the model's one vertex list (a CityJSON file,
     not CityJSONSeq): where the rows are numbered by their ``source``, the
-    boundaries are written as they are (:meth:`model_order`).
+    boundaries are written as they are (:meth:`model_order`);
+    ``stored_local``: the boundaries as stored index each building's own
+    rows (:meth:`local_index`: CityJSONSeq features whose vertices are all
+    copied, in their order): its feature is written as it was read.
     """
     ids: list
     trees: list
@@ -75,6 +78,7 @@ class CopiedBuildings:
     copied_geometries: list = None
     source: np.ndarray = None
     stored_global: bool = False
+    stored_local: bool = False
 
     def __len__(self):
         return len(self.ids)
@@ -272,6 +276,8 @@ def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None):
     copied.vertices, exact = _to_grid(model, source, scale)
     copied.vertex_start = np.searchsorted(row_owner, np.arange(len(buildings) + 1))
     copied.source, copied.stored_global = source, not offset.any()
+    copied.stored_local = exact and np.array_equal(source - offset[row_owner],
+                                                   copied.local_index())
     if not exact and len(source) and len(
             unique_rows(np.column_stack([row_owner, copied.vertices]))[0]) < len(source):
         _collapse(copied, row_owner)
@@ -347,6 +353,7 @@ def _collapse(copied, owner):
     copied.layout = citygeometry.layout(copied.geometries())
     copied.rows = copied.layout.flat
     copied.source = None
+    copied.stored_local = False
 
 
 def objects_text(copied, index):

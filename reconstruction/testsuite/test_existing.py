@@ -290,9 +290,23 @@ def sequence_of(gen, copied, **kwargs):
 
 
 @pytest.mark.parametrize("chunk", [20000, 2])
-def test_cityjsonseq_collected_equals_the_single_file(sample, schema_dir, chunk):
-    _, _, copied, gen, text = aligned_and_merged(os.path.join(sample, FORMS[1]))
+@pytest.mark.parametrize("form", FORMS)
+def test_cityjsonseq_collected_equals_the_single_file(sample, schema_dir, chunk, form):
+    """Also: a CityJSONSeq input's features are written as they were read
+    (every vertex copied), a single file's renumbered per feature."""
+    _, _, copied, gen, text = aligned_and_merged(os.path.join(sample, form))
+    assert copied.stored_local == (form == FORMS[1])
     count, f = sequence_of(gen, copied, chunk=chunk)
+    if form == FORMS[1]:
+        with open(os.path.join(sample, form)) as g:
+            read = {o: obj for line in g.readlines()[1:]
+                    for o, obj in json.loads(line)["CityObjects"].items()}
+        written = {o: obj for line in f.getvalue().splitlines()[1:]
+                   for o, obj in json.loads(line)["CityObjects"].items() if o in read}
+        assert {o: [g["boundaries"] for g in obj.get("geometry", ())]
+                for o, obj in written.items()} == {
+                    o: [g["boundaries"] for g in obj.get("geometry", ())]
+                    for o, obj in read.items()}
     lines = f.getvalue().splitlines()
     assert count == len(lines) - 1 == 5
     head = json.loads(lines[0])
