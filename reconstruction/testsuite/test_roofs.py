@@ -97,6 +97,20 @@ def test_mansard_caps_are_0_9_of_the_inscribed_radius_where_asked():
     assert caps == pytest.approx([0.45 * 6, 0.9 * r_l, 0.45 * 1.5, 0.0], abs=1e-3)
 
 
+def test_mansard_caps_above_the_wanted_inset_need_not_be_exact():
+    # a long near-rectangle (its circle's centres line a ridge: the slow case)
+    long = np.array([[0, 0], [30, 0], [30, 6.02], [0, 6]], dtype=float)
+    thin = np.array([[0, 0], [10, 0], [10, 1.5], [0, 1.5]], dtype=float)
+    rings = [RECT, L_SHAPE, thin, long, long]
+    which = [True, True, True, True, False]
+    exact = roofs.mansard_caps(rings, which)
+    wanted = np.array([1.5, 1.2, 1.0, 2.0, 1.0])
+    caps = roofs.mansard_caps(rings, which, wanted)
+    assert caps[2] == exact[2] and caps[4] == 0.0      # the thin one's cap binds: exact
+    assert np.all(caps[:4] <= exact[:4])
+    assert np.array_equal(np.minimum(wanted, caps)[:4], np.minimum(wanted, exact)[:4])
+
+
 def test_envelope_matches_cgal_on_convex_footprints():
     if not roof_skeleton.cgal_available():
         pytest.skip("pySVCGAL not installed")
