@@ -261,18 +261,12 @@ def json_text(structure):
     strings in UTF-8 rather than ``\\u`` escapes, NaN as null, numpy arrays
     and scalars as lists and numbers; by ``json.dumps`` what orjson does not
     write (a string with a lone surrogate, an integer over 64 bits)."""
-    return json_bytes(structure).decode()
-
-
-def json_bytes(structure):
-    """:func:`json_text` as UTF-8 bytes: what orjson writes, not decoded
-    (json.dumps escapes what is not ASCII: a lone surrogate too)."""
     import orjson        # here, not at start-up: only copied buildings are written with it
 
     try:
-        return orjson.dumps(structure, option=orjson.OPT_SERIALIZE_NUMPY)
+        return orjson.dumps(structure, option=orjson.OPT_SERIALIZE_NUMPY).decode()
     except orjson.JSONEncodeError:
-        return json.dumps(structure, separators=(",", ":"), default=_plain).encode("ascii")
+        return json.dumps(structure, separators=(",", ":"), default=_plain)
 
 
 def _plain(value):

@@ -15,7 +15,6 @@ textures) and geometry templates are not copied.
 
 import collections
 import json
-import re
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -56,11 +55,6 @@ class CopiedBuildings:
     ``rows`` (the vertex row of each of its entries) let the buildings be
     written with any numbering of the rows without walking their lists again;
     ``copied_geometries``: the list :meth:`geometries` returns, kept;
-    ``source``: the model's vertex of every row (None once vertices met on
-    the output grid); ``stored_global``: the geometries' boundaries, as the
-    model stores them, index the model's one vertex list (a CityJSON file,
-    not CityJSONSeq): where the rows are numbered by their ``source``, the
-    boundaries are written as they are (:meth:`model_order`);
     ``stored_local``: the boundaries as stored index each building's own
     rows (:meth:`local_index`: CityJSONSeq features whose vertices are all
     copied, in their order): its feature is written as it was read.
@@ -76,8 +70,6 @@ class CopiedBuildings:
     layout: object = None
     rows: np.ndarray = None
     copied_geometries: list = None
-    source: np.ndarray = None
-    stored_global: bool = False
     stored_local: bool = False
 
     def __len__(self):
@@ -92,19 +84,6 @@ class CopiedBuildings:
             cached = (self.vertices, self.vertices.min(axis=0), self.vertices.max(axis=0))
             self._extent = cached
         return cached[1], cached[2]
-
-    def model_order(self):
-        """The rows in the model's order, where they are the model's vertices
-        0 to N - 1 each once (a whole model copied): numbered so, the copied
-        boundaries index them as stored. None otherwise."""
-        if not self.stored_global or self.source is None or len(self.source) == 0:
-            return None
-        n = len(self.source)
-        if int(self.source.max()) != n - 1:
-            return None
-        order = np.full(n, -1, dtype=np.int64)
-        order[self.source] = np.arange(n)
-        return order if order.min() >= 0 else None
 
     def geometries(self):
         """Every copied geometry (building after building, object after object)."""
@@ -275,7 +254,6 @@ def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None):
         len(model.vertices))
     copied.vertices, exact = _to_grid(model, source, scale)
     copied.vertex_start = np.searchsorted(row_owner, np.arange(len(buildings) + 1))
-    copied.source, copied.stored_global = source, not offset.any()
     copied.stored_local = exact and np.array_equal(source - offset[row_owner],
                                                    copied.local_index())
     if not exact and len(source) and len(
@@ -352,7 +330,6 @@ def _collapse(copied, owner):
     copied.copied_geometries = None
     copied.layout = citygeometry.layout(copied.geometries())
     copied.rows = copied.layout.flat
-    copied.source = None
     copied.stored_local = False
 
 
@@ -360,24 +337,11 @@ def objects_text(copied, index):
     """The JSON text of the copied city objects (members of a CityObjects
     object, without the braces) with vertex indices ``index[row]``, the
     boundaries written in bulk."""
-    return "".join(p if isinstance(p, str) else str(p, "utf-8")
-                   for p in _objects_pieces(copied, index))
+    return "".join(_objects_pieces(copied, index))
 
 
 def _objects_pieces(copied, index):
-    """:func:`objects_text` in pieces (joined once by the caller, not copied
-    on the way): texts, or UTF-8 bytes.
-
-    Where the index of every row is its vertex's index in the model and the
-    model's boundaries index its one vertex list (a whole CityJSON file
-    copied, :meth:`CopiedBuildings.model_order`), the objects are written as
-    they are, boundaries included, in one call."""
-    if copied.stored_global and copied.source is not None and np.array_equal(index,
-                                                                             copied.source):
-        structure = {}
-        for tree in copied.trees:
-            structure.update(tree)
-        return [memoryview(citygeometry.json_bytes(structure))[1:-1]]
+    """:func:`objects_text` in pieces (joined once by the caller, not copied on the way)."""
     structure = {}
     for n in range(len(copied)):
         structure.update(copied.holed(n))
@@ -435,57 +399,36 @@ def merged_metadata(metadata, lo, hi, copied, scale):
 
 
 def _placement(generated, copied):
-    """Where the copied and the generated vertices go in the merged model's
-    vertex list: each distinct vertex once, where first met.
-
-    Where the copied rows are a whole model's vertices
-    (:meth:`CopiedBuildings.model_order`) they come first, in the model's
-    order: without duplicates each keeps its model index and the copied
-    boundaries are written as they were read; the generated vertices
-    follow. Otherwise the generated vertices come first, as they are, and
-    the copied rows after them, in row order. Returns the output index of
-    every copied row and of every generated vertex, and the output's rows."""
+    """Output index of every copied vertex (the generated vertex it equals,
+    or a new one after them) and the new rows, in the order they are first
+    used (the copied rows' order: without duplicates the rows as they are)."""
     G, C = len(generated), len(copied.vertices)
-    order = copied.model_order() if hasattr(copied, "model_order") else None
-    mine = copied.vertices if order is None else np.take(copied.vertices, order, axis=0)
-    corners = {}
-    if C:
-        corners["copied"] = copied.extent() if hasattr(copied, "extent") else (
-            mine.min(axis=0), mine.max(axis=0))
+    if C == 0:
+        return np.zeros(0, dtype=np.int64), copied.vertices
+    corners = [copied.extent() if hasattr(copied, "extent") else
+               (copied.vertices.min(axis=0), copied.vertices.max(axis=0))]
     if G:
-        corners["generated"] = (generated.min(axis=0), generated.max(axis=0))
-    parts = [("copied", mine), ("generated", generated)]
-    if order is None:
-        parts.reverse()
-    parts = [(name, p) for name, p in parts if len(p)]
-    if not parts:
-        empty = np.zeros(0, dtype=np.int64)
-        return empty, empty, np.zeros((0, 3), dtype=np.int64)
-    rows = np.concatenate([p for _, p in parts]) if len(parts) > 1 else parts[0][1]
-    start = {"copied": 0, "generated": 0}
-    if order is None and G:
-        start["copied"] = G
-    elif C:
-        start["generated"] = C
-    keys = _packed([p for _, p in parts], [corners[name] for name, _ in parts])
+        corners.insert(0, (generated.min(axis=0), generated.max(axis=0)))
+    keys = _packed([generated, copied.vertices] if G else [copied.vertices], corners)
     if keys is not None:
         ordered = np.sort(keys)
-        if not np.any(ordered[1:] == ordered[:-1]):             # no vertex met another
-            mine_out = start["copied"] + (np.arange(C) if order is None else copied.source)
-            return mine_out, start["generated"] + np.arange(G), rows
+        if not np.any(ordered[1:] == ordered[:-1]):
+            return G + np.arange(C), copied.vertices            # no vertex met another
         uniq, inv = np.unique(keys, return_inverse=True)
     else:
-        uniq, inv = unique_rows(rows)
-    N = len(rows)
-    entry = np.arange(N)
-    first = np.full(len(uniq), N, dtype=np.int64)
-    np.minimum.at(first, inv, entry)
-    at = first[inv]                                 # the first row of its vertex
-    new = at == entry
-    out = (np.cumsum(new) - 1)[at]
-    a, g = start["copied"], start["generated"]
-    mine_out = out[a:a + C] if order is None else out[a:a + C][copied.source]
-    return mine_out, out[g:g + G], rows[new]
+        uniq, inv = unique_rows(np.concatenate([generated, copied.vertices]))
+    target = np.full(len(uniq), -1, dtype=np.int64)
+    if G:
+        target[inv[:G]] = np.arange(G)
+    mine = inv[G:]
+    row = np.arange(C)
+    first = np.full(len(uniq), C, dtype=np.int64)
+    np.minimum.at(first, mine, row)
+    at = first[mine]                                # the first copied row of its vertex
+    known = target[mine]
+    new = (at == row) & (known < 0)
+    rank = np.cumsum(new) - 1
+    return np.where(known >= 0, known, G + rank[at]), copied.vertices[new]
 
 
 def _packed(parts, corners):
@@ -538,13 +481,10 @@ def merge(generated, copied):
     """The generated CityJSON document with the ``copied`` buildings added.
 
     ``generated``: a CityJSON dict, or its text as ``cityjson.citymodel_text``
-    writes it (the result is then the merged text as UTF-8 bytes, ready to
-    be written, built without parsing the generated city objects). The output keeps the generated ``transform``
+    writes it (the result is then text too, built without parsing the
+    generated city objects). The output keeps the generated ``transform``
     (its scale must be the copied buildings' scale); the metadata's extent
-    and reference system cover both. Its vertex list starts with the copied
-    vertices (:func:`_placement`): a whole model copied keeps its numbering
-    and its boundaries are written as they were read; the generated
-    buildings' indices move behind them.
+    and reference system cover both.
     """
     if copied is None or len(copied) == 0:
         return generated
@@ -554,29 +494,13 @@ def merge(generated, copied):
     scale, translate = _transform(doc, copied)
     gen = np.asarray(doc.get("vertices") or np.zeros((0, 3)), dtype=np.int64).reshape(-1, 3)
     _check_ids(copied, {json.dumps(k)[1:-1] for k in doc.get("CityObjects", {})})
-    head, to_out, gen_out, rows = _head_and_rows(doc, gen, translate, copied, scale)
-    objects = _renumbered_objects(doc.get("CityObjects", {}), gen_out)
+    head, to_out, rows = _head_and_rows(doc, gen, translate, copied, scale)
+    objects = dict(doc.get("CityObjects", {}))
     for objs in copied.objects(to_out):
         objects.update(objs)
     head["CityObjects"] = objects
-    head["vertices"] = rows.tolist()
+    head["vertices"] = list(doc.get("vertices") or []) + rows.tolist()
     return head
-
-
-def _renumbered_objects(objects, mapping):
-    """Copies of the city objects (a dict) whose vertex indices ``i`` are ``mapping[i]``."""
-    objects = dict(objects)
-    where, geoms = [], []
-    for oid, obj in objects.items():
-        for k, g in enumerate(obj.get("geometry", ())):
-            where.append((oid, k))
-            geoms.append(g)
-        if "geometry" in obj:
-            objects[oid] = dict(obj, geometry=list(obj["geometry"]))
-    if geoms:
-        for (oid, k), g in zip(where, citygeometry.reindex(geoms, lambda flat: mapping[flat])):
-            objects[oid]["geometry"][k] = g
-    return objects
 
 
 def _transform(doc, copied):
@@ -590,21 +514,21 @@ def _transform(doc, copied):
 
 def _head_and_rows(doc, gen, translate, copied, scale):
     """The merged document without its objects and vertices, the output
-    index of every copied row and of every generated vertex, and the
-    output's vertex rows (relative to the output translate; :func:`_placement`)."""
+    index of every copied vertex and the new vertex rows (relative to the
+    output translate)."""
     head = {k: v for k, v in doc.items() if k not in ("CityObjects", "vertices")}
     translate = translate.astype(np.int64)
     if len(gen) == 0:
-        translate = copied.extent()[0] if len(copied.vertices) else np.zeros(3, dtype=np.int64)
+        translate = copied.vertices.min(axis=0)
     absolute = gen + translate
-    to_out, gen_out, rows = _placement(absolute, copied)
+    to_out, rows = _placement(absolute, copied)
     lo = absolute.min(axis=0) if len(gen) else None
     hi = absolute.max(axis=0) if len(gen) else None
     head["transform"] = {"scale": [scale] * 3, "translate": (translate * scale).round(6).tolist()}
     head["metadata"] = merged_metadata(doc.get("metadata"), lo, hi, copied, scale)
     if copied.extensions:
         head["extensions"] = dict(doc.get("extensions") or {}, **copied.extensions)
-    return head, to_out, gen_out, rows - translate
+    return head, to_out, rows - translate
 
 
 def _merge_text(text, copied):
@@ -613,7 +537,7 @@ def _merge_text(text, copied):
     head_end = text.find(',"CityObjects":{')
     vstart = text.rfind(',"vertices":')
     if head_end < 0 or vstart < head_end or not text.endswith("}") or text[vstart - 1] != "}":
-        return _merged_as_dict(text, copied)
+        return json.dumps(merge(json.loads(text), copied), separators=(",", ":"))
     doc = json.loads(text[:head_end] + "}")
     body = text[head_end + len(',"CityObjects":{'):vstart - 1]
     inner = text[vstart + len(',"vertices":'):-1]
@@ -622,112 +546,13 @@ def _merge_text(text, copied):
         if inner.strip() != "[]" else np.zeros(0, dtype=np.int64)
     gen = flat.reshape(-1, 3)
     _check_ids(copied, _keys(body))
-    head, to_out, gen_out, rows = _head_and_rows(doc, gen, translate, copied, scale)
-    G, N = len(gen), len(rows)
-    if G and not np.array_equal(gen_out, np.arange(G)):
-        body = _renumbered_text(body, gen_out)
-        if body is None:
-            return _merged_as_dict(text, copied)
+    head, to_out, rows = _head_and_rows(doc, gen, translate, copied, scale)
     objects = _objects_pieces(copied, to_out)
-    # the generated vertices' text as it is where they stand together, in order
-    if G == 0 or N == G:
-        vertices = [inner if G else vertices_texts(rows, np.array([0, N]))[0]]
-    elif np.array_equal(gen_out, np.arange(G)):
-        vertices = [inner[:-1], ",", vertices_texts(rows[G:], np.array([0, N - G]))[0][1:]]
-    elif np.array_equal(gen_out, N - G + np.arange(G)):
-        vertices = [vertices_texts(rows[:N - G], np.array([0, N - G]))[0][:-1], ",", inner[1:]]
+    if len(rows):
+        new_rows = vertices_texts(rows, np.array([0, len(rows)]))[0]
+        vertices = [new_rows] if len(gen) == 0 else [inner[:-1], ",", new_rows[1:]]
     else:
-        vertices = [vertices_texts(rows, np.array([0, N]))[0]]
+        vertices = [inner]
     head_text = json.dumps(head, separators=(",", ":"))
-    return _utf8([head_text[:-1], ',"CityObjects":{', body, "," if body and objects else ""]
-                 + objects + ['},"vertices":'] + vertices + ["}"])
-
-
-def _utf8(parts):
-    """The UTF-8 bytes of pieces of text (str, or bytes-like already UTF-8)
-    joined: each run of str joined and encoded once, the bytes not copied
-    before the final join (a 50 MB model is copied twice, not five times)."""
-    out, run = [], []
-    for part in parts:
-        if isinstance(part, str):
-            run.append(part)
-            continue
-        if run:
-            out.append("".join(run).encode("utf-8"))
-            run = []
-        out.append(part)
-    if run:
-        out.append("".join(run).encode("utf-8"))
-    return out[0] if len(out) == 1 and isinstance(out[0], bytes) else b"".join(out)
-
-
-def _merged_as_dict(text, copied):
-    """:func:`merge` of a generated text that :func:`_merge_text` cannot take apart."""
-    return json.dumps(merge(json.loads(text), copied), separators=(",", ":")).encode("utf-8")
-
-
-#: the boundaries of a geometry in JSON text, a plain list (of lists ...) of
-#: indices up to the next member or the end of the geometry
-_BOUNDARIES = re.compile(r'(?<="boundaries":)(\[[0-9,\[\]]*\])(?=,"|\})')
-
-
-def _renumbered_text(body, mapping):
-    """``body`` (JSON text of city objects) with the vertex index ``i`` of
-    every geometry's boundaries written ``mapping[i]``; None where they are
-    not plain lists of indices (the caller then parses the text)."""
-    parts = _BOUNDARIES.split(body)
-    outside, lists = parts[0::2], parts[1::2]
-    if len(lists) != body.count('"boundaries":'):
-        return None
-    new = _renumbered_lists(lists, mapping)
-    if new is None:
-        return None
-    out = [None] * (len(outside) + len(new))
-    out[0::2] = outside
-    out[1::2] = new
-    return "".join(out)
-
-
-def _renumbered_lists(lists, mapping):
-    """The JSON texts ``lists`` (nested lists of indices) with every index
-    ``i`` written ``mapping[i]``, in bulk: the texts are joined, their
-    numbers read and written again by the integer writer of ``cityjson``,
-    each after the brackets and the comma that stood before it. None unless
-    every text is a plain list (digits, brackets, commas, no empty list)
-    whose indices are in ``mapping``."""
-    from .cityjson import _int_text
-
-    if not lists:
-        return []
-    blob = ",".join(lists)
-    raw = blob.encode("ascii", "replace")
-    chars = np.frombuffer(raw, dtype=np.uint8)
-    digit = (chars - np.uint8(48)) < np.uint8(10)
-    edges = np.flatnonzero(digit[1:] != digit[:-1]) + 1
-    starts, ends = edges[0::2], edges[1::2]
-    n = len(starts)
-    commas = np.flatnonzero(chars == 44)
-    if n == 0 or len(ends) != n or len(commas) != n - 1 or raw.translate(None, b"0123456789[],"):
-        return None
-    # one comma between two numbers: ``]`` * close, the comma, ``[`` * open
-    close, open_ = commas - ends[:-1], starts[1:] - commas - 1
-    if np.any(close < 0) or np.any(open_ < 0):
-        return None
-    values = np.fromstring(blob.replace("[", " ").replace("]", " "), dtype=np.int64, sep=",")
-    if len(values) != n or values.max() >= len(mapping):
-        return None
-    most = int(max(close.max(initial=0), open_.max(initial=0))) + 1
-    table = ["]" * i + "," + "[" * j for i in range(most) for j in range(most)] + [blob[:starts[0]]]
-    code = np.empty(n, dtype=np.int64)
-    code[0] = len(table) - 1
-    code[1:] = close * most + open_
-    out, at = _int_text(mapping[values], code, table)
-    # list k + 1 starts after the comma that joined it to list k
-    joins = np.cumsum([len(t) + 1 for t in lists[:-1]]) - 1
-    after = np.searchsorted(starts, joins)                  # its first number
-    cut = at[after] + close[after - 1]
-    bounds = [0] + np.column_stack([cut, cut + 1]).ravel().tolist() + [len(out)]
-    suffix = blob[ends[-1]:]
-    pieces = [out[a:b] for a, b in zip(bounds[0::2], bounds[1::2])]
-    pieces[-1] += suffix
-    return pieces
+    return "".join([head_text[:-1], ',"CityObjects":{', body, "," if body and objects else ""]
+                   + objects + ['},"vertices":'] + vertices + ["}"])

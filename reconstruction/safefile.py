@@ -70,7 +70,6 @@ def replacing(path, mode="w", encoding="utf-8", newline=None):
 
 
 def write_text(path, text):
-    """Write ``text`` (str, or bytes already encoded in UTF-8) to ``path`` as
-    :func:`replacing` does."""
-    with replacing(path, "w" if isinstance(text, str) else "wb") as f:
+    """Write ``text`` to ``path`` as :func:`replacing` does."""
+    with replacing(path) as f:
         f.write(text)

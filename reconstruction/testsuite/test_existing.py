@@ -370,7 +370,7 @@ def test_copied_attributes_that_json_dumps_and_orjson_write_differently(sample):
         copied = citymerge.copy_buildings(model, [0, 1], attributes=attributes)
         text = citymerge.merge(gen[4], copied)
         merged = json.loads(text)
-        assert not odd or b"\\ud800" in text
+        assert not odd or "\\ud800" in text
         back = cityjsonseq.collect(sequence_of(gen, copied)[1])
         for doc in (merged, back):
             got = [doc["CityObjects"][model.buildings[b]]["attributes"] for b in (0, 1)]
@@ -420,55 +420,20 @@ def test_every_footprint_copied_leaves_no_generated_building(sample, schema_dir)
 def test_copied_vertices_equal_to_others_are_shared_in_first_use_order(far):
     """A copied vertex equal to a generated one takes its index, copied
     duplicates become one new vertex, numbered in the order first used
-    (``far``: an extent too large to pack into one integer key; with 0 two
-    generated vertices are equal too, and become one)."""
+    (``far``: an extent too large to pack into one integer key)."""
     from types import SimpleNamespace
 
     generated = np.array([[0, 0, 0], [1, 1, 1], [far, 0, 0]])
     copied = SimpleNamespace(vertices=np.array([[5, 5, 5], [1, 1, 1], [7, 7, 7], [5, 5, 5],
                                                 [far, 0, 0], [6, 6, 6]]))
-    to_out, gen_out, rows = citymerge._placement(generated, copied)
-    if far:
-        assert gen_out.tolist() == [0, 1, 2] and to_out.tolist() == [3, 1, 4, 3, 2, 5]
-        assert rows.tolist() == generated.tolist() + [[5, 5, 5], [7, 7, 7], [6, 6, 6]]
-    else:
-        assert gen_out.tolist() == [0, 1, 0] and to_out.tolist() == [2, 1, 3, 2, 0, 4]
-        assert rows.tolist() == [[0, 0, 0], [1, 1, 1], [5, 5, 5], [7, 7, 7], [6, 6, 6]]
-    alone, none, rows = citymerge._placement(np.zeros((0, 3), dtype=np.int64), copied)
-    assert alone.tolist() == [0, 1, 2, 0, 3, 4] and len(none) == 0 and len(rows) == 5
+    to_out, rows = citymerge._placement(generated, copied)
+    assert to_out.tolist() == [3, 1, 4, 3, 2, 5]
+    assert rows.tolist() == [[5, 5, 5], [7, 7, 7], [6, 6, 6]]
+    alone, rows = citymerge._placement(np.zeros((0, 3), dtype=np.int64), copied)
+    assert alone.tolist() == [0, 1, 2, 0, 3, 4] and len(rows) == 5
     distinct = SimpleNamespace(vertices=np.array([[9, 9, 9], [8, 8, 8]]))
-    to_out, gen_out, rows = citymerge._placement(generated[:2], distinct)
-    assert to_out.tolist() == [2, 3] and gen_out.tolist() == [0, 1]
-    assert rows.tolist() == generated[:2].tolist() + [[9, 9, 9], [8, 8, 8]]
-
-
-def test_a_whole_model_copied_comes_first_and_keeps_its_numbering(sample):
-    """Every vertex of the model copied: its vertices come first in the
-    model's order and the copied boundaries are written as they were read;
-    a generated vertex equal to a copied one takes its index, the generated
-    indices move behind the copied vertices; the same document as the dict
-    path and as the old order (compared by coordinates)."""
-    from types import SimpleNamespace
-
-    model = existing.read_model(os.path.join(sample, FORMS[0]))
-    copied = citymerge.copy_buildings(model, [1, 0])
-    order = copied.model_order()
-    assert order is not None and np.array_equal(copied.source[order], np.arange(len(order)))
-    shared = model.vertices[5] + np.rint(model.translate / 0.001).astype(np.int64)
-    to_out, gen_out, rows = citymerge._placement(np.array([[1, 2, 3], shared]), copied)
-    assert np.array_equal(to_out, copied.source) and gen_out.tolist() == [len(order), 5]
-    gen = generated(BOXES)
-    doc = json.loads(citymerge.merge(gen[4], copied))
-    for oid in BAG:
-        stored = model.objects[oid + "-0"]["geometry"][0]["boundaries"]
-        assert doc["CityObjects"][oid + "-0"]["geometry"][0]["boundaries"] == stored
-    assert cityjson.consistency_errors(doc) == []
-    assert citymerge.merge(json.loads(gen[4]), copied) == doc
-    lone = citymerge.copy_buildings(model, [0])               # not the whole model
-    assert lone.model_order() is None
-    plain = SimpleNamespace(**{k: getattr(copied, k) for k in ("vertices",)})
-    to_out, gen_out, _ = citymerge._placement(np.array([[1, 2, 3]]), plain)
-    assert gen_out.tolist() == [0] and to_out.tolist() == list(range(1, len(order) + 1))
+    to_out, rows = citymerge._placement(generated, distinct)
+    assert to_out.tolist() == [3, 4] and rows.tolist() == [[9, 9, 9], [8, 8, 8]]
 
 
 def test_copied_rows_in_first_use_order_and_per_building_when_shared():
@@ -479,26 +444,3 @@ def test_copied_rows_in_first_use_order_and_per_building_when_shared():
     source, owner, rows = citymerge._rows(np.array([5, 3, 5, 3]), np.array([0, 0, 1, 1]), 8)
     assert (source.tolist(), owner.tolist(), rows.tolist()) == ([3, 5, 3, 5], [0, 0, 1, 1],
                                                                 [1, 0, 3, 2])
-
-
-def test_generated_indices_renumbered_in_the_text():
-    """The vertex indices of every geometry's boundaries in a CityObjects
-    text renumbered in bulk, nothing else touched (a string that looks like
-    boundaries stays); text that is not plain lists of indices is refused."""
-    mapping = np.arange(100) * 11 + 5
-    body = ('"a":{"type":"Building","attributes":{"x":"\\"boundaries\\":[1]","y":[1,2]},'
-            '"geometry":[{"type":"Solid","lod":"2.0","boundaries":[[[[0,1,2]],[[2,1,3],[4,5,6]]],'
-            '[[[7,8,9]]]],"semantics":{"values":[[0,1],[2]]}}]},'
-            '"b":{"type":"Building","geometry":[{"type":"MultiSurface","boundaries":[[[4,5,6]]]},'
-            '{"type":"MultiPoint","boundaries":[1,2,3]}]}')
-    out = json.loads("{" + citymerge._renumbered_text(body, mapping) + "}")
-    assert out["a"]["attributes"] == {"x": '"boundaries":[1]', "y": [1, 2]}
-    assert out["a"]["geometry"][0]["boundaries"] == [
-        [[[5, 16, 27]], [[27, 16, 38], [49, 60, 71]]], [[[82, 93, 104]]]]
-    assert out["b"]["geometry"][0]["boundaries"] == [[[49, 60, 71]]]
-    assert out["b"]["geometry"][1]["boundaries"] == [16, 27, 38]
-    assert out["a"]["geometry"][0]["semantics"] == {"values": [[0, 1], [2]]}
-    for odd in ("[[[1,-2,3]]]", "[[[1,2,3]],[]]", "[[[1,2.5,3]]]", "[[[1,2,300]]]",
-                "[[[1, 2, 3]]]"):
-        assert citymerge._renumbered_text('"c":{"geometry":[{"boundaries":' + odd + "}]}",
-                                          mapping) is None
