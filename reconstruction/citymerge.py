@@ -489,7 +489,7 @@ def merge(generated, copied):
     if copied is None or len(copied) == 0:
         return generated
     if isinstance(generated, str):
-        return _merge_text(generated, copied)
+        return "".join(merged_pieces(generated, copied))
     doc = dict(generated)
     scale, translate = _transform(doc, copied)
     gen = np.asarray(doc.get("vertices") or np.zeros((0, 3)), dtype=np.int64).reshape(-1, 3)
@@ -531,13 +531,20 @@ def _head_and_rows(doc, gen, translate, copied, scale):
     return head, to_out, rows - translate
 
 
-def _merge_text(text, copied):
+@citygeometry.gc_paused()
+def merged_pieces(text, copied):
+    """:func:`merge` of the generated model's ``text`` as the list of texts
+    that make the merged model's, in order: written one after the other
+    (``cityjson.write_text`` takes the list), the 50 MB of a large model are
+    neither joined into one text nor encoded at once."""
     from .cityjsonseq import vertices_texts
 
+    if copied is None or len(copied) == 0:
+        return [text]
     head_end = text.find(',"CityObjects":{')
     vstart = text.rfind(',"vertices":')
     if head_end < 0 or vstart < head_end or not text.endswith("}") or text[vstart - 1] != "}":
-        return json.dumps(merge(json.loads(text), copied), separators=(",", ":"))
+        return [json.dumps(merge(json.loads(text), copied), separators=(",", ":"))]
     doc = json.loads(text[:head_end] + "}")
     body = text[head_end + len(',"CityObjects":{'):vstart - 1]
     inner = text[vstart + len(',"vertices":'):-1]
@@ -554,5 +561,5 @@ def _merge_text(text, copied):
     else:
         vertices = [inner]
     head_text = json.dumps(head, separators=(",", ":"))
-    return "".join([head_text[:-1], ',"CityObjects":{', body, "," if body and objects else ""]
-                   + objects + ['},"vertices":'] + vertices + ["}"])
+    return ([head_text[:-1], ',"CityObjects":{', body, "," if body and objects else ""]
+            + objects + ['},"vertices":'] + vertices + ["}"])

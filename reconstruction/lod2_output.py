@@ -321,10 +321,11 @@ def copy_matched(match, footprints, count):
 
 
 def _single_text(result, copied, request):
+    """The single-file model's text, as a list of texts (written in turn)."""
     text = cityjson.citymodel_text(result.solids, result.semantics, result.ids,
                                    result.attributes, request.reference_system,
                                    title=request.title)
-    return citymerge.merge(text, copied) if copied is not None else text
+    return citymerge.merged_pieces(text, copied)
 
 
 def write_model(result, footprints, request, match=None):
@@ -350,7 +351,8 @@ def write_model(result, footprints, request, match=None):
             cityjsonseq.write(f, result.solids, result.semantics, result.ids, result.attributes,
                               request.reference_system, request.title, copied=copied)
     if request.render:
-        document = json.loads(text if text is not None else _single_text(result, copied, request))
+        document = json.loads("".join(text if text is not None
+                                      else _single_text(result, copied, request)))
         render_model(document, request, copied.ids if copied is not None else ())
         report.rendered = request.render
     return report

@@ -70,6 +70,10 @@ def replacing(path, mode="w", encoding="utf-8", newline=None):
 
 
 def write_text(path, text):
-    """Write ``text`` to ``path`` as :func:`replacing` does."""
+    """Write ``text`` (a str, or a list of them written one after the
+    other) to ``path`` as :func:`replacing` does."""
     with replacing(path) as f:
-        f.write(text)
+        if isinstance(text, str):
+            f.write(text)
+        else:
+            f.writelines(text)

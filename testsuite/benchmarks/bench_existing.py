@@ -13,9 +13,15 @@ aligned footprints are the ground surfaces of those buildings (every one
 matches), plus ``--generated`` footprints that are built (gable roofs) as
 v.histo.lod2 builds them. Prints the median of ``--runs`` runs of each step
 (wall and CPU time: the machine is shared, CPU time is the steadier figure),
-the load average before and after, and whether each goal is met; also the
+the load average before and after, and whether each goal is met; what a
+goal compares is timed in the same rounds, not in separate blocks of runs
+that the machine's drift in speed would tell apart: the read and the merge
+in each of ``--runs`` fresh processes (as a v.histo.lod2 run reads the
+model, then merges it), the two formats' writes alternating; also the
 module's whole output side (``lod2_output.write_model``: match, copy,
-merge, write) in both formats.
+merge, write) in both formats. The writes are timed for the buildings copied
+from the CityJSON file and, beside them, from the CityJSONSeq (whose
+features are written as they were read).
 
 Pure library code; runs with ``python3`` from the checkout or inside the
 GRASS session of ``run_all.sh``:
@@ -134,21 +140,83 @@ def verdict(ok):
     return "goal met" if ok else "goal NOT met"
 
 
-def median_time(fn, runs, setup=None):
+def median_time(fn, runs):
     """Median wall time and median CPU time of the process (the machine is
     shared: CPU time is the steadier figure) of ``fn()``, what it returns
-    freed after the clock stops; with ``setup``, of ``fn(setup())()`` (the
-    setup untimed, what it made freed after the clock stops)."""
+    freed after the clock stops."""
     wall, cpu = [], []
     for _ in range(runs):
-        made = setup() if setup is not None else None
-        step = fn(made) if setup is not None else fn
         t, c = time.perf_counter(), time.process_time()
-        result = step()
+        result = fn()
         wall.append(time.perf_counter() - t)
         cpu.append(time.process_time() - c)
-        del result, made, step
+        del result
     return Timing(statistics.median(wall), statistics.median(cpu))
+
+
+def interleaved(steps, runs):
+    """The median :class:`Timing` of each of ``steps`` (callables), run once
+    each in every one of ``runs`` rounds, in the opposite order every other
+    round: the machine's speed drifts (a shared virtual machine: the same
+    code ran 50 % slower from one minute to the next here), and steps timed
+    in separate blocks of runs compare that drift, not the steps."""
+    wall, cpu = [[] for _ in steps], [[] for _ in steps]
+    for r in range(runs):
+        order = range(len(steps)) if r % 2 == 0 else reversed(range(len(steps)))
+        for k in order:
+            t, c = time.perf_counter(), time.process_time()
+            result = steps[k]()
+            wall[k].append(time.perf_counter() - t)
+            cpu[k].append(time.process_time() - c)
+            del result
+    return [Timing(statistics.median(w), statistics.median(c)) for w, c in zip(wall, cpu)]
+
+
+def one_round(folder, by):
+    """In a fresh process, as v.histo.lod2 runs: read the model of ``folder``
+    then merge it (by "id" or by "geometry"); prints the wall and CPU times
+    of both as JSON."""
+    import pickle
+
+    with open(os.path.join(folder, "inputs.pickle"), "rb") as f:
+        text, wkb, bag_ids = pickle.load(f)
+    aligned = list(shapely.from_wkb(wkb))
+    t, c = time.perf_counter(), time.process_time()
+    model = existing.read_model(os.path.join(folder, "existing.city.json"))
+    read = (time.perf_counter() - t, time.process_time() - c)
+    t, c = time.perf_counter(), time.process_time()
+    matches = existing.match(model, aligned, ids=bag_ids if by == "id" else None)
+    copied = citymerge.copy_buildings(model, matches.building[matches.matched])
+    cityjson.write_text(os.path.join(folder, "out-{}.city.json".format(by)),
+                        citymerge.merged_pieces(text, copied))
+    merge = (time.perf_counter() - t, time.process_time() - c)
+    print(json.dumps({"read": read, "merge": merge, "copied": len(copied)}))
+
+
+def fresh_rounds(folder, text, aligned, bag_ids, runs):
+    """Median :class:`Timing` of the read and of the merges by id and by
+    geometry, each round a fresh process reading the model then merging it
+    (:func:`one_round`), as a v.histo.lod2 run does: the read and the merge
+    it is compared with pay the same costs of a new process's memory."""
+    import pickle
+    import subprocess
+
+    with open(os.path.join(folder, "inputs.pickle"), "wb") as f:
+        pickle.dump((text, shapely.to_wkb(aligned), bag_ids), f)
+    reads, merges = [], {"id": [], "geometry": []}
+    for r in range(runs):
+        for by in (("id", "geometry") if r % 2 == 0 else ("geometry", "id")):
+            got = json.loads(subprocess.run(
+                [sys.executable, os.path.abspath(__file__), "--round", folder, by],
+                check=True, capture_output=True, text=True).stdout)
+            assert got["copied"] == len(bag_ids)
+            reads.append(got["read"])
+            merges[by].append(got["merge"])
+
+    def median(pairs):
+        return Timing(statistics.median(p[0] for p in pairs),
+                      statistics.median(p[1] for p in pairs))
+    return median(reads), median(merges["id"]), median(merges["geometry"])
 
 
 class Timing:
@@ -172,7 +240,11 @@ def main():
     parser.add_argument("--generated", type=int, default=10000)
     parser.add_argument("--lod1", action="store_true",
                         help="LoD 1.2 and 1.3 beside LoD 2.2, as in the 3D BAG (copied: 2.2)")
+    parser.add_argument("--round", nargs=2, metavar=("FOLDER", "BY"), help=argparse.SUPPRESS)
     args, _ = parser.parse_known_args()
+    if args.round:
+        one_round(*args.round)
+        return 0
     if not os.path.exists(SAMPLE):
         print("skipped: the 3D BAG sample is not at '{}'".format(SAMPLE))
         return 0
@@ -193,21 +265,13 @@ def main():
         def merge(m, ids):
             matches = existing.match(m, aligned, ids=ids)
             copied = citymerge.copy_buildings(m, matches.building[matches.matched])
-            cityjson.write_text(out, citymerge.merge(text, copied))
+            cityjson.write_text(out, citymerge.merged_pieces(text, copied))
             return matches
-
-        def after_read(ids):
-            """Median time of the steps after a fresh read (the model freed untimed)."""
-            def steps(m):
-                return lambda: merge(m, ids)
-            return median_time(steps, args.runs, setup=lambda: existing.read_model(single))
 
         assert merge(existing.read_model(single), bag_ids).report.by_id == args.buildings
         assert merge(existing.read_model(single), None).report.by_geometry == args.buildings
-        t_read = median_time(lambda: existing.read_model(single), args.runs)
+        t_read, t_id, t_geom = fresh_rounds(folder, text, aligned, bag_ids, args.runs)
         t_read_seq = median_time(lambda: existing.read_model(seq), args.runs)
-        t_id = after_read(bag_ids)
-        t_geom = after_read(None)
         print("read existing model: {} (CityJSON), {} (CityJSONSeq)".format(t_read, t_read_seq))
         print("merge by id (match, copy, merge, write, after the read): {} = {} the read".format(
             t_id, t_id.ratio(t_read)))
@@ -220,25 +284,32 @@ def main():
             "footprints": lambda: existing.footprints(model),
             "match by geometry": lambda: existing.match(model, aligned, fps=fps),
             "copy": lambda: citymerge.copy_buildings(model, matches.building[matches.matched]),
-            "merge into the text": lambda: citymerge.merge(text, copied),
+            "merge into the text (pieces)": lambda: citymerge.merged_pieces(text, copied),
         }
         for name, fn in steps.items():
             print("  {}: {}".format(name, median_time(fn, args.runs)))
 
         def write_single(c):
             body = cityjson.citymodel_text(*gen, 28992, title="bench")
-            cityjson.write_text(out, citymerge.merge(body, c) if c is not None else body)
+            cityjson.write_text(out, citymerge.merged_pieces(body, c))
 
         def write_seq(c):
             with open(out + "l", "w") as f:
                 cityjsonseq.write(f, *gen, 28992, title="bench", copied=c)
 
         single_cpu = seq_cpu = 0.0
+        model_seq = existing.read_model(seq)
+        copied_seq = citymerge.copy_buildings(
+            model_seq, existing.match(model_seq, aligned, ids=bag_ids).building)
+        del model_seq
         for label, c in (("{} generated".format(len(gen[2])), None),
-                         ("{} generated + {} copied".format(len(gen[2]), len(copied)), copied)):
-            t_single = median_time(lambda: write_single(c), args.runs)
-            t_seq = median_time(lambda: write_seq(c), args.runs)
-            single_cpu, seq_cpu = single_cpu + t_single.cpu, seq_cpu + t_seq.cpu
+                         ("{} generated + {} copied".format(len(gen[2]), len(copied)), copied),
+                         ("{} generated + {} copied from the CityJSONSeq".format(
+                             len(gen[2]), len(copied_seq)), copied_seq)):
+            t_single, t_seq = interleaved([lambda: write_single(c), lambda: write_seq(c)],
+                                          args.runs)
+            if c is not copied_seq:     # the verdict below: the single-file input, as before
+                single_cpu, seq_cpu = single_cpu + t_single.cpu, seq_cpu + t_seq.cpu
             print("write {}: single file {}, CityJSONSeq {} ({})".format(
                 label, t_single, t_seq, t_seq.ratio(t_single)))
         with open(out + "l") as f:
@@ -262,8 +333,8 @@ def main():
 
         assert output_side("cityjsonseq", True).copied == args.buildings
         for fmt in lod2_output.FORMATS:
-            t_plain = median_time(lambda: output_side(fmt, False), args.runs)
-            t_with = median_time(lambda: output_side(fmt, True), args.runs)
+            t_plain, t_with = interleaved([lambda: output_side(fmt, False),
+                                           lambda: output_side(fmt, True)], args.runs)
             extra = t_with - t_plain
             print("v.histo.lod2 output side, format={}: {} generated {}, with existing= "
                   "(by id) {}: existing= adds {} = {} the read".format(
