@@ -167,19 +167,20 @@ def write(f, ss, semantics, ids, attributes=None, reference_system=None, title=N
                                  {k: v[a:b] for k, v in attributes.items()}, local)
         verts = vertices_texts(rows - lo, starts)
         keys = [json.encoder.encode_basestring_ascii(i) for i in ids[a:b]]
-        f.write("".join(map("".join, zip(
+        f.writelines(map("".join, zip(
             itertools.repeat('{"type":"CityJSONFeature","id":'), keys,
             itertools.repeat(',"CityObjects":{'), objects, itertools.repeat('},"vertices":'),
-            verts, itertools.repeat("}\n")))))
+            verts, itertools.repeat("}\n"))))
     if copied is not None and len(copied):
-        for text in _copied_features(copied, lo, chunk):
-            f.write(text)
+        for pieces in _copied_features(copied, lo, chunk):
+            f.writelines(pieces)
     return S + (len(copied) if copied is not None else 0)
 
 
 def _copied_features(copied, lo, chunk):
-    """The feature lines of the copied buildings, ``chunk`` buildings a text:
-    one json.dumps of the chunk's objects around holes for the boundaries
+    """The feature lines of the copied buildings, ``chunk`` buildings a list
+    of texts (written in turn, not joined): one json.dumps of the chunk's
+    objects around holes for the boundaries
     and vertices, which are written in bulk (the boundaries as they were
     read where they index the building's own vertices as stored:
     :attr:`~reconstruction.citymerge.CopiedBuildings.stored_local`)."""
@@ -198,7 +199,7 @@ def _copied_features(copied, lo, chunk):
                      for n in range(a, b)]
         pieces = citygeometry.pieces_around_holes(structure, g1 - g0 + b - a)
         if pieces is None:                 # an attribute that is the placeholder itself
-            yield "".join(_feature_text(copied, n, lo) for n in range(a, b))
+            yield [_feature_text(copied, n, lo) for n in range(a, b)]
             continue
         out, j, k = [pieces[0][1:]], 1, 0           # without the list's "["
         for n in range(a, b):
@@ -209,7 +210,7 @@ def _copied_features(copied, lo, chunk):
             # after the vertices comes "}," (or "}]"): one feature a line
             out.extend((verts[n], "}\n", pieces[j][2:]))
             j += 1
-        yield "".join(out)
+        yield out
 
 
 def _feature_text(copied, n, lo):
