@@ -150,18 +150,26 @@ def _int_text(values, prefix, table):
     top = int(values.max())
     W = len(str(top))
     tables = _separator_tables(tuple(table), W)
-    # (separator, digit count) of every value, and so its characters' count
-    code = np.searchsorted(10 ** np.arange(1, W, dtype=np.int64), values, side="right") + 1
-    code += np.asarray(prefix).astype(np.int64) * (W + 1)
+    prefix = np.asarray(prefix)
+    # (separator, digit count) of every value, and so its characters'
+    # count, chunk by chunk in small integers (a large model's temporaries
+    # are new memory, page after page, in a fresh process)
+    bounds = 10 ** np.arange(1, W, dtype=np.int64)
+    kind = np.uint8 if len(table) * (W + 1) < 256 else np.int64
+    code = np.empty(len(values), dtype=kind)
+    for a in range(0, len(values), _CHUNK):
+        digits = np.searchsorted(bounds, values[a:a + _CHUNK], side="right") + 1
+        code[a:a + _CHUNK] = digits + prefix[a:a + _CHUNK].astype(np.int64) * (W + 1)
     size = tables[4][code]
-    ends = np.cumsum(size)
+    ends = np.cumsum(size, dtype=np.int64)
     out = np.empty(int(ends[-1]), dtype=np.uint8)
     # in chunks that stay in the processor's cache (a fifth faster than in one go)
     for a in range(0, len(values), _CHUNK):
         b = min(a + _CHUNK, len(values))
         first = int(ends[a - 1]) if a else 0
         _int_chars(values[a:b], code[a:b], W, top, tables, out[first:int(ends[b - 1])])
-    return str(memoryview(out), "ascii"), ends - size
+    ends -= size                                    # each value's offset
+    return str(memoryview(out), "ascii"), ends
 
 
 _CHUNK = 1 << 14
@@ -173,7 +181,7 @@ def _int_chars(values, code, W, top, tables, out):
     SB, WB, sep_blocks, used_chars, sizes = tables
     n = len(values)
     chars = np.empty((n, SB + WB), dtype=np.uint32)
-    sep = code // (W + 1)
+    sep = code // np.uint8(W + 1) if code.dtype == np.uint8 else code // (W + 1)
     for j in range(SB):
         chars[:, j] = sep_blocks[:, j][sep]
     quads = _quads()
@@ -204,6 +212,8 @@ def _separator_tables(table, W):
         col, digits = np.arange(width), np.arange(W + 1)
         used = (col < sep_len[:, None, None]) | (col >= width - digits[None, :, None])
         sizes = (sep_len[:, None] + digits[None, :]).ravel()
+        if sizes.max() < 256:
+            sizes = sizes.astype(np.uint8)
         if len(_SEPARATOR_TABLES) > 64:
             _SEPARATOR_TABLES.clear()
         _SEPARATOR_TABLES[key] = (SB, WB, np.ascontiguousarray(sep_chars.view(np.uint32)),
