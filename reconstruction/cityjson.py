@@ -181,7 +181,7 @@ def _int_chars(values, code, W, top, tables, out):
     SB, WB, sep_blocks, used_chars, sizes = tables
     n = len(values)
     chars = np.empty((n, SB + WB), dtype=np.uint32)
-    sep = code // np.uint8(W + 1) if code.dtype == np.uint8 else code // (W + 1)
+    sep = code // (W + 1)
     for j in range(SB):
         chars[:, j] = sep_blocks[:, j][sep]
     quads = _quads()

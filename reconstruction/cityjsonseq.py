@@ -180,9 +180,9 @@ def write(f, ss, semantics, ids, attributes=None, reference_system=None, title=N
 def _copied_features(copied, lo, chunk):
     """The feature lines of the copied buildings, ``chunk`` buildings a list
     of texts (written in turn, not joined): one json.dumps of the chunk's
-    objects around holes for the boundaries
-    and vertices, which are written in bulk (the boundaries as they were
-    read where they index the building's own vertices as stored:
+    objects around holes for the boundaries and vertices, which are written
+    in bulk (the boundaries as they were read where they index the
+    building's own vertices as stored:
     :attr:`~reconstruction.citymerge.CopiedBuildings.stored_local`)."""
     as_read = copied.stored_local
     per = [0] * len(copied) if as_read else copied.geometry_counts()

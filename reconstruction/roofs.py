@@ -260,12 +260,12 @@ def mansard_caps(footprints, which, wanted=None):
     ridge (a long near-rectangle) it splits cells all along it, up to its
     iteration limit (2,000 + 2,000 ln(diameter / tolerance)): up to 20 ms a
     footprint, 0.25 s for the 403 mansards of the Brussels 1924 footprints,
-    99 % of it for 40 of them. So the radius is first
-    found to :data:`MANSARD_CAP_COARSE`: the best centre's distance to the
-    boundary is at most the true radius, which the fine search comes within
-    its tolerance of; where that distance less the fine tolerance already
-    puts the cap at or above the wanted inset, ``min(wanted, cap)`` is the
-    wanted inset either way, and the fine search runs only for the others."""
+    99 % of it for 40 of them. So the radius is first found to
+    :data:`MANSARD_CAP_COARSE`: the best centre's distance to the boundary
+    is at most the true radius, which the fine search comes within its
+    tolerance of; where that distance less the fine tolerance already puts
+    the cap at or above the wanted inset, ``min(wanted, cap)`` is the wanted
+    inset either way, and the fine search runs only for the others."""
     idx = np.nonzero(np.asarray(which, dtype=bool))[0]
     out = np.zeros(len(footprints))
     if not len(idx):

@@ -151,7 +151,7 @@ def median_time(fn, runs):
         wall.append(time.perf_counter() - t)
         cpu.append(time.process_time() - c)
         del result
-    return Timing(statistics.median(wall), statistics.median(cpu))
+    return Timing.median(wall, cpu)
 
 
 def interleaved(steps, runs):
@@ -169,7 +169,7 @@ def interleaved(steps, runs):
             wall[k].append(time.perf_counter() - t)
             cpu[k].append(time.process_time() - c)
             del result
-    return [Timing(statistics.median(w), statistics.median(c)) for w, c in zip(wall, cpu)]
+    return [Timing.median(w, c) for w, c in zip(wall, cpu)]
 
 
 def one_round(folder, by):
@@ -185,12 +185,21 @@ def one_round(folder, by):
     model = existing.read_model(os.path.join(folder, "existing.city.json"))
     read = (time.perf_counter() - t, time.process_time() - c)
     t, c = time.perf_counter(), time.process_time()
-    matches = existing.match(model, aligned, ids=bag_ids if by == "id" else None)
-    copied = citymerge.copy_buildings(model, matches.building[matches.matched])
-    cityjson.write_text(os.path.join(folder, "out-{}.city.json".format(by)),
-                        citymerge.merged_pieces(text, copied))
+    matches = merge_and_write(model, aligned, bag_ids if by == "id" else None, text,
+                              os.path.join(folder, "out-{}.city.json".format(by)))
     merge = (time.perf_counter() - t, time.process_time() - c)
-    print(json.dumps({"read": read, "merge": merge, "copied": len(copied)}))
+    print(json.dumps({"read": read, "merge": merge, "copied": len(matches.matched)}))
+
+
+def merge_and_write(model, aligned, ids, text, out):
+    """What merging costs: match the aligned footprints (by ``ids``, None: by
+    geometry), copy the matched buildings, merge them into the generated
+    model's ``text`` and write it to ``out``, as v.histo.lod2 does; returns
+    the matches."""
+    matches = existing.match(model, aligned, ids=ids)
+    copied = citymerge.copy_buildings(model, matches.building[matches.matched])
+    cityjson.write_text(out, citymerge.merged_pieces(text, copied))
+    return matches
 
 
 def fresh_rounds(folder, text, aligned, bag_ids, runs):
@@ -203,7 +212,7 @@ def fresh_rounds(folder, text, aligned, bag_ids, runs):
 
     with open(os.path.join(folder, "inputs.pickle"), "wb") as f:
         pickle.dump((text, shapely.to_wkb(aligned), bag_ids), f)
-    reads, merges = [], {"id": [], "geometry": []}
+    reads, merges = [], {"id": [], "geometry": []}          # (wall, CPU) pairs
     for r in range(runs):
         for by in (("id", "geometry") if r % 2 == 0 else ("geometry", "id")):
             got = json.loads(subprocess.run(
@@ -212,16 +221,18 @@ def fresh_rounds(folder, text, aligned, bag_ids, runs):
             assert got["copied"] == len(bag_ids)
             reads.append(got["read"])
             merges[by].append(got["merge"])
-
-    def median(pairs):
-        return Timing(statistics.median(p[0] for p in pairs),
-                      statistics.median(p[1] for p in pairs))
-    return median(reads), median(merges["id"]), median(merges["geometry"])
+    return tuple(Timing.median(*zip(*pairs)) for pairs in (reads, merges["id"],
+                                                            merges["geometry"]))
 
 
 class Timing:
     def __init__(self, wall, cpu):
         self.wall, self.cpu = wall, cpu
+
+    @staticmethod
+    def median(wall, cpu):
+        """The median of some runs' wall and CPU times."""
+        return Timing(statistics.median(wall), statistics.median(cpu))
 
     def __sub__(self, other):
         return Timing(self.wall - other.wall, self.cpu - other.cpu)
@@ -262,14 +273,9 @@ def main():
         bag_ids = [b.rsplit(".", 1)[1] for b in model.buildings]
         out = os.path.join(folder, "out.city.json")
 
-        def merge(m, ids):
-            matches = existing.match(m, aligned, ids=ids)
-            copied = citymerge.copy_buildings(m, matches.building[matches.matched])
-            cityjson.write_text(out, citymerge.merged_pieces(text, copied))
-            return matches
-
-        assert merge(existing.read_model(single), bag_ids).report.by_id == args.buildings
-        assert merge(existing.read_model(single), None).report.by_geometry == args.buildings
+        for ids, by in ((bag_ids, "by_id"), (None, "by_geometry")):
+            matches = merge_and_write(existing.read_model(single), aligned, ids, text, out)
+            assert getattr(matches.report, by) == args.buildings
         t_read, t_id, t_geom = fresh_rounds(folder, text, aligned, bag_ids, args.runs)
         t_read_seq = median_time(lambda: existing.read_model(seq), args.runs)
         print("read existing model: {} (CityJSON), {} (CityJSONSeq)".format(t_read, t_read_seq))
