@@ -140,6 +140,30 @@ def layout(geometries, shift=None):
     return lay
 
 
+def used_vertices(geometries, count, chunk=2000):
+    """Which of ``count`` vertices the boundaries of ``geometries`` use (a
+    boolean array), read from orjson's text of them ``chunk`` geometries at
+    a time: no list of every level is built, as :func:`layout` builds them,
+    and the chunks' memory is used again (2 M indices: 0.08 s instead of
+    0.12 s). None when a boundaries list is not plain (an empty list, a
+    negative index or anything but integers) or indexes past ``count``."""
+    import orjson
+
+    from .cityjson import plain_integers
+
+    used = np.zeros(count, dtype=bool)
+    for a in range(0, len(geometries), chunk):
+        try:
+            raw = orjson.dumps([g["boundaries"] for g in geometries[a:a + chunk]])
+        except (orjson.JSONEncodeError, KeyError, TypeError):
+            return None
+        values = plain_integers(raw)
+        if values is None or len(values) and values.max() >= count:
+            return None
+        used[values] = True
+    return used
+
+
 def indices(geometries, shift=None):
     """Every vertex index of many geometries (plus each one's ``shift``), as
     one int64 array in the order :func:`reindex` hands them to its mapping."""
@@ -255,18 +279,24 @@ HOLE = "\x00"
 _HOLE_TEXT = '"\\u0000"'
 
 
-def json_text(structure):
-    """The compact JSON text of ``structure``, written by orjson (six times
-    faster than ``json.dumps`` on a city model's attributes and semantics):
-    strings in UTF-8 rather than ``\\u`` escapes, NaN as null, numpy arrays
-    and scalars as lists and numbers; by ``json.dumps`` what orjson does not
-    write (a string with a lone surrogate, an integer over 64 bits)."""
+def json_bytes(structure):
+    """The compact JSON text of ``structure`` as UTF-8 bytes, written by
+    orjson (six times faster than ``json.dumps`` on a city model's
+    attributes and semantics): strings in UTF-8 rather than ``\\u`` escapes,
+    NaN as null, numpy arrays and scalars as lists and numbers; by
+    ``json.dumps`` what orjson does not write (a string with a lone
+    surrogate, an integer over 64 bits)."""
     import orjson        # here, not at start-up: only copied buildings are written with it
 
     try:
-        return orjson.dumps(structure, option=orjson.OPT_SERIALIZE_NUMPY).decode()
+        return orjson.dumps(structure, option=orjson.OPT_SERIALIZE_NUMPY)
     except orjson.JSONEncodeError:
-        return json.dumps(structure, separators=(",", ":"), default=_plain)
+        return json.dumps(structure, separators=(",", ":"), default=_plain).encode()
+
+
+def json_text(structure):
+    """:func:`json_bytes` as text."""
+    return json_bytes(structure).decode()
 
 
 def _plain(value):

@@ -10,6 +10,7 @@ import itertools
 import json
 import math
 import os
+import warnings
 
 import numpy as np
 
@@ -227,6 +228,68 @@ def _pieces(text, offsets, first):
     return [text[a:b] for a, b in zip(cuts[:-1], cuts[1:])]
 
 
+def shifted_lists(lists, shift):
+    """The JSON texts ``lists`` (plain nested lists of non-negative integers:
+    digits, brackets and commas, no empty list) with ``shift`` added to
+    every integer, in bulk: the texts joined, their numbers read and
+    written again by :func:`_int_text`, each after the brackets and the
+    comma that stood before it. None where a text is not such a list."""
+    if not lists:
+        return []
+    blob = ",".join(lists)
+    raw = blob.encode("ascii", "replace")
+    values = plain_integers(raw)
+    if values is None:
+        return None
+    chars = np.frombuffer(raw, dtype=np.uint8)
+    digit = (chars - np.uint8(48)) < np.uint8(10)
+    edges = np.flatnonzero(digit[1:] != digit[:-1]) + 1
+    starts, ends = edges[0::2], edges[1::2]
+    commas = np.flatnonzero(chars == 44)
+    n = len(starts)
+    if n == 0 or digit[0] or len(ends) != n or len(commas) != n - 1:
+        return None
+    # between two numbers: "]" * close, the comma, "[" * open
+    close, open_ = commas - ends[:-1], starts[1:] - commas - 1
+    if np.any(close < 0) or np.any(open_ < 0):
+        return None
+    most = int(max(close.max(initial=0), open_.max(initial=0))) + 1
+    table = ["]" * i + "," + "[" * j for i in range(most) for j in range(most)] + [blob[:starts[0]]]
+    code = np.empty(n, dtype=np.int64)
+    code[0] = len(table) - 1
+    code[1:] = close * most + open_
+    out, at = _int_text(values + shift, code, table)
+    # list k + 1 starts after the comma that joined it to list k
+    joins = np.cumsum([len(t) + 1 for t in lists[:-1]], dtype=np.int64) - 1
+    after = np.searchsorted(starts, joins)              # its first number
+    cut = at[after] + close[after - 1]
+    bounds = [0] + np.column_stack([cut, cut + 1]).ravel().tolist() + [len(out)]
+    pieces = [out[a:b] for a, b in zip(bounds[0::2], bounds[1::2])]
+    pieces[-1] += blob[ends[-1]:]
+    return pieces
+
+
+def plain_integers(raw):
+    """The integers of ``raw`` (bytes: the compact JSON text, as orjson or
+    json writes it, of nested lists of non-negative integers, no list
+    empty), in order, as int64; None where it is not such a text."""
+    if b"[]" in raw:                    # np.fromstring would read an empty list as 0
+        return None
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", DeprecationWarning)      # numpy < 2.3
+            values = np.fromstring(raw.translate(_BRACKETS), dtype=np.int64, sep=",")
+    except (ValueError, DeprecationWarning):                        # not digits and commas
+        return None
+    if len(values) and (values.min() < 0 or values.max() == np.iinfo(np.int64).max):
+        return None                     # negative, or read past int64
+    return values
+
+
+#: brackets read as spaces (the text of nested lists of integers as ``np.fromstring`` reads it)
+_BRACKETS = bytes.maketrans(b"[]", b"  ")
+
+
 def _split_by_solid(values, starts, S, face_level):
     """JSON text of ``values`` (one non-negative int per entry) cut into one
     piece per solid: ``a,b,c`` per solid, or with ``face_level`` the rings
@@ -342,11 +405,23 @@ def citymodel_text(ss, semantics, ids, attributes=None, reference_system=None, t
 
 
 def write_text(path, text):
-    """Write a CityJSON document given as text (or a list of texts, in
-    order: see ``citymerge.merged_pieces``), whole or not at all (a unique
-    temporary file renamed into place; through a symbolic link; never over
-    something that is not a regular file: :mod:`reconstruction.safefile`)."""
-    safefile.write_text(path, text)
+    """Write a CityJSON document given as text (or a list of pieces, in
+    order, each a text or UTF-8 bytes: see ``citymerge.merged_pieces``),
+    whole or not at all (a unique temporary file renamed into place; through
+    a symbolic link; never over something that is not a regular file:
+    :mod:`reconstruction.safefile`)."""
+    if isinstance(text, str):
+        safefile.write_text(path, text)
+        return
+    with safefile.replacing(path, "wb") as f:
+        for piece in text:
+            f.write(piece.encode() if isinstance(piece, str) else piece)
+
+
+def joined_text(pieces):
+    """The text of a document given as pieces (texts or UTF-8 bytes), as
+    :func:`write_text` writes them."""
+    return "".join(p if isinstance(p, str) else str(p, "utf-8") for p in pieces)
 
 
 def write(path, model):

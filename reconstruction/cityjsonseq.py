@@ -141,9 +141,12 @@ def write(f, ss, semantics, ids, attributes=None, reference_system=None, title=N
     takes them), then one per copied building (``copied``:
     :class:`~reconstruction.citymerge.CopiedBuildings`), ``chunk`` buildings
     at a time. Returns the number of features written."""
+    from .citymerge import by_building
+
     attributes = {k: _attr_list(v) for k, v in (attributes or {}).items()}
     ids = [str(i) for i in ids]
     if copied is not None and len(copied):
+        copied = by_building(copied)            # each feature indexes its own vertices
         clash = set(ids).intersection(o for objs in copied.trees for o in objs)
         if clash:
             raise InputError("{} copied objects have the id of a generated building (e.g. <{}>)"

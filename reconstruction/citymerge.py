@@ -14,14 +14,17 @@ textures) and geometry templates are not copied.
 """
 
 import collections
+import dataclasses
+import itertools
 import json
+import re
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from . import citygeometry
 from .errors import InputError
-from .rings import unique_rows
+from .rings import corners, unique_rows
 
 SCALE = 0.001
 
@@ -58,6 +61,14 @@ class CopiedBuildings:
     ``stored_local``: the boundaries as stored index each building's own
     rows (:meth:`local_index`: CityJSONSeq features whose vertices are all
     copied, in their order): its feature is written as it was read.
+
+    ``model_numbered``: the copy is a whole single-file model (every
+    geometry of every object, each of its vertices used): ``vertices`` are
+    then the model's, in its order, and the boundaries as stored index them
+    (``rows``: the stored indices; ``vertex_start`` None; the layout walked
+    only where a writer asks for it), so that the merged file can hold them
+    as they were read; :func:`by_building` numbers such a copy building by
+    building, as a CityJSONSeq feature wants its vertices.
     """
     ids: list
     trees: list
@@ -71,6 +82,7 @@ class CopiedBuildings:
     rows: np.ndarray = None
     copied_geometries: list = None
     stored_local: bool = False
+    model_numbered: bool = False
 
     def __len__(self):
         return len(self.ids)
@@ -81,7 +93,7 @@ class CopiedBuildings:
             return None
         cached = getattr(self, "_extent", None)
         if cached is None or cached[0] is not self.vertices:
-            cached = (self.vertices, self.vertices.min(axis=0), self.vertices.max(axis=0))
+            cached = (self.vertices,) + corners(self.vertices)
             self._extent = cached
         return cached[1], cached[2]
 
@@ -109,21 +121,39 @@ class CopiedBuildings:
         return objs
 
     def local_index(self):
-        """Per vertex row its index among its building's own rows."""
+        """Per vertex row its index among its building's own rows (not for a
+        copy numbered as its model: see :func:`by_building`)."""
+        if self.model_numbered:
+            raise ValueError("the copy is numbered as its model: number it by building first")
         owner = np.repeat(np.arange(len(self.ids)), np.diff(self.vertex_start))
         return np.arange(len(self.vertices)) - self.vertex_start[owner]
+
+    def walked(self):
+        """The :class:`~reconstruction.citygeometry.Layout` of :meth:`geometries`
+        and the vertex row of each of its entries (walked on first use where
+        the copy is numbered as its model: the rows are the stored indices)."""
+        if self.layout is None:
+            self.layout = citygeometry.layout(self.geometries())
+            self.rows = self.layout.flat
+        return self.layout, self.rows
 
     def boundary_texts(self, index=None):
         """The JSON text of the boundaries of every copied geometry with vertex
         indices ``index[row]`` (None: :meth:`local_index`)."""
+        if index is None and self.model_numbered:
+            return by_building(self).boundary_texts()
         index = self.local_index() if index is None else index
-        return citygeometry.texts(self.layout, index[self.rows])
+        lay, rows = self.walked()
+        return citygeometry.texts(lay, index[rows])
 
     def objects(self, index=None):
         """Per building, its city objects with vertex indices ``index[row]``
         (None: :meth:`local_index`, each building's own from 0)."""
+        if index is None and self.model_numbered:
+            return by_building(self).objects()
         index = self.local_index() if index is None else index
-        new = iter(citygeometry.rebuild(self.layout, self.geometries(), index[self.rows]))
+        lay, rows = self.walked()
+        new = iter(citygeometry.rebuild(lay, self.geometries(), index[rows]))
         out = []
         for tree in self.trees:
             objs = {}
@@ -151,10 +181,8 @@ def _chosen_lods(present, lods):
     return {p for p in present if citygeometry.lod_value(p) == top}, bool(lods)
 
 
-def _copyable(geometry):
-    """Geometries copied: all but GeometryInstances (templates are not copied) and unknown types."""
-    kind = geometry.get("type")
-    return kind in citygeometry.DEPTH and kind != "GeometryInstance"
+#: the geometry types copied: all but GeometryInstances (templates are not copied) and unknown ones
+COPYABLE = frozenset(citygeometry.DEPTH) - {"GeometryInstance"}
 
 
 def _uses_extension(obj):
@@ -193,7 +221,8 @@ def _to_grid(model, src, scale):
 
 
 @citygeometry.gc_paused()
-def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None):
+def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None,
+                   keep_numbering=True):
     """The buildings ``buildings`` (indices into ``model.buildings``) ready to be merged.
 
     ``lods``: None for each building's highest LoD, "all", or a list of LoD
@@ -202,18 +231,23 @@ def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None):
     building, added to the copied top-level objects (None values and names
     the object already has are left alone). The model is not changed.
     Each building's vertices are numbered in the order its geometries first
-    use them (see :func:`_rows`).
+    use them (see :func:`_rows`), except, with ``keep_numbering`` (for one
+    merged CityJSON file; CityJSONSeq features number their own), where the
+    copy is a whole single-file model, which keeps the model's numbering
+    (:attr:`CopiedBuildings.model_numbered`).
     """
     buildings = [int(b) for b in buildings]
     report = CopyReport(buildings=len(buildings))
     trees, geometries, counts = [], [], []
     uses_extension = False
+    kept_all = True                     # every geometry of the trees copied
     chosen_of = {}                      # LoDs present -> (LoDs copied, fell back)
+    objects = model.objects
     for n, b in enumerate(buildings):
         oid = model.buildings[b]
-        tree = [(o, model.objects[o]) for o in model.tree(oid)]
+        tree = [(o, objects[o]) for o in model.tree(oid)]
         present = frozenset(g.get("lod") for _, obj in tree for g in obj.get("geometry", ())
-                            if _copyable(g))
+                            if g.get("type") in COPYABLE)
         if present not in chosen_of:
             chosen_of[present] = _chosen_lods(present, lods)
         chosen, fell = chosen_of[present]
@@ -225,12 +259,16 @@ def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None):
                 uses_extension = _uses_extension(obj)
             copy = dict(obj)
             if "geometry" in obj:
-                kept = [g for g in obj["geometry"] if g.get("lod") in chosen and _copyable(g)]
-                report.skipped_geometries += sum(not _copyable(g) for g in obj["geometry"]) \
-                    if len(kept) < len(obj["geometry"]) else 0
-                if any("material" in g or "texture" in g for g in kept):
-                    kept = [{k: v for k, v in g.items() if k not in ("material", "texture")}
-                            for g in kept]
+                stored = obj["geometry"]
+                kept = [g for g in stored if g.get("lod") in chosen and g.get("type") in COPYABLE]
+                if len(kept) < len(stored):
+                    kept_all = False
+                    report.skipped_geometries += sum(g.get("type") not in COPYABLE for g in stored)
+                for g in kept:
+                    if "material" in g or "texture" in g:
+                        kept = [{k: v for k, v in g.items() if k not in ("material", "texture")}
+                                for g in kept]
+                        break
                 copy["geometry"] = kept
                 geometries.extend(kept)
             objs[o] = copy
@@ -245,21 +283,68 @@ def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None):
                              reference_system=model.reference_system,
                              extensions=model.extensions if uses_extension else None,
                              report=report, copied_geometries=geometries)
-    building_of = np.repeat(np.arange(len(buildings)), counts)
     offset = model.offset[buildings] if buildings else np.zeros(0, dtype=np.int64)
-    copied.layout = citygeometry.layout(geometries, offset[building_of] if offset.any() else None)
+    whole = (keep_numbering and not offset.any() and kept_all
+             and len(set(buildings)) == len(model.buildings)
+             and sum(map(len, trees)) == len(model.objects))
+    if whole and _number_as_model(copied, model):
+        return copied
+    _number_by_building(copied, counts, offset, len(model.vertices),
+                        lambda source: _to_grid(model, source, scale))
+    return copied
+
+
+def _number_as_model(copied, model):
+    """Number a whole model's copy as the model (see
+    :attr:`CopiedBuildings.model_numbered`) where its geometries use every
+    vertex of the model and the model's grid is a whole multiple of the
+    output's; False (nothing changed) otherwise."""
+    geometries = copied.geometries()
+    if not geometries or len(model.vertices) == 0:
+        return False
+    used = citygeometry.used_vertices(geometries, len(model.vertices))
+    if used is None or not used.all():
+        return False                    # an orphan vertex: the rows are numbered anew
+    vertices, exact = _to_grid(model, np.arange(len(model.vertices)), copied.scale)
+    if not exact:
+        return False
+    copied.vertices, copied.model_numbered = vertices, True
+    return True
+
+
+def _number_by_building(copied, counts, shift, count, to_grid):
+    """Number the vertex rows of ``copied`` building by building, in the
+    order its geometries first use them (see :func:`_rows`). ``counts``: the
+    geometries of each building; ``shift``: per building, added to its
+    stored indices to index the source's ``count`` vertices; ``to_grid``:
+    the source vertices (indices) -> their rows on the output grid and
+    whether exactly (see :func:`_to_grid`)."""
+    building_of = np.repeat(np.arange(len(copied)), counts)
+    copied.layout = citygeometry.layout(copied.geometries(),
+                                        shift[building_of] if shift.any() else None)
     lay = copied.layout
     source, row_owner, copied.rows = _rows(
-        lay.flat, np.repeat(building_of[lay.leaf_geometry], np.diff(lay.offsets)),
-        len(model.vertices))
-    copied.vertices, exact = _to_grid(model, source, scale)
-    copied.vertex_start = np.searchsorted(row_owner, np.arange(len(buildings) + 1))
-    copied.stored_local = exact and np.array_equal(source - offset[row_owner],
+        lay.flat, np.repeat(building_of[lay.leaf_geometry], np.diff(lay.offsets)), count)
+    copied.vertices, exact = to_grid(source)
+    copied.vertex_start = np.searchsorted(row_owner, np.arange(len(copied) + 1))
+    copied.stored_local = exact and np.array_equal(source - shift[row_owner],
                                                    copied.local_index())
     if not exact and len(source) and len(
             unique_rows(np.column_stack([row_owner, copied.vertices]))[0]) < len(source):
         _collapse(copied, row_owner)
-    return copied
+
+
+def by_building(copied):
+    """``copied`` with its vertex rows numbered building by building (a copy
+    numbered as its model is renumbered; any other is returned as it is)."""
+    if not copied.model_numbered:
+        return copied
+    grid = copied.vertices
+    out = dataclasses.replace(copied, vertices=None, layout=None, rows=None,
+                              model_numbered=False)
+    _number_by_building(out, out.geometry_counts(), np.zeros(len(out), dtype=np.int64),
+                        len(grid), lambda source: (grid[source], True))
+    return out
 
 
 def _rows(source, owner, count):
@@ -387,10 +472,10 @@ def merged_metadata(metadata, lo, hi, copied, scale):
     ``lo``/``hi`` of ``scale``, or None) and copied vertices, reference system."""
     metadata = dict(metadata or {})
     ext = copied.extent()
-    corners = [c for c in ((lo, hi), ext) if c is not None and c[0] is not None]
-    if corners:
-        low = np.min([c[0] for c in corners], axis=0)
-        high = np.max([c[1] for c in corners], axis=0)
+    boxes = [c for c in ((lo, hi), ext) if c is not None and c[0] is not None]
+    if boxes:
+        low = np.min([c[0] for c in boxes], axis=0)
+        high = np.max([c[1] for c in boxes], axis=0)
         metadata["geographicalExtent"] = (np.concatenate([low, high]) * scale).round(6).tolist()
     rs = output_reference_system(metadata.get("referenceSystem"), copied.reference_system)
     if rs is not None:
@@ -405,11 +490,10 @@ def _placement(generated, copied):
     G, C = len(generated), len(copied.vertices)
     if C == 0:
         return np.zeros(0, dtype=np.int64), copied.vertices
-    corners = [copied.extent() if hasattr(copied, "extent") else
-               (copied.vertices.min(axis=0), copied.vertices.max(axis=0))]
+    ends = [copied.extent() if hasattr(copied, "extent") else corners(copied.vertices)]
     if G:
-        corners.insert(0, (generated.min(axis=0), generated.max(axis=0)))
-    keys = _packed([generated, copied.vertices] if G else [copied.vertices], corners)
+        ends.insert(0, corners(generated))
+    keys = _packed([generated, copied.vertices] if G else [copied.vertices], ends)
     if keys is not None:
         ordered = np.sort(keys)
         if not np.any(ordered[1:] == ordered[:-1]):
@@ -431,12 +515,12 @@ def _placement(generated, copied):
     return np.where(known >= 0, known, G + rank[at]), copied.vertices[new]
 
 
-def _packed(parts, corners):
+def _packed(parts, boxes):
     """One int64 per integer (x, y, z) row of the arrays ``parts``, equal for
     equal rows (None when the extent is too large to pack the three into 63
-    bits); ``corners``: (lo, hi) of each part."""
-    lo = np.min([c[0] for c in corners], axis=0)
-    span = np.max([c[1] for c in corners], axis=0) - lo + 1
+    bits); ``boxes``: the (lo, hi) corners of each part."""
+    lo = np.min([c[0] for c in boxes], axis=0)
+    span = np.max([c[1] for c in boxes], axis=0) - lo + 1
     if int(span[0]) * int(span[1]) * int(span[2]) >= 2 ** 62:
         return None
     keys = []
@@ -489,11 +573,23 @@ def merge(generated, copied):
     if copied is None or len(copied) == 0:
         return generated
     if isinstance(generated, str):
-        return "".join(merged_pieces(generated, copied))
+        from .cityjson import joined_text
+
+        return joined_text(merged_pieces(generated, copied))
     doc = dict(generated)
     scale, translate = _transform(doc, copied)
     gen = np.asarray(doc.get("vertices") or np.zeros((0, 3)), dtype=np.int64).reshape(-1, 3)
     _check_ids(copied, {json.dumps(k)[1:-1] for k in doc.get("CityObjects", {})})
+    stored = _stored_first(doc, gen, translate, copied, scale)
+    if stored is not None:                      # a copy numbered as its model
+        head, translate = stored
+        rows = copied.vertices - translate
+        objects = _shifted_objects(doc.get("CityObjects", {}), len(rows))
+        for tree in copied.trees:
+            objects.update(tree)
+        head["CityObjects"] = objects
+        head["vertices"] = rows.tolist() + list(doc.get("vertices") or [])
+        return head
     head, to_out, rows = _head_and_rows(doc, gen, translate, copied, scale)
     objects = dict(doc.get("CityObjects", {}))
     for objs in copied.objects(to_out):
@@ -501,6 +597,18 @@ def merge(generated, copied):
     head["CityObjects"] = objects
     head["vertices"] = list(doc.get("vertices") or []) + rows.tolist()
     return head
+
+
+def _shifted_objects(objects, shift):
+    """Copies of city objects (by id) whose geometries' vertex indices are ``shift`` more."""
+    geoms = [g for obj in objects.values() for g in obj.get("geometry", ())]
+    new = iter(citygeometry.reindex(geoms, lambda flat: flat + shift))
+    out = {}
+    for oid, obj in objects.items():
+        out[oid] = obj
+        if obj.get("geometry"):
+            out[oid] = dict(obj, geometry=[next(new) for _ in obj["geometry"]])
+    return out
 
 
 def _transform(doc, copied):
@@ -516,27 +624,38 @@ def _head_and_rows(doc, gen, translate, copied, scale):
     """The merged document without its objects and vertices, the output
     index of every copied vertex and the new vertex rows (relative to the
     output translate)."""
+    head, translate, absolute = _head(doc, gen, translate, copied, scale)
+    to_out, rows = _placement(absolute, copied)
+    return head, to_out, rows - translate
+
+
+def _head(doc, gen, translate, copied, scale):
+    """The merged document without its objects and vertices, its integer
+    translate, and the generated vertices ``gen`` (relative to the
+    document's ``translate``) as absolute integers."""
     head = {k: v for k, v in doc.items() if k not in ("CityObjects", "vertices")}
     translate = translate.astype(np.int64)
     if len(gen) == 0:
-        translate = copied.vertices.min(axis=0)
+        translate = copied.extent()[0]
     absolute = gen + translate
-    to_out, rows = _placement(absolute, copied)
-    lo = absolute.min(axis=0) if len(gen) else None
-    hi = absolute.max(axis=0) if len(gen) else None
+    lo, hi = corners(absolute) if len(gen) else (None, None)
     head["transform"] = {"scale": [scale] * 3, "translate": (translate * scale).round(6).tolist()}
     head["metadata"] = merged_metadata(doc.get("metadata"), lo, hi, copied, scale)
     if copied.extensions:
         head["extensions"] = dict(doc.get("extensions") or {}, **copied.extensions)
-    return head, to_out, rows - translate
+    return head, translate, absolute
 
 
 @citygeometry.gc_paused()
 def merged_pieces(text, copied):
-    """:func:`merge` of the generated model's ``text`` as the list of texts
-    that make the merged model's, in order: written one after the other
-    (``cityjson.write_text`` takes the list), the 50 MB of a large model are
-    neither joined into one text nor encoded at once."""
+    """:func:`merge` of the generated model's ``text`` as the pieces (texts
+    or UTF-8 bytes) that make the merged model's, in order: written one
+    after the other (``cityjson.write_text`` takes them), the 50 MB of a
+    large model are neither joined into one text nor encoded at once. A
+    list, or where the copy keeps its model's numbering an iterator that
+    makes the copied objects' and vertices' pieces as they are written (one
+    pass: :func:`_as_stored_pieces`); every check is made before it is
+    returned."""
     from .cityjsonseq import vertices_texts
 
     if copied is None or len(copied) == 0:
@@ -553,6 +672,10 @@ def merged_pieces(text, copied):
         if inner.strip() != "[]" else np.zeros(0, dtype=np.int64)
     gen = flat.reshape(-1, 3)
     _check_ids(copied, _keys(body))
+    if copied.model_numbered:
+        pieces = _as_stored_pieces(doc, body, inner, gen, translate, copied, scale)
+        if pieces is not None:
+            return pieces
     head, to_out, rows = _head_and_rows(doc, gen, translate, copied, scale)
     objects = _objects_pieces(copied, to_out)
     if len(rows):
@@ -563,3 +686,108 @@ def merged_pieces(text, copied):
     head_text = json.dumps(head, separators=(",", ":"))
     return ([head_text[:-1], ',"CityObjects":{', body, "," if body and objects else ""]
             + objects + ['},"vertices":'] + vertices + ["}"])
+
+
+def _stored_first(doc, gen, translate, copied, scale):
+    """The head of the merged document (:func:`_head`) and its integer
+    translate where the copy is numbered as its model
+    (:attr:`CopiedBuildings.model_numbered`) and no copied vertex equals
+    another one: the copied vertices then come first, in the model's order,
+    so that the copied objects keep their boundaries as they were read, and
+    the generated buildings' indices (of ``gen``, the generated vertices)
+    move behind them. None otherwise (the caller then places the vertices
+    one by one, :func:`_placement`)."""
+    if not copied.model_numbered:
+        return None
+    head, translate, absolute = _head(doc, gen, translate, copied, scale)
+    ends = [copied.extent()] + ([corners(absolute)] if len(gen) else [])
+    if not _distinct([copied.vertices, absolute], ends):
+        return None
+    return head, translate
+
+
+def _as_stored_pieces(doc, body, inner, gen, translate, copied, scale):
+    """:func:`merged_pieces` of a copy numbered as its model, its vertices
+    first (:func:`_stored_first`): the copied objects written as they were
+    read, boundaries included, by orjson, chunk after chunk as the file is
+    written (:func:`_stored_objects`, :func:`_rows_text`). ``body``,
+    ``inner``: the texts of the generated objects and vertices ``gen``.
+    None where :func:`_stored_first` is, or where the generated boundaries
+    are not plain lists of indices."""
+    stored = _stored_first(doc, gen, translate, copied, scale)
+    if stored is None:
+        return None
+    head, translate = stored
+    body = _shifted_boundaries(body, len(copied.vertices)) if len(gen) else body
+    if body is None:
+        return None
+    head_text = json.dumps(head, separators=(",", ":"))
+    return itertools.chain(
+        [head_text[:-1], ',"CityObjects":{', body, "," if body else ""], _stored_objects(copied),
+        ['},"vertices":'], _rows_text(copied.vertices, translate),
+        ["," + inner[1:] if len(gen) else "]", "}"])
+
+
+#: buildings, or vertex rows, written at a time: each chunk's memory is used again by
+#: the next instead of one text of the whole being made in new memory, page after page
+_CHUNK = 2000
+_ROWS = 65536
+
+
+def _stored_objects(copied):
+    """The JSON text of the copied city objects (members of a CityObjects
+    object) as they are stored, UTF-8 bytes, :data:`_CHUNK` buildings a piece."""
+    for a in range(0, len(copied), _CHUNK):
+        structure = {}
+        for tree in copied.trees[a:a + _CHUNK]:
+            structure.update(tree)
+        if a:
+            yield ","
+        yield memoryview(citygeometry.json_bytes(structure))[1:-1]
+
+
+def _rows_text(rows, translate):
+    """The JSON text ``[[x,y,z],...`` (no closing bracket) of the integer
+    rows ``rows - translate`` (none empty), written by orjson
+    :data:`_ROWS` rows a piece."""
+    import orjson
+
+    for a in range(0, len(rows), _ROWS):
+        text = orjson.dumps(rows[a:a + _ROWS] - translate, option=orjson.OPT_SERIALIZE_NUMPY)
+        yield memoryview(text)[:-1] if a == 0 else b"," + text[1:-1]
+
+
+def _distinct(parts, boxes):
+    """Whether the integer (x, y, z) rows of the arrays ``parts`` (their
+    (lo, hi) corners ``boxes``) are all different."""
+    parts = [p for p in parts if len(p)]
+    keys = _packed(parts, boxes)
+    if keys is None:
+        rows = np.concatenate(parts)
+        return len(unique_rows(rows)[0]) == len(rows)
+    keys.sort()
+    return not np.any(keys[1:] == keys[:-1])
+
+
+#: the boundaries of a geometry in a CityObjects text: a plain list of integers
+_BOUNDARIES = re.compile(r'"boundaries":(\[[0-9,\[\]]*\])')
+
+
+def _shifted_boundaries(body, shift):
+    """``body`` (the JSON text of city objects, as ``cityjson.citymodel_text``
+    writes them) with ``shift`` added to every vertex index of its
+    geometries' boundaries; None where a boundaries list is not a plain list
+    of indices."""
+    from .cityjson import shifted_lists
+
+    parts = _BOUNDARIES.split(body)
+    outside, lists = parts[0::2], parts[1::2]
+    if len(lists) != body.count('"boundaries":'):
+        return None
+    new = shifted_lists(lists, shift)
+    if new is None:
+        return None
+    out = [None] * (len(outside) + len(new))
+    out[0::2] = outside
+    out[1::2] = ['"boundaries":' + t for t in new]
+    return "".join(out)

@@ -305,10 +305,11 @@ def _pick(values, keep):
     return [values[i] for i in keep.tolist()]
 
 
-def copy_matched(match, footprints, count):
+def copy_matched(match, footprints, count, fmt="cityjson"):
     """The matched buildings (:class:`~reconstruction.citymerge.CopiedBuildings`),
     in footprint order, with their footprint's plot, source and category as
-    attributes where they have none of their own."""
+    attributes where they have none of their own, ready to be written in
+    the format ``fmt``."""
     building = match.building(count)
     matched = match.copied(count)
     cats = footprints.cats if footprints.cats is not None else list(range(1, count + 1))
@@ -317,11 +318,12 @@ def copy_matched(match, footprints, count):
         if values is not None:
             attributes[name] = [values[i] for i in matched.tolist()]
     return citymerge.copy_buildings(match.model, building[matched], lods=match.request.lods,
-                                    attributes=attributes)
+                                    attributes=attributes, keep_numbering=fmt == "cityjson")
 
 
 def _single_text(result, copied, request):
-    """The single-file model's text, as a list of texts (written in turn)."""
+    """The single-file model's text, as pieces written in turn (one pass:
+    see ``citymerge.merged_pieces``)."""
     text = cityjson.citymodel_text(result.solids, result.semantics, result.ids,
                                    result.attributes, request.reference_system,
                                    title=request.title)
@@ -338,21 +340,23 @@ def write_model(result, footprints, request, match=None):
         count = len(footprints.geometries)
         before = len(result.ids)
         result = without_footprints(result, match.copied(count))
-        copied = copy_matched(match, footprints, count)
+        copied = copy_matched(match, footprints, count, fmt)
         report = OutputReport(generated=len(result.ids), copied=len(copied),
                               replaced=before - len(result.ids), copy=copied.report,
                               match=match.matches.report, candidates=len(match.candidates))
-    text = None
+    pieces = None
     if fmt == "cityjson":
-        text = _single_text(result, copied, request)
-        cityjson.write_text(request.path, text)
+        pieces = _single_text(result, copied, request)
+        if request.render:
+            pieces = list(pieces)           # written, then drawn
+        cityjson.write_text(request.path, pieces)
     else:
         with safefile.replacing(request.path) as f:
             cityjsonseq.write(f, result.solids, result.semantics, result.ids, result.attributes,
                               request.reference_system, request.title, copied=copied)
     if request.render:
-        document = json.loads("".join(text if text is not None
-                                      else _single_text(result, copied, request)))
+        document = json.loads(cityjson.joined_text(
+            pieces if pieces is not None else _single_text(result, copied, request)))
         render_model(document, request, copied.ids if copied is not None else ())
         report.rendered = request.render
     return report

@@ -5,6 +5,7 @@ import os
 
 import numpy as np
 import pytest
+from hypothesis import given, strategies as st
 
 from reconstruction import cityjson, outlines, roofs, solids, solidset
 
@@ -191,6 +192,43 @@ def test_integer_text_of_every_width_and_separator():
     assert offsets.tolist() == np.cumsum([0] + [len(p) for p in pieces[:-1]]).tolist()
     small = np.array([7, 0, 42])
     assert cityjson._int_text(small, np.array([1, 1, 1]), table)[0] == ",7,0,42"
+
+
+nested = st.recursive(st.lists(st.integers(0, 10 ** 12), min_size=1, max_size=6),
+                      lambda inner: st.lists(inner, min_size=1, max_size=4), max_leaves=40)
+
+
+@given(lists=st.lists(nested, min_size=1, max_size=6), shift=st.integers(0, 10 ** 9))
+def test_shifted_lists_add_the_shift_to_every_integer(lists, shift):
+    """shifted_lists rewrites the numbers of nested lists' texts as json.dumps
+    writes the lists with the shift added, list by list."""
+    def plus(x):
+        return [plus(y) for y in x] if isinstance(x, list) else x + shift
+
+    texts = [json.dumps(x, separators=(",", ":")) for x in lists]
+    assert cityjson.shifted_lists(texts, shift) == [
+        json.dumps(plus(x), separators=(",", ":")) for x in lists]
+
+
+@pytest.mark.parametrize("text", ["[[1,2],[]]", "[1.5]", "[-1,2]", "[null]", '["1"]', "[1e5]",
+                                  "[[1,{}]]", "[9223372036854775808]"])
+def test_only_plain_lists_of_indices_are_read_as_such(text):
+    """An empty list (np.fromstring would read a 0), a negative or
+    non-integer number, anything but numbers, or one past int64: not plain."""
+    assert cityjson.plain_integers(text.encode()) is None
+    assert cityjson.shifted_lists([text], 1) is None
+
+
+def test_plain_lists_of_indices_are_read_in_order():
+    assert cityjson.plain_integers(b"[[[0,12],[3]],[[45678]]]").tolist() == [0, 12, 3, 45678]
+
+
+def test_write_text_writes_texts_and_bytes_in_order(tmp_path):
+    path = tmp_path / "m.city.json"
+    pieces = ['{"a":', memoryview("\"\u00e9t\u00e9\",".encode())[:-1], b',"b":', '"\u00e9"}']
+    cityjson.write_text(str(path), iter(pieces))
+    assert path.read_text(encoding="utf-8") == '{"a":"\u00e9t\u00e9","b":"\u00e9"}'
+    assert cityjson.joined_text(pieces) == path.read_text(encoding="utf-8")
 
 
 def test_write_text_leaves_no_partial_file(tmp_path):

@@ -444,3 +444,99 @@ def test_copied_rows_in_first_use_order_and_per_building_when_shared():
     source, owner, rows = citymerge._rows(np.array([5, 3, 5, 3]), np.array([0, 0, 1, 1]), 8)
     assert (source.tolist(), owner.tolist(), rows.tolist()) == ([3, 5, 3, 5], [0, 0, 1, 1],
                                                                 [1, 0, 3, 2])
+
+
+# ---------------------------------------------------------------------------
+# A whole model copied keeps its numbering
+# ---------------------------------------------------------------------------
+
+def stored_boundaries(doc):
+    return {o: [g["boundaries"] for g in obj.get("geometry", ())]
+            for o, obj in doc["CityObjects"].items()}
+
+
+def test_a_whole_model_keeps_its_numbering_and_its_objects_as_read(sample, schema_dir):
+    """Every building of a single file copied (each vertex used): its vertices
+    come first in the model's order, its boundaries are written as they were
+    read, the generated buildings' indices follow; the same model (objects
+    and coordinates) as a copy numbered anew, by text and by dict."""
+    path = os.path.join(sample, FORMS[0])
+    with open(path) as f:
+        read = json.load(f)
+    model = existing.read_model(path)
+    kept = citymerge.copy_buildings(model, [1, 0])
+    anew = citymerge.copy_buildings(model, [1, 0], keep_numbering=False)
+    assert kept.model_numbered and not anew.model_numbered
+    gen = generated(BOXES)
+    docs = [json.loads(citymerge.merge(gen[4], c)) for c in (kept, anew)]
+    for doc in docs:
+        assert cityjson.schema_errors(doc, schema_dir) == []
+        assert cityjson.consistency_errors(doc) == []
+    assert citygeometry.resolved(docs[0]) == citygeometry.resolved(docs[1])
+    assert {o: b for o, b in stored_boundaries(docs[0]).items()
+            if o in read["CityObjects"]} == stored_boundaries(read)
+    n = len(read["vertices"])
+    shift = np.rint(np.subtract(read["transform"]["translate"],
+                                docs[0]["transform"]["translate"]) / 0.001).astype(int)
+    assert (np.array(docs[0]["vertices"][:n]) == np.array(read["vertices"]) + shift).all()
+    generated_used = citygeometry.indices([g for o, obj in docs[0]["CityObjects"].items()
+                                           if o not in read["CityObjects"]
+                                           for g in obj["geometry"]])
+    assert generated_used.min() == n
+    assert citymerge.merge(json.loads(gen[4]), kept) == docs[0]
+
+
+def test_part_of_a_model_is_numbered_anew(sample):
+    """One building of two, a LoD left out, an unused vertex or a CityJSONSeq
+    input: the copy's rows are numbered anew (the model's numbering would
+    leave vertices unused)."""
+    path = os.path.join(sample, FORMS[0])
+    model = existing.read_model(path)
+    assert not citymerge.copy_buildings(model, [0]).model_numbered
+    assert not citymerge.copy_buildings(with_two_lods(sample), [0, 1]).model_numbered
+    assert citymerge.copy_buildings(with_two_lods(sample), [0, 1], lods="all").model_numbered
+    assert not citymerge.copy_buildings(existing.read_model(os.path.join(sample, FORMS[1])),
+                                        [0, 1]).model_numbered
+    with open(path) as f:
+        doc = json.load(f)
+    doc["vertices"].append([1, 2, 3])
+    orphan = citymerge.copy_buildings(existing.model_of(doc), [0, 1])
+    assert not orphan.model_numbered
+    merged = json.loads(citymerge.merge(generated(BOXES)[4], orphan))
+    assert cityjson.consistency_errors(merged) == []
+
+
+def test_a_generated_vertex_equal_to_a_copied_one_is_shared(sample):
+    """Where a generated vertex equals a copied one, the copy's own numbering
+    cannot hold every vertex once: the vertices are placed one by one and
+    the two share one index, by text and by dict alike."""
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    copied = citymerge.copy_buildings(model, [0, 1])
+    assert copied.model_numbered
+    gen = json.loads(generated(BOXES)[4])
+    t = np.rint(np.asarray(gen["transform"]["translate"]) / 0.001).astype(int)
+    gen["vertices"][0] = (copied.vertices[5] - t).tolist()
+    for doc in (citymerge.merge(gen, copied),
+                json.loads(citymerge.merge(json.dumps(gen, separators=(",", ":")), copied))):
+        assert cityjson.consistency_errors(doc) == []
+        assert len(doc["vertices"]) == len(gen["vertices"]) + len(copied.vertices) - 1
+
+
+def test_a_copy_numbered_as_its_model_numbered_by_building_as_anew(sample):
+    """by_building gives the rows, their start per building and the
+    boundaries' texts of the copy numbered anew (as CityJSONSeq features
+    want them); a CityJSONSeq written from either is the same."""
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    kept = citymerge.copy_buildings(model, [1, 0])
+    anew = citymerge.copy_buildings(model, [1, 0], keep_numbering=False)
+    by = citymerge.by_building(kept)
+    assert not by.model_numbered and kept.model_numbered
+    assert np.array_equal(by.vertices, anew.vertices)
+    assert np.array_equal(by.vertex_start, anew.vertex_start)
+    assert by.boundary_texts() == anew.boundary_texts() == kept.boundary_texts()
+    assert by.stored_local == anew.stored_local
+    assert citymerge.by_building(anew) is anew
+    with pytest.raises(ValueError, match="numbered as its model"):
+        kept.local_index()
+    gen = generated(BOXES)
+    assert sequence_of(gen, kept)[1].getvalue() == sequence_of(gen, anew)[1].getvalue()

@@ -308,11 +308,15 @@ def main():
         copied_seq = citymerge.copy_buildings(
             model_seq, existing.match(model_seq, aligned, ids=bag_ids).building)
         del model_seq
-        for label, c in (("{} generated".format(len(gen[2])), None),
-                         ("{} generated + {} copied".format(len(gen[2]), len(copied)), copied),
-                         ("{} generated + {} copied from the CityJSONSeq".format(
-                             len(gen[2]), len(copied_seq)), copied_seq)):
-            t_single, t_seq = interleaved([lambda: write_single(c), lambda: write_seq(c)],
+        # each format's copy as v.histo.lod2 makes it (CityJSONSeq features number their own)
+        for_seq = citymerge.copy_buildings(model, matches.building[matches.matched],
+                                           keep_numbering=False)
+        for label, c, c_seq in (
+                ("{} generated".format(len(gen[2])), None, None),
+                ("{} generated + {} copied".format(len(gen[2]), len(copied)), copied, for_seq),
+                ("{} generated + {} copied from the CityJSONSeq".format(
+                    len(gen[2]), len(copied_seq)), copied_seq, copied_seq)):
+            t_single, t_seq = interleaved([lambda: write_single(c), lambda: write_seq(c_seq)],
                                           args.runs)
             if c is not copied_seq:     # the verdict below: the single-file input, as before
                 single_cpu, seq_cpu = single_cpu + t_single.cpu, seq_cpu + t_seq.cpu
