@@ -206,9 +206,8 @@ def reindex(geometries, mapping, shift=None):
 def texts(lay, new):
     """The JSON text of the ``boundaries`` of every geometry of a
     :class:`Layout` with the non-negative indices ``new`` (one per entry),
-    written in bulk by the integer writer of ``cityjson``: every number
-    after its separator, the brackets between two rings, surfaces or shells
-    included (None for geometries of unknown type)."""
+    written in bulk (:func:`_nested_text`): the brackets between two rings,
+    surfaces or shells included (None for geometries of unknown type)."""
     new = np.asarray(new, dtype=np.int64)
     out = [None] * lay.count
     for positions, start, n, counts in lay.groups:
@@ -223,13 +222,20 @@ def texts(lay, new):
 
 
 def _nested_text(values, sizes, counts):
-    """The texts of the geometries of one depth whose leaves hold
-    ``values`` (``sizes`` per leaf, ``counts``: list lengths level by level,
-    none empty): the separator before a number closes and opens as many
-    lists as end there."""
-    from .cityjson import _int_text, _pieces
+    """The texts of the geometries of one depth whose leaves hold the
+    non-negative ``values`` (``sizes`` per leaf, ``counts``: list lengths
+    level by level, none empty), written by orjson: before an entry that
+    starts a new leaf stands a marker, the negative number ``-k`` where
+    ``k`` lists end there (an index is never negative), and the text of
+    every marker with its commas is then replaced by ``k`` closing
+    brackets, a comma and ``k`` opening ones, or cut between two geometries
+    (``k`` = depth + 1). Twice as fast as the numpy writer of ``cityjson``
+    on 2 M indices."""
+    import orjson
 
     depth = len(counts)
+    if len(values) and values.min() < 0:
+        raise ValueError("negative vertex index")
     # a list starts at its first leaf's first entry; every list above a
     # leaf that starts one starts there too (no list is empty)
     starts = np.cumsum(sizes) - sizes
@@ -240,18 +246,20 @@ def _nested_text(values, sizes, counts):
         c = np.asarray(c, dtype=np.int64)
         first_leaf = first_leaf[np.cumsum(c) - c]
         change[starts[first_leaf]] += 1
-    # a new geometry: its leaf and every list above changed (for depth 0 the
-    # leaf is the geometry's boundaries); within one at most ``depth`` do
-    first = starts[first_leaf]
-    change[0] = depth + 2
-    # a geometry's first entry closes the one before (cut after the closing brackets)
+    change[0] = 0                       # the first geometry opens the text
+    at = np.flatnonzero(change)
+    marked = np.empty(len(values) + len(at), dtype=np.int64)
+    where = at + np.arange(len(at))
+    marked[where] = -change[at].astype(np.int64)
+    entry = np.ones(len(marked), dtype=bool)
+    entry[where] = False
+    marked[entry] = values
+    text = orjson.dumps(marked, option=orjson.OPT_SERIALIZE_NUMPY)
+    for k in np.flatnonzero(np.bincount(change[at], minlength=depth + 1)[1:depth + 1]) + 1:
+        text = text.replace(b",-%d," % k, b"]" * k + b"," + b"[" * k)
+    pieces = text[1:-1].split(b",-%d," % (depth + 1))
     close, open_ = "]" * (depth + 1), "[" * (depth + 1)
-    table = ["]" * k + "," + "[" * k for k in range(depth + 1)] + [close + open_, open_]
-    text, at = _int_text(values, change, table)
-    pieces = _pieces(text, at[first] + len(close), np.arange(len(first)))
-    pieces[0] = text[:len(pieces[0]) + len(close)]
-    pieces.append(pieces.pop() + close)
-    return pieces
+    return [open_ + str(p, "ascii") + close for p in pieces]
 
 
 def _joined(lay, new, positions, start, n, counts):
@@ -274,57 +282,44 @@ def _joined(lay, new, positions, start, n, counts):
     return level
 
 
-#: stands in a structure given to json.dumps for text put in afterwards (see :func:`splice`)
-HOLE = "\x00"
-_HOLE_TEXT = '"\\u0000"'
-
-
-def json_bytes(structure):
+def orjson_bytes(structure):
     """The compact JSON text of ``structure`` as UTF-8 bytes, written by
     orjson (six times faster than ``json.dumps`` on a city model's
     attributes and semantics): strings in UTF-8 rather than ``\\u`` escapes,
-    NaN as null, numpy arrays and scalars as lists and numbers; by
-    ``json.dumps`` what orjson does not write (a string with a lone
-    surrogate, an integer over 64 bits)."""
+    NaN as null, numpy arrays and scalars as lists and numbers, the
+    :func:`fragment` texts the structure holds as they are; None where
+    orjson does not write it (a string with a lone surrogate, an integer
+    over 64 bits)."""
     import orjson        # here, not at start-up: only copied buildings are written with it
 
     try:
         return orjson.dumps(structure, option=orjson.OPT_SERIALIZE_NUMPY)
     except orjson.JSONEncodeError:
-        return json.dumps(structure, separators=(",", ":"), default=_plain).encode()
+        return None
 
 
-def json_text(structure):
-    """:func:`json_bytes` as text."""
-    return json_bytes(structure).decode()
+def json_bytes(structure, plain=None):
+    """:func:`orjson_bytes`, or where orjson does not write the structure
+    ``json.dumps``'s text of it, or where it holds fragments (which
+    json.dumps cannot put in) of the one ``plain()`` returns."""
+    text = orjson_bytes(structure)
+    if text is None:
+        text = json.dumps(structure if plain is None else plain(), separators=(",", ":"),
+                          default=_plain).encode()
+    return text
+
+
+def fragment(text):
+    """JSON text that :func:`json_bytes` writes as it is where a structure holds it."""
+    import orjson
+
+    return orjson.Fragment(text)
 
 
 def _plain(value):
     if isinstance(value, (np.ndarray, np.generic)):
         return value.tolist()
     raise TypeError("cannot write {!r} in JSON".format(value))
-
-
-def pieces_around_holes(structure, holes):
-    """:func:`json_text` of ``structure`` cut at the :data:`HOLE` strings the
-    structure holds (``holes`` of them): the texts between them, one more
-    than the holes; None when the structure has other strings equal to HOLE
-    (the caller then writes it another way)."""
-    text = json_text(structure)
-    pieces = text.split(_HOLE_TEXT)
-    return pieces if len(pieces) == holes + 1 else None
-
-
-def splice(structure, fills):
-    """``json.dumps(structure)`` with the texts ``fills``, in order, where the
-    structure holds :data:`HOLE` strings (None: see :func:`pieces_around_holes`)."""
-    pieces = pieces_around_holes(structure, len(fills))
-    if pieces is None:
-        return None
-    out = [None] * (2 * len(pieces) - 1)
-    out[0::2] = pieces
-    out[1::2] = fills
-    return "".join(out)
 
 
 def resolved(document, digits=6):

@@ -17,40 +17,42 @@ coordinates. The text is built in bulk with the integer writer of
 :mod:`reconstruction.cityjson`, as the single file is.
 """
 
+import io
 import itertools
 import json
 
 import numpy as np
 
 from . import citygeometry
-from .cityjson import (CITYJSON_VERSION, LOD, _attr_list, _int_text, _member_texts, _pieces,
-                       _split_by_solid, crs_url)
+from .cityjson import CITYJSON_VERSION, LOD, _attr_list, _member_texts, _split_by_solid, crs_url
 from .errors import InputError
-from .rings import offsets as ring_offsets, unique_rows
+from .rings import corners, unique_rows
 from .solidset import SEMANTIC_NAMES, take
 
-_SEPARATORS = ["[[", "],[", ",", "[[-", "],[-", ",-"]
+#: copied buildings written at a time (each text's memory used again by the next)
+_COPIED_CHUNK = 2000
 
 
 def vertices_texts(rows, starts):
     """JSON text ``[[x,y,z],...]`` of the integer vertex rows of every group
-    ``rows[starts[k]:starts[k + 1]]`` ("[]" for an empty group), in bulk."""
-    rows = np.asarray(rows, dtype=np.int64).reshape(-1, 3)
+    ``rows[starts[k]:starts[k + 1]]`` ("[]" for an empty group), in bulk:
+    all rows written by orjson at once, the text cut at the groups' rows
+    (every row ends with the list's only "]" but the last)."""
+    import orjson
+
+    rows = np.ascontiguousarray(rows, dtype=np.int64).reshape(-1, 3)
     starts = np.asarray(starts, dtype=np.int64)
     counts = np.diff(starts)
     out = ["[]"] * len(counts)
     if len(rows) == 0:
         return out
-    prefix = np.full(rows.shape, 2, dtype=np.int8)
-    prefix[:, 0] = 1
-    first = starts[:-1][counts > 0]
-    prefix[first, 0] = 0
-    flat = rows.ravel()
-    prefix = prefix.ravel()
-    prefix[flat < 0] += 3
-    text, offsets = _int_text(np.abs(flat), prefix, _SEPARATORS)
-    for k, piece in zip(np.nonzero(counts > 0)[0].tolist(), _pieces(text, offsets, 3 * first)):
-        out[k] = piece + "]]"
+    text = orjson.dumps(rows, option=orjson.OPT_SERIALIZE_NUMPY)
+    ends = np.flatnonzero(np.frombuffer(text, dtype=np.uint8) == 93)      # "]" of row r: ends[r]
+    full = np.flatnonzero(counts > 0)
+    first, last = starts[full], starts[full + 1] - 1
+    begin = np.where(first == 0, 1, ends[first - 1] + 2)                   # after "[" or "],"
+    for k, a, b in zip(full.tolist(), begin.tolist(), (ends[last] + 1).tolist()):
+        out[k] = "[" + str(text[a:b], "ascii") + "]"
     return out
 
 
@@ -136,7 +138,7 @@ def header(translate, lo, hi, reference_system=None, title=None, copied=None, sc
 @citygeometry.gc_paused()
 def write(f, ss, semantics, ids, attributes=None, reference_system=None, title=None,
           copied=None, chunk=20000):
-    """Write a CityJSONSeq to the text file ``f``: the header, one feature per
+    """Write a CityJSONSeq to the file ``f`` (binary, or text): the header, one feature per
     generated building (solids of ``ss``, as ``cityjson.citymodel_text``
     takes them), then one per copied building (``copied``:
     :class:`~reconstruction.citymerge.CopiedBuildings`), ``chunk`` buildings
@@ -151,16 +153,18 @@ def write(f, ss, semantics, ids, attributes=None, reference_system=None, title=N
         if clash:
             raise InputError("{} copied objects have the id of a generated building (e.g. <{}>)"
                              .format(len(clash), sorted(clash)[0]))
-    corners = [(v.min(axis=0), v.max(axis=0)) for v in
-               (ss.vertices, copied.vertices if copied is not None else np.zeros((0, 3)))
-               if len(v)]
-    if corners:
-        lo = np.min([c[0] for c in corners], axis=0).astype(np.int64)
-        hi = np.max([c[1] for c in corners], axis=0).astype(np.int64)
+    boxes = [corners(ss.vertices)] if len(ss.vertices) else []
+    if copied is not None and len(copied.vertices):
+        boxes.append(copied.extent())
+    if boxes:
+        lo = np.min([c[0] for c in boxes], axis=0).astype(np.int64)
+        hi = np.max([c[1] for c in boxes], axis=0).astype(np.int64)
     else:
         lo = hi = np.zeros(3, dtype=np.int64)
-    f.write(json.dumps(header(lo, lo, hi, reference_system, title, copied),
-                       separators=(",", ":")) + "\n")
+    text_file = isinstance(f, io.TextIOBase)
+    head = json.dumps(header(lo, lo, hi, reference_system, title, copied),
+                      separators=(",", ":")) + "\n"
+    f.write(head if text_file else head.encode())
     S = len(ss)
     for a in range(0, S, chunk):
         b = min(S, a + chunk)
@@ -170,58 +174,45 @@ def write(f, ss, semantics, ids, attributes=None, reference_system=None, title=N
                                  {k: v[a:b] for k, v in attributes.items()}, local)
         verts = vertices_texts(rows - lo, starts)
         keys = [json.encoder.encode_basestring_ascii(i) for i in ids[a:b]]
-        f.writelines(map("".join, zip(
+        lines = map("".join, zip(
             itertools.repeat('{"type":"CityJSONFeature","id":'), keys,
             itertools.repeat(',"CityObjects":{'), objects, itertools.repeat('},"vertices":'),
-            verts, itertools.repeat("}\n"))))
+            verts, itertools.repeat("}\n")))
+        f.writelines(lines if text_file else (line.encode() for line in lines))
     if copied is not None and len(copied):
-        for pieces in _copied_features(copied, lo, chunk):
-            f.writelines(pieces)
+        for text in _copied_features(copied, lo, min(chunk, _COPIED_CHUNK)):
+            f.write(str(text, "utf-8") if text_file else text)
     return S + (len(copied) if copied is not None else 0)
 
 
 def _copied_features(copied, lo, chunk):
-    """The feature lines of the copied buildings, ``chunk`` buildings a list
-    of texts (written in turn, not joined): one json.dumps of the chunk's
-    objects around holes for the boundaries and vertices, which are written
-    in bulk (the boundaries as they were read where they index the
-    building's own vertices as stored:
-    :attr:`~reconstruction.citymerge.CopiedBuildings.stored_local`)."""
+    """The feature lines of the copied buildings, ``chunk`` buildings a
+    UTF-8 text: each feature written by orjson around its boundaries and
+    vertices, which are written in bulk beforehand (the boundaries as they
+    were read where they index the building's own vertices as stored:
+    :attr:`~reconstruction.citymerge.CopiedBuildings.stored_local`); by
+    json.dumps a feature that orjson does not write (a lone surrogate)."""
     as_read = copied.stored_local
-    per = [0] * len(copied) if as_read else copied.geometry_counts()
-    first = ring_offsets(per).astype(int).tolist()
-    fills_all = [] if as_read else copied.boundary_texts()
+    fills = iter(()) if as_read else iter(copied.boundary_texts())
     verts = vertices_texts(copied.vertices - lo, copied.vertex_start)
+    plain = []                          # every building's objects, made once if wanted
+
+    def plain_feature(n):
+        if not plain:
+            plain.append(copied.objects())
+        rows = copied.vertices[copied.vertex_start[n]:copied.vertex_start[n + 1]] - lo
+        return {"type": "CityJSONFeature", "id": copied.ids[n],
+                "CityObjects": plain[0][n], "vertices": rows.tolist()}
+
     for a in range(0, len(copied), chunk):
-        b = min(len(copied), a + chunk)
-        g0, g1 = first[a], first[b]
-        fills = fills_all[g0:g1]
-        structure = [{"type": "CityJSONFeature", "id": copied.ids[n],
-                      "CityObjects": copied.trees[n] if as_read else copied.holed(n),
-                      "vertices": citygeometry.HOLE}
-                     for n in range(a, b)]
-        pieces = citygeometry.pieces_around_holes(structure, g1 - g0 + b - a)
-        if pieces is None:                 # an attribute that is the placeholder itself
-            yield [_feature_text(copied, n, lo) for n in range(a, b)]
-            continue
-        out, j, k = [pieces[0][1:]], 1, 0           # without the list's "["
-        for n in range(a, b):
-            for _ in range(per[n]):
-                out.extend((fills[k], pieces[j]))
-                k += 1
-                j += 1
-            # after the vertices comes "}," (or "}]"): one feature a line
-            out.extend((verts[n], "}\n", pieces[j][2:]))
-            j += 1
-        yield out
-
-
-def _feature_text(copied, n, lo):
-    """One copied building's feature line, written plainly by json.dumps."""
-    rows = copied.vertices[copied.vertex_start[n]:copied.vertex_start[n + 1]] - lo
-    return json.dumps({"type": "CityJSONFeature", "id": copied.ids[n],
-                       "CityObjects": copied.objects()[n], "vertices": rows.tolist()},
-                      separators=(",", ":")) + "\n"
+        lines = []
+        for n in range(a, min(len(copied), a + chunk)):
+            feature = {"type": "CityJSONFeature", "id": copied.ids[n],
+                       "CityObjects": copied.trees[n] if as_read else copied.filled(n, fills),
+                       "vertices": citygeometry.fragment(verts[n])}
+            lines.append(citygeometry.json_bytes(feature, lambda: plain_feature(n)))
+        lines.append(b"")
+        yield b"\n".join(lines)
 
 
 def _faces_of(ss, a, b):

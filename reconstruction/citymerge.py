@@ -49,7 +49,7 @@ class CopiedBuildings:
 
     ``ids``: the top-level object ids; ``trees``: per building, its city
     objects by id (itself first), their geometries as the source model has
-    them (use :meth:`objects` or :func:`objects_text` for indices into
+    them (use :meth:`objects` or :meth:`boundary_texts` for indices into
     ``vertices``); ``vertices``: (N, 3) int64 absolute coordinates in units
     of ``scale``, building after building from ``vertex_start``;
     ``reference_system`` and ``extensions``: of the model they come from
@@ -107,15 +107,17 @@ class CopiedBuildings:
         """The number of copied geometries of every building."""
         return [sum(len(o.get("geometry", ())) for o in tree.values()) for tree in self.trees]
 
-    def holed(self, n):
-        """The city objects of building ``n`` with :data:`~reconstruction.citygeometry.HOLE`
-        for every geometry's boundaries (see :func:`citygeometry.splice`)."""
+    def filled(self, n, fills):
+        """The city objects of building ``n`` whose geometries' boundaries
+        are the JSON texts of ``fills`` (an iterator, one text per geometry in
+        order) as fragments (:func:`~reconstruction.citygeometry.fragment`),
+        written as they are by ``citygeometry.json_bytes``."""
         objs = {}
-        hole = citygeometry.HOLE
         for oid, obj in self.trees[n].items():
             if obj.get("geometry"):
                 objs[oid] = dict(obj)
-                objs[oid]["geometry"] = [dict(g, boundaries=hole) for g in obj["geometry"]]
+                objs[oid]["geometry"] = [dict(g, boundaries=citygeometry.fragment(next(fills)))
+                                         for g in obj["geometry"]]
             else:
                 objs[oid] = obj                 # nothing to put in: the copy as it is
         return objs
@@ -418,30 +420,22 @@ def _collapse(copied, owner):
     copied.stored_local = False
 
 
-def objects_text(copied, index):
+def _objects_pieces(copied, index):
     """The JSON text of the copied city objects (members of a CityObjects
     object, without the braces) with vertex indices ``index[row]``, the
-    boundaries written in bulk."""
-    return "".join(_objects_pieces(copied, index))
-
-
-def _objects_pieces(copied, index):
-    """:func:`objects_text` in pieces (joined once by the caller, not copied on the way)."""
+    boundaries written in bulk, as a list of pieces."""
+    fills = iter(copied.boundary_texts(index))
     structure = {}
     for n in range(len(copied)):
-        structure.update(copied.holed(n))
-    fills = copied.boundary_texts(index)
-    pieces = citygeometry.pieces_around_holes(structure, len(fills))
-    if pieces is None:                  # an attribute that is the placeholder itself
+        structure.update(copied.filled(n, fills))
+
+    def plain():
         merged = {}
         for objs in copied.objects(index):
             merged.update(objs)
-        return [json.dumps(merged, separators=(",", ":"))[1:-1]]
-    out = [None] * (2 * len(pieces) - 1)
-    out[0::2] = pieces
-    out[1::2] = fills
-    out[0], out[-1] = out[0][1:], out[-1][:-1]          # without the braces
-    return out
+        return merged
+
+    return [memoryview(citygeometry.json_bytes(structure, plain))[1:-1]]
 
 
 # ---------------------------------------------------------------------------

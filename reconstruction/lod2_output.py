@@ -351,7 +351,7 @@ def write_model(result, footprints, request, match=None):
             pieces = list(pieces)           # written, then drawn
         cityjson.write_text(request.path, pieces)
     else:
-        with safefile.replacing(request.path) as f:
+        with safefile.replacing(request.path, "wb") as f:
             cityjsonseq.write(f, result.solids, result.semantics, result.ids, result.attributes,
                               request.reference_system, request.title, copied=copied)
     if request.render:

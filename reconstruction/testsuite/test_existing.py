@@ -327,19 +327,24 @@ def test_cityjsonseq_collected_equals_the_single_file(sample, schema_dir, chunk,
     assert back["metadata"] == single["metadata"]
 
 
-def test_an_attribute_like_the_placeholder_is_written_plainly(sample):
-    """The bulk writers put boundaries where json.dumps wrote a NUL string:
-    a NUL attribute makes them fall back to plain json.dumps, same result."""
+@pytest.mark.parametrize("keep_numbering", [True, False])
+def test_an_attribute_like_a_placeholder_is_written_as_it_is(sample, keep_numbering):
+    """The bulk writers once put boundaries where json.dumps wrote a NUL
+    string; the boundaries are orjson fragments now, and a NUL attribute
+    (or one that looks like boundaries) is written as it is."""
     model = existing.read_model(os.path.join(sample, FORMS[0]))
     gen = generated(BOXES)
-    plain = citymerge.copy_buildings(model, [0, 1])
-    odd = citymerge.copy_buildings(model, [0, 1], attributes={"nul": [citygeometry.HOLE] * 2})
-    single, with_nul = (json.loads(citymerge.merge(gen[4], c)) for c in (plain, odd))
+    odd = {"nul": ["\x00"] * 2, "boundaries": [[[0, 1, 2]]] * 2}
+    plain, with_odd = (citymerge.copy_buildings(model, [0, 1], attributes=a,
+                                                keep_numbering=keep_numbering)
+                       for a in (None, odd))
+    single, merged = (json.loads(citymerge.merge(gen[4], c)) for c in (plain, with_odd))
     for oid in BAG:
-        assert with_nul["CityObjects"][oid]["attributes"].pop("nul") == citygeometry.HOLE
-    assert citygeometry.resolved(with_nul) == citygeometry.resolved(single)
-    back = cityjsonseq.collect(sequence_of(gen, odd)[1])
-    assert citygeometry.resolved(back)[BAG[0]]["attributes"]["nul"] == citygeometry.HOLE
+        attributes = merged["CityObjects"][oid]["attributes"]
+        assert (attributes.pop("nul"), attributes.pop("boundaries")) == ("\x00", [[0, 1, 2]])
+    assert citygeometry.resolved(merged) == citygeometry.resolved(single)
+    back = cityjsonseq.collect(sequence_of(gen, with_odd)[1])
+    assert citygeometry.resolved(back)[BAG[0]]["attributes"]["nul"] == "\x00"
     assert cityjson.consistency_errors(back) == []
 
 
@@ -540,3 +545,12 @@ def test_a_copy_numbered_as_its_model_numbered_by_building_as_anew(sample):
         kept.local_index()
     gen = generated(BOXES)
     assert sequence_of(gen, kept)[1].getvalue() == sequence_of(gen, anew)[1].getvalue()
+
+
+def test_a_sequence_written_to_a_binary_file_is_the_text_files_in_utf8(sample):
+    """v.histo.lod2 writes CityJSONSeq to a binary file: the same lines, as UTF-8."""
+    _, _, copied, gen, _ = aligned_and_merged(os.path.join(sample, FORMS[0]))
+    copied.trees[0][copied.ids[0]]["attributes"]["straat"] = "Oude Delft éè"
+    binary = io.BytesIO()
+    assert cityjsonseq.write(binary, *gen[:4], 28992, "test", copied=copied) == 5
+    assert binary.getvalue().decode("utf-8") == sequence_of(gen, copied)[1].getvalue()

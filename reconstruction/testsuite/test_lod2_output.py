@@ -104,7 +104,7 @@ def test_a_failing_sequence_leaves_nothing(tmp_path, monkeypatch):
     footprints, result = built(BOXES, None)
 
     def broken(f, *args, **kwargs):
-        f.write("half")
+        f.write(b"half")              # the file is opened binary
         raise OSError("disk full")
 
     monkeypatch.setattr(lod2_output.cityjsonseq, "write", broken)

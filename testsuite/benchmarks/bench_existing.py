@@ -300,7 +300,7 @@ def main():
             cityjson.write_text(out, citymerge.merged_pieces(body, c))
 
         def write_seq(c):
-            with open(out + "l", "w") as f:
+            with open(out + "l", "wb") as f:            # as v.histo.lod2 opens it
                 cityjsonseq.write(f, *gen, 28992, title="bench", copied=c)
 
         single_cpu = seq_cpu = 0.0
