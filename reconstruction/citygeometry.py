@@ -206,7 +206,7 @@ def reindex(geometries, mapping, shift=None):
 def texts(lay, new):
     """The JSON text of the ``boundaries`` of every geometry of a
     :class:`Layout` with the non-negative indices ``new`` (one per entry),
-    written in bulk (:func:`_nested_text`): the brackets between two rings,
+    written in bulk (:func:`_nested_texts`): the brackets between two rings,
     surfaces or shells included (None for geometries of unknown type)."""
     new = np.asarray(new, dtype=np.int64)
     out = [None] * lay.count
@@ -215,13 +215,13 @@ def texts(lay, new):
         if n == 0 or not sizes.all() or not all(c.all() for c in counts):
             group = _joined(lay, new, positions, start, n, counts)      # an empty list somewhere
         else:
-            group = _nested_text(new[lay.offsets[start]:lay.offsets[start + n]], sizes, counts)
+            group = _nested_texts(new[lay.offsets[start]:lay.offsets[start + n]], sizes, counts)
         for k, text in zip(positions, group):
             out[k] = text
     return out
 
 
-def _nested_text(values, sizes, counts):
+def _nested_texts(values, sizes, counts):
     """The texts of the geometries of one depth whose leaves hold the
     non-negative ``values`` (``sizes`` per leaf, ``counts``: list lengths
     level by level, none empty), written by orjson: before an entry that
