@@ -369,6 +369,19 @@ def surface_types(geometry):
     return surfaces, [kinds[v] if v is not None and 0 <= v < len(kinds) else None for v in values]
 
 
+def surfaces_of_type(geometry, kind):
+    """The surfaces of a geometry whose semantic type is ``kind``
+    ("GroundSurface", ...), in order: [] at once where its semantics name no
+    such surface (as :func:`surface_types` tells, without naming every
+    surface's type)."""
+    codes = {k for k, s in enumerate((geometry.get("semantics") or {}).get("surfaces", ()))
+             if s.get("type") == kind}
+    if not codes:
+        return []
+    surfaces, values = surfaces_of(geometry)
+    return [s for s, v in zip(surfaces, values) if v in codes]
+
+
 def drop_collapsed(geometry):
     """A copy of a geometry without repeated consecutive vertices in its rings,
     without the rings left with fewer than three vertices, and without the

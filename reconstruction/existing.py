@@ -343,8 +343,7 @@ def _footprint_surfaces(model, building):
         if len(geoms) > 1:
             geoms = sorted(geoms, key=lambda g: citygeometry.lod_value(g.get("lod")), reverse=True)
         for g in geoms:
-            surfaces, kinds = citygeometry.surface_types(g)
-            ground = [s for s, k in zip(surfaces, kinds) if k == "GroundSurface"]
+            ground = citygeometry.surfaces_of_type(g, "GroundSurface")
             if ground:
                 found.extend(ground)
                 break

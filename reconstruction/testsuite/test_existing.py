@@ -554,3 +554,23 @@ def test_a_sequence_written_to_a_binary_file_is_the_text_files_in_utf8(sample):
     binary = io.BytesIO()
     assert cityjsonseq.write(binary, *gen[:4], 28992, "test", copied=copied) == 5
     assert binary.getvalue().decode("utf-8") == sequence_of(gen, copied)[1].getvalue()
+
+
+def test_ground_surfaces_by_their_semantic_type():
+    """The footprint's surfaces: those whose semantic value names a
+    GroundSurface (two entries may), none where the values are null or
+    miscounted, or no surface is one."""
+    ring = [[[0, 1, 2]], [[3, 4, 5]], [[6, 7, 8]], [[9, 10, 11]]]
+    surfaces = [{"type": "GroundSurface"}, {"type": "WallSurface"},
+                {"type": "GroundSurface", "kind": "under the passage"}]
+    solid = {"type": "Solid", "boundaries": [ring],
+             "semantics": {"surfaces": surfaces, "values": [[0, 1, None, 2]]}}
+    assert citygeometry.surfaces_of_type(solid, "GroundSurface") == [ring[0], ring[3]]
+    assert citygeometry.surfaces_of_type(solid, "RoofSurface") == []
+    miscounted = dict(solid, semantics={"surfaces": surfaces, "values": [[0, 1]]})
+    assert citygeometry.surfaces_of_type(miscounted, "GroundSurface") == []
+    multi = {"type": "MultiSurface", "boundaries": ring,
+             "semantics": {"surfaces": surfaces, "values": [2, None, 1, 0]}}
+    assert citygeometry.surfaces_of_type(multi, "GroundSurface") == [ring[0], ring[3]]
+    assert citygeometry.surfaces_of_type({"type": "Solid", "boundaries": [ring]},
+                                         "GroundSurface") == []
