@@ -21,7 +21,10 @@ model, then merges it), the two formats' writes alternating; also the
 module's whole output side (``lod2_output.write_model``: match, copy,
 merge, write) in both formats. The writes are timed for the buildings copied
 from the CityJSON file and, beside them, from the CityJSONSeq (whose
-features are written as they were read).
+features are written as they were read), each format's copy made as
+v.histo.lod2 makes it (for one file a whole model keeps its vertex
+numbering; CityJSONSeq features number their own vertices), the CityJSONSeq
+written to a binary file as v.histo.lod2 writes it.
 
 Pure library code; runs with ``python3`` from the checkout or inside the
 GRASS session of ``run_all.sh``:
