@@ -251,3 +251,24 @@ def test_write_text_removes_the_part_file_when_writing_fails(tmp_path, monkeypat
     with pytest.raises(OSError, match="disk full"):
         cityjson.write_text(str(path), "{}")
     assert list(tmp_path.iterdir()) == []
+
+
+def geometry_of(kind, depth):
+    leaves = st.lists(st.integers(0, 10 ** 7), min_size=1, max_size=5)
+    level = leaves
+    for _ in range(depth):
+        level = st.lists(level, min_size=1, max_size=3)
+    return level.map(lambda b: {"type": kind, "boundaries": b})
+
+
+@given(geometries=st.lists(st.one_of(geometry_of("MultiPoint", 0), geometry_of("MultiSurface", 2),
+                                     geometry_of("Solid", 3), geometry_of("MultiSolid", 4)),
+                           min_size=1, max_size=8))
+def test_boundaries_written_between_markers_as_json_dumps_writes_them(geometries):
+    """The marker writer of citygeometry.texts: every geometry's boundaries as
+    json.dumps writes them, whatever their depth and list lengths."""
+    from reconstruction import citygeometry
+
+    lay = citygeometry.layout(geometries)
+    assert citygeometry.texts(lay, lay.flat) == [
+        json.dumps(g["boundaries"], separators=(",", ":")) for g in geometries]
