@@ -266,11 +266,9 @@ def copy_buildings(model, buildings, lods=None, scale=SCALE, attributes=None,
                 if len(kept) < len(stored):
                     kept_all = False
                     report.skipped_geometries += sum(g.get("type") not in COPYABLE for g in stored)
-                for g in kept:
-                    if "material" in g or "texture" in g:
-                        kept = [{k: v for k, v in g.items() if k not in ("material", "texture")}
-                                for g in kept]
-                        break
+                if any("material" in g or "texture" in g for g in kept):
+                    kept = [{k: v for k, v in g.items() if k not in ("material", "texture")}
+                            for g in kept]
                 copy["geometry"] = kept
                 geometries.extend(kept)
             objs[o] = copy
@@ -489,8 +487,7 @@ def _placement(generated, copied):
         ends.insert(0, corners(generated))
     keys = _packed([generated, copied.vertices] if G else [copied.vertices], ends)
     if keys is not None:
-        ordered = np.sort(keys)
-        if not np.any(ordered[1:] == ordered[:-1]):
+        if _all_different(keys):
             return G + np.arange(C), copied.vertices            # no vertex met another
         uniq, inv = np.unique(keys, return_inverse=True)
     else:
@@ -757,8 +754,13 @@ def _distinct(parts, boxes):
     if keys is None:
         rows = np.concatenate(parts)
         return len(unique_rows(rows)[0]) == len(rows)
-    keys.sort()
-    return not np.any(keys[1:] == keys[:-1])
+    return _all_different(keys)
+
+
+def _all_different(keys):
+    """Whether no two of the integers ``keys`` are equal."""
+    ordered = np.sort(keys)
+    return not np.any(ordered[1:] == ordered[:-1])
 
 
 #: the boundaries of a geometry in a CityObjects text: a plain list of integers
