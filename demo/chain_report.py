@@ -43,8 +43,8 @@ def footprint_figures(geometries, columns):
     """How many footprints of each source (aligned, 2pm), how many overlapping pairs
     (intersection over :data:`OVERLAP_TOLERANCE`, shapely STRtree:
     generalization.overlapping_pairs) and how many plots hold footprints."""
-    from reconstruction import contract
-    from reconstruction.generalization import overlapping_pairs
+    from reconstruction.core import contract
+    from reconstruction.generalize.operators import overlapping_pairs
 
     sources = collections.Counter(columns[contract.SOURCE])
     pairs = overlapping_pairs(geometries, min_area=OVERLAP_TOLERANCE)
@@ -96,7 +96,7 @@ def schema_figures(model, schemas, max_objects=None):
     cityjson-2.0.2), by the library's cityjson.schema_errors, as the module tests
     check it: the document and every city object, or the first ``max_objects``
     (about 40 objects a second)."""
-    from reconstruction import cityjson
+    from reconstruction.cityjson import model as cityjson
 
     folder = os.path.join(schemas, "cityjson-2.0.2")
     if not os.path.isdir(folder):
@@ -138,7 +138,7 @@ def write(out, report, rows):
 def footprint_rows(fp, lod2, plots, thesis=("", "")):
     """Table rows of :func:`footprint_figures` and :func:`lod2_figures`; ``thesis``:
     the thesis's aligned and generated footprints."""
-    from reconstruction import contract
+    from reconstruction.core import contract
 
     return [
         ("aligned footprints", fp["by_source"].get(contract.SOURCE_ALIGNED, 0), thesis[0]),

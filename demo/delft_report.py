@@ -44,13 +44,16 @@ THESIS_PLOTS, THESIS_ALIGNED = "plots1961", "thesis61"
 
 def plot_scores(plots, gt_points, gt_polygons):
     """Scores of plots against the ground truth, by the library's functions
-    v.histo.generalize reports with (reconstruction.generalize): P/R/F by
+    v.histo.generalize reports with (reconstruction.generalize.stage): P/R/F by
     point in polygon, mean turning-function distance and buffer similarity
     against the digitised polygons, and the lost ground-truth plots."""
     import numpy as np
     import shapely
 
-    from reconstruction import assessment, generalization, generalize, shape_metrics
+    from reconstruction.generalize import assessment
+    from reconstruction.generalize import operators as generalization
+    from reconstruction.generalize import stage as generalize
+    from reconstruction.generalize import shape_metrics
 
     points = assessment.point_detection_scores(plots, gt_points)
     refs, _index = generalization.explode_plots(gt_polygons)

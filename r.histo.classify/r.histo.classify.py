@@ -199,12 +199,18 @@ def _classify_sheet(inputs, windows, tiles, side, grid, training, config, flags,
     """A large map: tuned on a sample of windows, segmented and classified in tiles."""
     import numpy as np
 
-    from reconstruction import classify_tiled, grassio, grasstiles
+    from reconstruction.classify import segments
+    from reconstruction.classify import stage as classify
+    from reconstruction.classify import tiled as classify_tiled
+    from reconstruction import grassio
+    from reconstruction.grassio import tiles as grasstiles
 
     start = time.perf_counter()
     gs.message(_("Tuning {} parameter pairs on {} windows of {} cells...").format(
         len(config.pairs), len(windows), windows[0].cells))
-    criteria = grasstiles.window_criteria(inputs, windows, grid, config, flags["e"])
+    criteria = grasstiles.window_criteria(
+        inputs, windows, grid, config, classify.segmentation_chains(config.pairs, flags["e"]),
+        segments.segmentation_criteria)
     tuning, _mean = classify_tiled.tune_on_windows(criteria, [w.cells for w in windows],
                                                    config.alpha)
     pair = config.pairs[tuning.best]
@@ -241,9 +247,12 @@ def _classify_sheet(inputs, windows, tiles, side, grid, training, config, flags,
 def main(options, flags):
     import numpy as np
 
-    from reconstruction import classify, grassio, grasstiles, tiling
-    from reconstruction.errors import InputError
-    from reconstruction.options import parse_list
+    from reconstruction.classify import stage as classify
+    from reconstruction import grassio
+    from reconstruction.grassio import tiles as grasstiles
+    from reconstruction.classify import tiling
+    from reconstruction.core.errors import InputError
+    from reconstruction.core.options import parse_list
 
     grassio.register_cleanup()
     grassio.check_outputs(options, rasters=("output", "segments"))
@@ -275,7 +284,8 @@ def main(options, flags):
     if len(windows) == 1 and len(tiles) == 1:
         bands = [grassio.read_raster(name) for name in inputs]
         gs.message(_("Segmenting with {} parameter pairs...").format(len(config.pairs)))
-        runs = grasstiles.run_segmentations(inputs, config, flags["e"])
+        runs = grasstiles.run_segmentations(
+            inputs, config, classify.segmentation_chains(config.pairs, flags["e"]))
         with contextlib.closing(runs):
             result = classify.classify_map(
                 bands, runs, lambda name: grassio.read_raster(name, dtype=np.int32), training,

@@ -44,7 +44,7 @@ if ROOT not in sys.path:
 import numpy as np  # noqa: E402
 import shapely  # noqa: E402
 
-from reconstruction.alignment import AlignmentConfig, align, construction_years  # noqa: E402
+from reconstruction.align.stage import AlignmentConfig, align, construction_years  # noqa: E402
 
 YEAR, BUFFER, OVERLAP = 1961, 10.0, 0.6     # the chain's options (the thesis's Table B.3)
 BUILDING, WATER, STREET, LANDMARK = 1, 3, 4, 5  # classes of the Delft training points

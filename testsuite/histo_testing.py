@@ -166,7 +166,7 @@ def failing_tool_env(directory, *tools):
     return env
 
 
-#: the kinds of ``reconstruction.subdivision.invariant_violations``: the acceptance runs
+#: the kinds of ``reconstruction.subdivide.stage.invariant_violations``: the acceptance runs
 #: print each with its count (0 included)
 INVARIANTS = ("invalid", "outside", "concave", "sliver", "no_street", "no_frontage", "wedge",
               "overlap")

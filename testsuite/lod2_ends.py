@@ -14,13 +14,13 @@ within solidset.SEMANTIC_ANGLE (5 degrees): its top may lean in from the
 edge by as much. The footprint ring is the
 ground surface reversed (edge k runs from its vertex k to k + 1), as
 v.histo.lod2 writes it; edges shared with other footprints are found with
-:func:`reconstruction.street_edges.street_edges` on the rings read back.
+:func:`reconstruction.lod2.street_edges.street_edges` on the rings read back.
 """
 
 import numpy as np
 
-from reconstruction import street_edges as se
-from reconstruction.solidset import SEMANTIC_ANGLE
+from reconstruction.lod2 import street_edges as se
+from reconstruction.geom.solidset import SEMANTIC_ANGLE
 
 #: the coordinate resolution of the models read (m): v.histo.lod2 writes millimetres
 RESOLUTION = 1e-3

@@ -15,6 +15,7 @@ import re
 import shutil
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -55,8 +56,19 @@ def test_every_module_script_and_manual_installed(installed):
         assert os.access(addons / "scripts" / module, os.X_OK), module
         page = (addons / "docs" / "html" / (module + ".html")).read_text()
         assert module in page and "DESCRIPTION" in page
-    assert (addons / "etc" / "histo" / "reconstruction" / "grassio.py").is_file()
     assert (addons / "docs" / "html" / "histo.html").is_file()
+
+
+def test_every_library_package_installed_without_its_tests(installed):
+    """The library's packages and sub-packages (lod2/roofs/, ...) are all
+    installed, file for file, and its tests are not."""
+    library = Path(ROOT) / "reconstruction"
+    wanted = sorted(str(p.relative_to(library)) for p in library.rglob("*.py")
+                    if "testsuite" not in p.parts)
+    lib = installed["addons"] / "etc" / "histo" / "reconstruction"
+    present = sorted(str(p.relative_to(lib)) for p in lib.rglob("*.py"))
+    assert "lod2/roofs/skeleton.py" in wanted and "grassio/__init__.py" in wanted
+    assert present == wanted
 
 
 def test_g_extension_lists_the_modules(installed):

@@ -6,7 +6,7 @@ import numpy as np
 from shapely.geometry import Polygon, box
 
 import lod2_ends as le
-from reconstruction import lod2
+from reconstruction.lod2 import stage as lod2
 
 X0, Y0 = 85000.0, 446000.0
 

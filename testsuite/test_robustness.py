@@ -19,7 +19,8 @@ from shapely.geometry import box
 
 from histo_testing import run_module
 
-from reconstruction import contract, names
+from reconstruction.core import contract
+from reconstruction.core import names
 
 pytestmark = pytest.mark.grass
 

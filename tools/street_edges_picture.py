@@ -19,7 +19,8 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path[:0] = [ROOT, os.path.join(ROOT, "v.histo.lod2", "testsuite")]
 
-from reconstruction import lod2, lod2_inputs  # noqa: E402
+from reconstruction.lod2 import stage as lod2  # noqa: E402
+from reconstruction.lod2 import inputs as lod2_inputs  # noqa: E402
 from render_manual_pictures import render  # noqa: E402
 
 

@@ -141,7 +141,7 @@ FALLBACK_YEAR_COLUMN = "oorspronkelijkbouwjaar"
 
 def no_areas(grassio, name, key, what):
     """The InputError for a map that holds no areas."""
-    from reconstruction.errors import InputError
+    from reconstruction.core.errors import InputError
 
     counts = grassio.vector_counts(name)
     return InputError("Vector map <{}> given as {}= has no areas (it holds {}): {} must be "
@@ -152,7 +152,7 @@ def no_areas(grassio, name, key, what):
 
 def year_column(columns, wanted, given, name):
     """The footprints' year column: ``wanted`` (any case), or the 3D BAG's name for the default."""
-    from reconstruction.errors import InputError
+    from reconstruction.core.errors import InputError
 
     names = {c.lower(): c for c in columns if c != "cat"}
     for candidate in [wanted] + ([] if given else [FALLBACK_YEAR_COLUMN]):
@@ -165,7 +165,8 @@ def year_column(columns, wanted, given, name):
 
 def parse_config(options, flags):
     """The AlignmentConfig of the options (InputError on bad ones)."""
-    from reconstruction import alignment, options as opts
+    from reconstruction.align import stage as alignment
+    from reconstruction.core import options as opts
 
     if options["resolution"]:
         buffer = alignment.buffer_from_resolution(
@@ -184,7 +185,7 @@ def read_footprints(grassio, name, wanted_column, config):
     only the candidates' geometry is read)."""
     import numpy as np
 
-    from reconstruction import alignment
+    from reconstruction.align import stage as alignment
 
     reading = grassio.doing("reading the footprints <{}>".format(name))
     with reading:
@@ -210,7 +211,7 @@ def read_footprints(grassio, name, wanted_column, config):
 
 def write_footprints(grassio, output, footprints, columns, indices, extra, title):
     """Footprints ``indices`` with their own categories and columns, plus ``extra`` columns."""
-    from reconstruction import contract
+    from reconstruction.core import contract
 
     own = {contract.PLOT.lower(), contract.SIMILARITY.lower(), "cat"} | {k.lower() for k in extra}
     table = {k: [values[i] for i in indices] for k, values in columns.items()
@@ -232,7 +233,9 @@ def main(options, flags):
     grassio.prefetch_checks()
     import numpy as np
 
-    from reconstruction import alignment, contract, safefile
+    from reconstruction.align import stage as alignment
+    from reconstruction.core import contract
+    from reconstruction.core import safefile
 
     grassio.check_outputs(options, vectors=("output", "unmatched"), files=("report",))
     config = parse_config(options, flags)

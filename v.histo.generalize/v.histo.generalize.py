@@ -168,7 +168,7 @@ def find_core():
 def _raster_plots(raster, category):
     """Vectorise the cells of ``category`` into a temporary map of areas."""
     from reconstruction import grassio
-    from reconstruction.errors import InputError
+    from reconstruction.core.errors import InputError
 
     grassio.require_raster(raster)
     with grassio.doing("vectorising class {} of raster map <{}>".format(category, raster)):
@@ -194,8 +194,9 @@ def _raster_plots(raster, category):
 
 
 def main(options, flags):
-    from reconstruction import generalize, grassio
-    from reconstruction.options import parse_number
+    from reconstruction.generalize import stage as generalize
+    from reconstruction import grassio
+    from reconstruction.core.options import parse_number
 
     grassio.register_cleanup()
     grassio.require_projected()

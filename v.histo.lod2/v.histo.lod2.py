@@ -390,14 +390,19 @@ def main(options, flags):
     # GRASS exports the footprints while the inputs are checked
     reading = grassio.start_read_areas(options["input"], layer=options["layer"])
     grassio.prefetch_checks()
-    from reconstruction import cityjson, grassinputs, lod2, lod2_inputs, lod2_output, validation
+    from reconstruction.cityjson import model as cityjson
+    from reconstruction.grassio import points as grassinputs
+    from reconstruction.lod2 import stage as lod2
+    from reconstruction.lod2 import inputs as lod2_inputs
+    from reconstruction.lod2 import output as lod2_output
+    from reconstruction.lod2.solids import validation
     # and the points (a million take seconds)
     points = {k: grassinputs.start_read_points(options[k])
               for k in ("ground_points", "building_points")}
-    from reconstruction.errors import InputError
-    from reconstruction.options import parse_number, parse_range, processes
-    from reconstruction.roof_model import RoofConfig
-    from reconstruction.roof_rules import read_rules
+    from reconstruction.core.errors import InputError
+    from reconstruction.core.options import parse_number, parse_range, processes
+    from reconstruction.lod2.roofs.model import RoofConfig
+    from reconstruction.lod2.roofs.rules import read_rules
 
     grassio.require_projected()      # (a missing input map: when reading it)
     output = options["output"]
@@ -466,7 +471,9 @@ def prepare_output(options, crs):
     """The output and existing-model requests of the options, with the
     existing model read and the map rasters of the picture (early: a wrong
     file or map fails before the buildings are built)."""
-    from reconstruction import grassio, grassmaps, lod2_output
+    from reconstruction import grassio
+    from reconstruction.grassio import images as grassmaps
+    from reconstruction.lod2 import output as lod2_output
 
     request, wanted = lod2_output.requests_from_options(
         options, crs, title="LoD2 model from <{}>".format(options["input"]))
@@ -509,13 +516,17 @@ def report_output(written, counts, output):
 
 
 def height_options(options, points, geoms, columns, height_range, attic_range, match=None):
-    """The :class:`~reconstruction.lod2_inputs.HeightOptions` of the options,
+    """The :class:`~reconstruction.lod2.inputs.HeightOptions` of the options,
     with the points (``points``: option -> reading job), rasters and maps they
     name read; without aligned= and without an eaves column in ``columns``,
     the buildings ``match`` copies from the existing model give the measured
     heights (their 3D BAG attributes)."""
-    from reconstruction import grassinputs, grassio, lod2_inputs, lod2_output, neighbourhood
-    from reconstruction.options import parse_number
+    from reconstruction.grassio import points as grassinputs
+    from reconstruction import grassio
+    from reconstruction.lod2 import inputs as lod2_inputs
+    from reconstruction.lod2 import output as lod2_output
+    from reconstruction.lod2 import neighbourhood
+    from reconstruction.core.options import parse_number
 
     percentile = parse_number(options["ground_percentile"], "ground_percentile", minimum=0)
     elevation = aligned = plots = None
@@ -554,8 +565,10 @@ def height_options(options, points, geoms, columns, height_range, attic_range, m
 
 
 def street_options(options, geoms):
-    """The :class:`~reconstruction.lod2_inputs.StreetOptions` of the options."""
-    from reconstruction import grassinputs, grassio, lod2_inputs
+    """The :class:`~reconstruction.lod2.inputs.StreetOptions` of the options."""
+    from reconstruction.grassio import points as grassinputs
+    from reconstruction import grassio
+    from reconstruction.lod2 import inputs as lod2_inputs
 
     if options["streets"]:
         grassio.require_raster(options["streets"])
@@ -605,7 +618,7 @@ def report_street_edges(edges):
     """Say how the street edges were chosen (the cases)."""
     import numpy as np
 
-    from reconstruction import street_edges as se
+    from reconstruction.lod2 import street_edges as se
 
     n = np.bincount(edges.case, minlength=6)
     gs.message(_("Street edges: {} one unshared edge, {} from a neighbour, {} by vote, {} "
@@ -630,7 +643,7 @@ def report_build(report):
         gs.verbose(_("{} roofs changed type by the roof rules (no free street end for a stepped "
                      "facade or a gable)").format(report.by_rule))
     if report.simplified:
-        from reconstruction.vertex_budget import MAX_ROOF_VERTICES
+        from reconstruction.lod2.solids.vertex_budget import MAX_ROOF_VERTICES
 
         gs.message(_("{} footprints of more than {} vertices got their pitched roof on a "
                      "simplified outline").format(report.simplified, MAX_ROOF_VERTICES))

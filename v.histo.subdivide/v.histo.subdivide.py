@@ -125,7 +125,7 @@ def read_aligned(grassio, name, plot_column):
         gs.message(_("Aligned map <{}> has no {} column: each aligned footprint goes to the plot "
                      "it overlaps most").format(name, plot_column))
         return aligned, None, columns
-    from reconstruction.options import integer_column
+    from reconstruction.core.options import integer_column
 
     return aligned, integer_column(columns[names[plot_column]], plot_column, name), columns
 
@@ -163,9 +163,11 @@ def report(rep, aligned, calibrating):
 
 
 def main(options, flags):
-    from reconstruction import contract, grassio, subdivision
-    from reconstruction.errors import InputError
-    from reconstruction.options import parse_number, parse_range
+    from reconstruction.core import contract
+    from reconstruction import grassio
+    from reconstruction.subdivide import stage as subdivision
+    from reconstruction.core.errors import InputError
+    from reconstruction.core.options import parse_number, parse_range
 
     grassio.register_cleanup()
     grassio.check_outputs(options, vectors=("output",))

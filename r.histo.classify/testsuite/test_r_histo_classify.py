@@ -80,7 +80,7 @@ def test_synthetic_map_buildings_found_one_area_per_plot(syn):
     import grass.script as gs
 
     from reconstruction import grassio
-    from reconstruction.assessment import point_detection_scores
+    from reconstruction.generalize.assessment import point_detection_scores
 
     # flag -e: every pair segmented from scratch (the exhaustive tuning, as before
     # issue 15); the default tuning reseeds and picks threshold=0.1 minsize=7 here,
@@ -122,7 +122,7 @@ def test_synthetic_map_buildings_found_one_area_per_plot(syn):
 @pytest.mark.acceptance
 def test_synthetic_map_out_of_the_box(syn):
     """Issue 15: the defaults and only remove= (the cleaning rules derived from the map)."""
-    from reconstruction.assessment import point_detection_scores
+    from reconstruction.generalize.assessment import point_detection_scores
 
     _run(syn, remove="2,6", nprocs=2)
     areas = _building_areas("cls")
@@ -309,7 +309,7 @@ def _delft_scores(inputs, gt, training="training_points_delft_1961", **options):
     """r.histo.classify on Delft (nprocs=2, seed=1 and ``options``): building P, R, F."""
     import grass.script as gs
 
-    from reconstruction.assessment import point_detection_scores
+    from reconstruction.generalize.assessment import point_detection_scores
 
     gs.run_command(MODULE, input=inputs, training=training, output="cls", nprocs=2, seed=1,
                    quiet=True, overwrite=True, **options)

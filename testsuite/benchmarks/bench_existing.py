@@ -47,8 +47,16 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path.insert(0, ROOT)
 SAMPLE = os.path.join(ROOT, "..", "shared", "data", "3dbag_sample", "3dbag_b2.city.jsonl")
 
-from reconstruction import (citymerge, cityjson, cityjsonseq, existing, lod2, lod2_output,  # noqa: E402
-                            outlines, solids, solidset)
+from reconstruction.cityjson import copied as citycopy  # noqa: E402
+from reconstruction.cityjson import merge as citymerge  # noqa: E402
+from reconstruction.cityjson import model as cityjson  # noqa: E402
+from reconstruction.cityjson import seq as cityjsonseq  # noqa: E402
+from reconstruction.cityjson import existing  # noqa: E402
+from reconstruction.lod2 import stage as lod2  # noqa: E402
+from reconstruction.lod2 import output as lod2_output  # noqa: E402
+from reconstruction.lod2 import outlines  # noqa: E402
+from reconstruction.lod2.solids import build as solids  # noqa: E402
+from reconstruction.geom import solidset  # noqa: E402
 
 
 def with_lod1(feature, header):
@@ -131,7 +139,7 @@ def generated_model(n, seed=3):
 
 
 def generated_result(gen):
-    """The :class:`~reconstruction.lod2.Lod2Result` of the generated buildings
+    """The :class:`~reconstruction.lod2.stage.Lod2Result` of the generated buildings
     ``gen`` (as :func:`generated_model` makes them); the aligned footprints
     are not built (v.histo.lod2 leaves the copied ones out)."""
     ss, sem, ids, attrs = gen
@@ -200,7 +208,7 @@ def merge_and_write(model, aligned, ids, text, out):
     model's ``text`` and write it to ``out``, as v.histo.lod2 does; returns
     the matches."""
     matches = existing.match(model, aligned, ids=ids)
-    copied = citymerge.copy_buildings(model, matches.building[matches.matched])
+    copied = citycopy.copy_buildings(model, matches.building[matches.matched])
     cityjson.write_text(out, citymerge.merged_pieces(text, copied))
     return matches
 
@@ -287,12 +295,12 @@ def main():
         print("merge by geometry (footprints, match, copy, merge, write, after the read): "
               "{} = {} the read".format(t_geom, t_geom.ratio(t_read)))
         matches = existing.match(model, aligned, ids=bag_ids)
-        copied = citymerge.copy_buildings(model, matches.building[matches.matched])
+        copied = citycopy.copy_buildings(model, matches.building[matches.matched])
         steps = {
             "match by id": lambda: existing.match(model, aligned, ids=bag_ids),
             "footprints": lambda: existing.footprints(model),
             "match by geometry": lambda: existing.match(model, aligned, fps=fps),
-            "copy": lambda: citymerge.copy_buildings(model, matches.building[matches.matched]),
+            "copy": lambda: citycopy.copy_buildings(model, matches.building[matches.matched]),
             "merge into the text (pieces)": lambda: citymerge.merged_pieces(text, copied),
         }
         for name, fn in steps.items():
@@ -308,11 +316,11 @@ def main():
 
         single_cpu = seq_cpu = 0.0
         model_seq = existing.read_model(seq)
-        copied_seq = citymerge.copy_buildings(
+        copied_seq = citycopy.copy_buildings(
             model_seq, existing.match(model_seq, aligned, ids=bag_ids).building)
         del model_seq
         # each format's copy as v.histo.lod2 makes it (CityJSONSeq features number their own)
-        for_seq = citymerge.copy_buildings(model, matches.building[matches.matched],
+        for_seq = citycopy.copy_buildings(model, matches.building[matches.matched],
                                            keep_numbering=False)
         for label, c, c_seq in (
                 ("{} generated".format(len(gen[2])), None, None),

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Benchmark of the reference heights (reconstruction/heights.py, neighbourhood.py).
+"""Benchmark of the reference heights (reconstruction/lod2/heights.py, neighbourhood.py).
 
 Goal (issue 16): ground from 1,000,000 ground points for 4,000 footprints in
 under 3 s. Also times the same from a DTM (0.5 m cells over the same area)
@@ -20,8 +20,9 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path[:0] = [ROOT, os.path.join(ROOT, "testsuite")]
 
 from histo_testing import timed  # noqa: E402
-from reconstruction import heights, neighbourhood  # noqa: E402
-from reconstruction.grid import Grid  # noqa: E402
+from reconstruction.lod2 import heights  # noqa: E402
+from reconstruction.lod2 import neighbourhood  # noqa: E402
+from reconstruction.geom.grid import Grid  # noqa: E402
 
 GOAL = 3.0
 DELFT_1880 = os.path.join(ROOT, "..", "shared", "data", "delft_1880")

@@ -5,7 +5,7 @@ Every roof type on footprints of 200, 1,000 and 5,000 vertices
 (``testsuite/many_vertex_footprints.py``: a smooth convex curve, a block
 with a digitised curved facade, a digitised L-shaped block, a digitised
 concave rotunda), each built alone by the library's whole stage
-(:func:`reconstruction.lod2.build_model`: cleaning, roofs, walls,
+(:func:`reconstruction.lod2.stage.build_model`: cleaning, roofs, walls,
 validation, fallbacks) in a forked process. Prints per footprint the
 vertices after cleaning, the roof type it got, whether its outline was
 simplified for the roof (``vertex_budget``) and to how many vertices, the
@@ -32,7 +32,9 @@ sys.path.insert(0, os.path.join(ROOT, "testsuite"))
 import numpy as np  # noqa: E402
 
 from many_vertex_footprints import SHAPES, footprint  # noqa: E402
-from reconstruction import lod2, roofs, vertex_budget  # noqa: E402
+from reconstruction.lod2 import stage as lod2  # noqa: E402
+from reconstruction.lod2.roofs import plan as roofs  # noqa: E402
+from reconstruction.lod2.solids import vertex_budget  # noqa: E402
 
 ORIGIN = np.array([85000.0, 445000.0])
 TIME_GOAL = 1.0

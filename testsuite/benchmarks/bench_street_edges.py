@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Benchmark of the street edges (reconstruction/street_edges.py).
+"""Benchmark of the street edges (reconstruction/lod2/street_edges.py).
 
 Goal (issue 16): v.histo.lod2 with street edges on stays within 10 % of its
 buildings per second on the thesis's Brussels 1924 footprints, i.e. street
@@ -28,8 +28,10 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path[:0] = [ROOT, os.path.join(ROOT, "testsuite")]
 
 from histo_testing import timed  # noqa: E402
-from reconstruction import outlines, solids, street_edges  # noqa: E402
-from reconstruction.grid import Grid  # noqa: E402
+from reconstruction.lod2 import outlines  # noqa: E402
+from reconstruction.lod2.solids import build as solids  # noqa: E402
+from reconstruction.lod2 import street_edges  # noqa: E402
+from reconstruction.geom.grid import Grid  # noqa: E402
 
 DATA = os.path.join(ROOT, "..", "shared", "data")
 BUDGET = 0.1

@@ -42,7 +42,8 @@ def main():
         if path not in sys.path:
             sys.path.insert(0, path)
     from histo_testing import import_delft_alignment
-    from reconstruction import alignment, grassio
+    from reconstruction.align import stage as alignment
+    from reconstruction import grassio
 
     import_delft_alignment(DATA)
     walls, cpus, splits = [], [], []
@@ -73,7 +74,7 @@ def main():
         start = time.perf_counter()
         result = alignment.align(plots, plot_columns["cat"], geoms, years, config)
         cores.append(time.perf_counter() - start)
-    print("core (reconstruction.alignment.align, all 12,567 geometries given): {:.3f} s "
+    print("core (reconstruction.align.stage.align, all 12,567 geometries given): {:.3f} s "
           "median; {} aligned".format(statistics.median(cores), result.report.aligned))
     return 0 if wall < GOAL else 1
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Benchmark of v.histo.subdivide on the 616 Brussels 1924 plots.
 
-Goal (issue 5): the core (``reconstruction.subdivision.subdivide``) splits
+Goal (issue 5): the core (``reconstruction.subdivide.stage.subdivide``) splits
 all 616 plots (length 8,15, depth 23,30, area threshold 300, in EPSG:3857
 map units as the thesis) in under 2 s. For scale: the thesis's own code needs
 about 43 s for 615 of them and never finishes the 616th. Prints the median
@@ -40,7 +40,8 @@ def main():
         return 0
     if ROOT not in sys.path:
         sys.path.insert(0, ROOT)
-    from reconstruction import grassio, subdivision
+    from reconstruction import grassio
+    from reconstruction.subdivide import stage as subdivision
 
     gs.run_command("v.in.ogr", input=PLOTS, output="bxls", flags="o", quiet=True, overwrite=True)
     plots, columns = grassio.read_features("bxls")

@@ -10,7 +10,9 @@ import pytest
 import shapely
 from shapely.geometry import box
 
-from reconstruction import assessment, generalization, shape_metrics
+from reconstruction.generalize import assessment
+from reconstruction.generalize import operators as generalization
+from reconstruction.generalize import shape_metrics
 from histo_testing import failing_tool_env, key_values, run_in_latlong, run_module
 
 pytestmark = pytest.mark.grass

@@ -16,8 +16,11 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(os.path.dirname(HERE)))
 
-from reconstruction import outlines, roofs, solids, solidset  # noqa: E402
-from reconstruction.roof_model import RoofConfig  # noqa: E402
+from reconstruction.lod2 import outlines  # noqa: E402
+from reconstruction.lod2.roofs import plan as roofs  # noqa: E402
+from reconstruction.lod2.solids import build as solids  # noqa: E402
+from reconstruction.geom import solidset  # noqa: E402
+from reconstruction.lod2.roofs.model import RoofConfig  # noqa: E402
 
 COLOURS = {solidset.GROUND: (0.5, 0.5, 0.5), solidset.WALL: (0.93, 0.90, 0.84),
            solidset.ROOF: (0.72, 0.25, 0.18)}

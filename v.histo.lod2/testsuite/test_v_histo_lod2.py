@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from histo_testing import import_features, key_values, run_in_latlong, run_module
-from reconstruction import cityjson, roofs
+from reconstruction.cityjson import model as cityjson
+from reconstruction.lod2.roofs import plan as roofs
 from val3dity import require_val3dity, val3dity_report
 
 pytestmark = pytest.mark.grass

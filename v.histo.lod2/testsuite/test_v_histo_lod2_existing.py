@@ -15,7 +15,10 @@ import shapely
 from shapely.geometry import mapping
 
 from histo_testing import run_module
-from reconstruction import citygeometry, cityjson, cityjsonseq, existing
+from reconstruction.cityjson import geometry as citygeometry
+from reconstruction.cityjson import model as cityjson
+from reconstruction.cityjson import seq as cityjsonseq
+from reconstruction.cityjson import existing
 
 pytestmark = pytest.mark.grass
 
@@ -326,7 +329,7 @@ def test_copied_buildings_give_measured_heights_to_the_generated(mapset, sample,
     # footprints without height columns: the matched 3D BAG buildings' heights
     # (b3_h_maaiveld, b3_h_dak_*) are the measured heights of the
     # neighbourhood analysis, which gives the generated footprints theirs
-    from reconstruction import heights
+    from reconstruction.lod2 import heights
 
     polygons = sample_footprints(sample) + BOXES
     props = [{"source": "aligned" if k < 2 else "2pm"} for k in range(len(polygons))]

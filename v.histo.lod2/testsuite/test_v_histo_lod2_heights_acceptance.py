@@ -158,7 +158,7 @@ def test_outlier_guard_a_tower_does_not_spread_its_height(mapset, tmp_path):
 def _ends_figures(model):
     """Ends on shared edges, split into the street end and the far end; the
     footprints with one unshared edge and whether they use it."""
-    from reconstruction.outlines import opposite_edges
+    from reconstruction.lod2.outlines import opposite_edges
 
     rows, res = model_ends(model)
     on_shared = {"wall": 0, "hip": 0}
@@ -211,7 +211,8 @@ def test_streets_from_the_classified_delft_1961_map(mapset, shared_data, tmp_pat
     the share of street edges with street or water within 3 m in front."""
     import grass.script as gs
 
-    from reconstruction import grassinputs, street_edges as se
+    from reconstruction.grassio import points as grassinputs
+    from reconstruction.lod2 import street_edges as se
 
     folder, columns, year, count = THESIS["delft"]
     tif = os.path.join(shared_data, folder, "input", "delft_1961.tif")

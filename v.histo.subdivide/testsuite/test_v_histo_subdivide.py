@@ -8,7 +8,7 @@ import pytest
 import shapely
 from shapely.geometry import Polygon, box
 
-from reconstruction.contract import AREA, CASE, PLOT, SOURCE, SOURCE_ALIGNED, SOURCE_PROCEDURAL
+from reconstruction.core.contract import AREA, CASE, PLOT, SOURCE, SOURCE_ALIGNED, SOURCE_PROCEDURAL
 
 pytestmark = pytest.mark.grass
 
@@ -33,7 +33,8 @@ def synthetic_plots():
 def tools(mapset):
     import grass.script as gs
 
-    from reconstruction import grassio, subdivision
+    from reconstruction import grassio
+    from reconstruction.subdivide import stage as subdivision
 
     gs.run_command("g.region", n=Y0 + 200, s=Y0 - 10, e=X0 + 250, w=X0 - 10, res=1)
     grassio.write_features("plots", synthetic_plots(), cats=[11, 12, 13, 14, 15, 16, 17])

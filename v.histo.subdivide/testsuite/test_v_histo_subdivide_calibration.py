@@ -11,7 +11,7 @@ import re
 
 import pytest
 
-from reconstruction.contract import CASE, PLOT, SOURCE, SOURCE_ALIGNED, SOURCE_PROCEDURAL
+from reconstruction.core.contract import CASE, PLOT, SOURCE, SOURCE_ALIGNED, SOURCE_PROCEDURAL
 
 pytestmark = [pytest.mark.grass, pytest.mark.acceptance]
 
@@ -22,7 +22,8 @@ def delft(mapset, shared_data):
     import grass.script as gs
 
     from histo_testing import import_delft_alignment, key_values, run_module
-    from reconstruction import grassio, subdivision
+    from reconstruction import grassio
+    from reconstruction.subdivide import stage as subdivision
 
     import_delft_alignment(shared_data)
     code, out, err = run_module("v.histo.align", flags="g", input="plots1961",

@@ -1,0 +1,414 @@
+"""The r.histo.classify stage as one entry point: from map bands and training
+points to a classified raster.
+
+- :func:`read_config`: the module's options as a :class:`ClassifyConfig`;
+- :func:`read_training`: the training points checked and located on the
+  grid (:class:`Training`);
+- :func:`classify_map`: chooses the segmentation among the tried parameter
+  pairs, classifies its segments and removes classes such as text, with the
+  algorithms of :mod:`reconstruction.classify.segments`. The segmentations
+  themselves come from the caller (the module runs i.segment), so that this
+  stays pure: an iterable of finished runs and a function that reads one;
+- :func:`category_rules`, :func:`colour_rules`, :func:`tuning_table`: the
+  texts the module writes and prints.
+
+Bad input raises :class:`~reconstruction.core.errors.InputError` with the message
+a user should read.
+"""
+
+import time
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+from ..core.errors import InputError
+from ..core.options import parse_list, parse_number, parse_range, processes
+from ..core.work_limits import check_segmentations
+from ..geom.grid import Grid  # noqa: F401 (the grid of the stage: Grid.from_region(None, region))
+from . import segments as cl
+
+# Colours of the classes: by class name where it is a usual one, otherwise
+# distinct colours in the order of the labels.
+NAMED_COLOURS = {
+    "building": "230:80:80", "buildings": "230:80:80", "text": "40:40:40", "water": "60:120:220",
+    "street": "235:235:225", "streets": "235:235:225", "road": "235:235:225",
+    "vegetation": "90:170:80", "park": "90:170:80", "garden": "90:170:80",
+    "symbol": "150:60:170", "church": "240:160:40", "railway": "120:120:120",
+}
+PALETTE = ("230:80:80", "40:40:40", "60:120:220", "235:235:225", "240:160:40", "150:60:170",
+           "90:170:80", "200:200:60", "120:200:220", "170:110:70")
+
+
+@dataclass(frozen=True)
+class ClassifyConfig:
+    """What r.histo.classify does: parameter pairs to try, classifiers, removal.
+
+    Sizes: ``min_area`` in square map units, ``min_width`` in map units,
+    ``window`` in cells (odd). None for ``window``, ``min_area`` or
+    ``min_width``: derived from the data when something is removed
+    (:func:`removal_rule`).
+    """
+
+    thresholds: tuple
+    minsizes: tuple
+    alpha: float = 1.0
+    classifiers: tuple = cl.CLASSIFIERS
+    features: tuple = ("spectral", "size")
+    remove: tuple = ()
+    window: Optional[int] = None
+    iterations: Optional[int] = None
+    min_area: Optional[float] = None
+    min_width: Optional[float] = None
+    separate: tuple = ()
+    seed: int = 1
+    nprocs: int = 1
+    memory: int = 300
+
+    @property
+    def pairs(self):
+        """The (threshold, minsize) pairs to try, thresholds first."""
+        return [(t, m) for t in self.thresholds for m in self.minsizes]
+
+
+@dataclass(frozen=True)
+class Training:
+    """Training points: label of each point, class names, cell of each point."""
+
+    labels: np.ndarray
+    names: dict
+    rows: np.ndarray
+    cols: np.ndarray
+
+    @property
+    def classes(self):
+        """The labels present, sorted."""
+        return sorted(set(self.labels.tolist()))
+
+
+@dataclass
+class ClassifyResult:
+    """Result of :func:`classify_map`.
+
+    classes: the class raster (labels of the training points, 0 = no data);
+    pairs, criteria: the tried (threshold, minsize) pairs and their (VW, Moran's I);
+    tuning: the :class:`~reconstruction.classify.segments.TuningResult` of the pairs;
+    chosen: the caller's id of the chosen segmentation (the others are the caller's to drop);
+    segments: the number of segments of the chosen one; window: the refill window
+    used (None when nothing was removed); present: the labels kept; rule: the
+    :class:`RemovalRule` applied (None when nothing was cleaned);
+    timing: (step, seconds) pairs.
+    """
+
+    classes: np.ndarray
+    pairs: list
+    criteria: list
+    tuning: cl.TuningResult
+    chosen: object
+    segments: int
+    window: Optional[int]
+    present: list
+    rule: Optional["RemovalRule"] = None
+    timing: list = field(default_factory=list)
+
+    @property
+    def best_pair(self):
+        return self.pairs[self.tuning.best]
+
+
+def read_config(options):
+    """The options of r.histo.classify (a dict of option texts) as a :class:`ClassifyConfig`."""
+    low_t, high_t = parse_range(options["threshold"], "threshold", float)
+    low_m, high_m = parse_range(options["minsize"], "minsize", int)
+    t_step = parse_number(options["threshold_step"], "threshold_step", float, minimum=0,
+                          allow_minimum=False)
+    m_step = parse_number(options["minsize_step"], "minsize_step", int, minimum=0,
+                          allow_minimum=False)
+    if not (0 < low_t and high_t < 1):
+        raise InputError("Thresholds must lie between 0 and 1, got {}-{}".format(low_t, high_t))
+    if low_m < 1:
+        raise InputError("Minimum sizes must be at least 1 cell, got {}".format(low_m))
+    check_segmentations((low_t, high_t), t_step, (low_m, high_m), m_step)
+    thresholds = cl.parameter_values(low_t, high_t, t_step)
+    minsizes = [int(v) for v in cl.parameter_values(low_m, high_m, m_step, 0)]
+    classifiers = parse_list(options["classifiers"])
+    if len(set(classifiers)) != len(classifiers):
+        raise InputError("Option classifiers= lists a classifier twice")
+    window = None
+    if options["window"]:
+        window = parse_number(options["window"], "window", int)
+        if window < 1 or window % 2 == 0:
+            raise InputError("Option window= must be a positive odd number, got {}".format(window))
+    iterations = None
+    if options["iterations"]:
+        iterations = parse_number(options["iterations"], "iterations", int, minimum=1)
+    return ClassifyConfig(
+        thresholds=tuple(thresholds), minsizes=tuple(minsizes),
+        alpha=parse_number(options["alpha"], "alpha"),
+        classifiers=tuple(classifiers), features=tuple(parse_list(options["features"])),
+        remove=tuple(parse_list(options["remove"], int, key="remove")),
+        window=window, iterations=iterations,
+        min_area=_optional_number(options["min_area"], "min_area"),
+        min_width=_optional_number(options["min_width"], "min_width"),
+        separate=tuple(parse_list(options["separate"], int, key="separate")),
+        seed=parse_number(options["seed"], "seed", int),
+        nprocs=processes(options["nprocs"]),
+        memory=parse_number(options.get("memory") or 300, "memory", int, minimum=1))
+
+
+def _optional_number(text, key):
+    """A non-negative number, or None when the option is not given."""
+    if text in (None, ""):
+        return None
+    return parse_number(text, key, minimum=0)
+
+
+def segmentation_chains(pairs, exhaustive=False):
+    """The i.segment runs for ``pairs`` as chains of ``(pair index, seed pair index or None)``.
+
+    One chain per threshold, its minimum sizes ascending: the first run grows
+    the segments, each next one starts from the previous result (seeds) and
+    only merges what its larger minimum size asks for. ``exhaustive``: one
+    chain per pair, every run from scratch.
+    """
+    if exhaustive:
+        return [[(i, None)] for i in range(len(pairs))]
+    chains = {}
+    for i, (threshold, minsize) in enumerate(pairs):
+        chains.setdefault(threshold, []).append((minsize, i))
+    out = []
+    for threshold in sorted(chains):
+        members = [i for _m, i in sorted(chains[threshold])]
+        out.append([(i, None if k == 0 else members[k - 1]) for k, i in enumerate(members)])
+    return out
+
+
+def integer_labels(values, column):
+    """Class labels of the training points as positive ints."""
+    labels = []
+    for value in values:
+        if value is None or value == "":
+            raise InputError("Training point without a value in column <{}>".format(column))
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            raise InputError("Column <{}> must hold integer class labels, found <{}>".format(
+                column, value)) from None
+        if number != int(number) or number <= 0:
+            raise InputError("Column <{}> must hold positive integer class labels, found <{}>".format(
+                column, value))
+        labels.append(int(number))
+    return labels
+
+
+def read_training(xy, columns, label_column, class_column, config, grid, name="training"):
+    """The training points (coordinates ``xy`` and attribute ``columns`` of map
+    ``name``) checked against ``config`` and located on ``grid``."""
+    if label_column not in columns:
+        raise InputError("Training map <{}> has no column <{}> (columns: {})".format(
+            name, label_column, ", ".join(columns) or "none"))
+    if not len(xy):
+        raise InputError("Training map <{}> has no points".format(name))
+    labels = np.array(integer_labels(columns[label_column], label_column))
+    names = {}
+    if class_column and class_column in columns:
+        for label, text in zip(labels, columns[class_column]):
+            if text not in (None, ""):
+                names.setdefault(int(label), str(text))
+    classes = sorted(set(labels.tolist()))
+    if len(classes) < 2:
+        raise InputError("Training points hold {} class(es) in column <{}>: at least two are "
+                         "needed".format(len(classes), label_column))
+    missing = [r for r in config.remove if r not in classes]
+    if missing:
+        raise InputError("No training point has the label(s) {} given in remove= (labels: {})".format(
+            ",".join(map(str, missing)), ",".join(map(str, classes))))
+    missing = [r for r in config.separate if r not in classes or r in config.remove]
+    if missing:
+        raise InputError("Label(s) {} in separate= are not kept classes of the training "
+                         "points".format(",".join(map(str, missing))))
+    if len(set(classes) - set(config.remove)) < 1:
+        raise InputError("remove= lists every class: nothing would be left")
+    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+    rows, cols = grid.cells(xy[:, 0], xy[:, 1])
+    outside = int((rows < 0).sum())
+    if outside:
+        raise InputError("{} of {} training points lie outside the computational region".format(
+            outside, len(xy)))
+    return Training(labels, names, rows, cols)
+
+
+def _ignore(text):
+    pass
+
+
+def classify_map(bands, segmentations, read_segments, training, config, grid,
+                 message=_ignore, verbose=_ignore):
+    """Classify a scanned map: tuned segmentation, ensemble vote, removal.
+
+    ``bands``: the map's bands (arrays on ``grid``, nan = no data);
+    ``segmentations``: an iterable of ``(k, id)`` as the segmentation of
+    ``config.pairs[k]`` is ready, ``read_segments(id)`` its segment array.
+    ``message`` and ``verbose`` receive progress texts. Returns a
+    :class:`ClassifyResult`.
+    """
+    start = time.perf_counter()
+    if not all(np.isfinite(b[training.rows, training.cols]).all() for b in bands):
+        raise InputError("Some training points lie on no-data cells of the input maps")
+    pairs = config.pairs
+    criteria = [None] * len(pairs)
+    ids = [None] * len(pairs)
+    for k, segmentation in segmentations:
+        criteria[k] = cl.segmentation_criteria(read_segments(segmentation), bands)
+        ids[k] = segmentation
+        if len(pairs) > 1:
+            verbose("threshold={} minsize={}: VW={:.4f} Moran's I={:.4f}".format(
+                pairs[k][0], pairs[k][1], *criteria[k]))
+    tuning = cl.tune(criteria, config.alpha)
+    best = tuning.best
+    message("Chosen segmentation: threshold={} minsize={} (F={:.3f})".format(
+        pairs[best][0], pairs[best][1], tuning.f[best]))
+    timing = [("segmentation", time.perf_counter() - start)]
+    start = time.perf_counter()
+
+    segments = read_segments(ids[best])
+    index, n_segments = cl.relabel(segments)
+    _ids, features = cl.segment_features(segments, bands)
+    train_rows = index[training.rows, training.cols]
+    if (train_rows < 0).any():
+        raise InputError("Some training points lie outside every segment")
+    message("Classifying {} segments with {}...".format(n_segments, ",".join(config.classifiers)))
+    model_features = cl.select_features(features, len(bands), config.features)
+    voted, _predictions = cl.classify_segments(model_features, train_rows, training.labels,
+                                               config.classifiers, config.seed, config.nprocs)
+    classes = cl.class_raster(index, voted.astype(np.int32))
+    timing.append(("classification", time.perf_counter() - start))
+    start = time.perf_counter()
+
+    classes, rule = _remove(classes, config, grid)
+    timing.append(("removal", time.perf_counter() - start))
+    return ClassifyResult(
+        classes=classes, pairs=pairs, criteria=criteria, tuning=tuning, chosen=ids[best],
+        segments=n_segments, window=rule.window if rule else None, rule=rule,
+        present=[c for c in training.classes if c not in config.remove], timing=timing)
+
+
+#: Width (cells) below which parts of a class are refilled by default: the mixed
+#: pixels along every edge of a scan and the fringes of a misregistered colour
+#: plane are one or two cells wide, whatever the map.
+FRINGE_CELLS = 3
+
+
+@dataclass(frozen=True)
+class RemovalRule:
+    """How the classes are cleaned, in cells (see :func:`removal_rule`).
+
+    window: refill window (odd); min_cells: minimum mapping unit (0: none);
+    width_cells: parts narrower than this are refilled (0: none);
+    thickness: of the thickest removed object (cells); derived: the names of
+    the values derived from the data rather than given.
+    """
+
+    window: int
+    min_cells: int
+    width_cells: int
+    thickness: float
+    derived: tuple = ()
+
+    def active(self, remove):
+        return bool(remove) or self.min_cells > 1 or self.width_cells > 1
+
+
+def removal_rule(thickness, config, grid):
+    """The cleaning rule for removed objects ``thickness`` cells thick (the
+    thickest object of the ``remove`` classes, :func:`classification.object_thickness`).
+
+    Explicit options win. When something is removed, what is not given is
+    derived from the data: the refill window from the thickness (thickness / 2 + 1,
+    odd); a minimum mapping unit of thickness x thickness cells (no object the
+    map draws is smaller than a square as thick as its thickest letter or
+    symbol: smaller regions are pieces that the letters and symbols left, of
+    the classes under them or misclassified beside them); and a minimum width
+    of :data:`FRINGE_CELLS` cells (the scan's mixed-pixel edges and colour
+    fringes). Without ``remove=``, only the given values apply.
+    """
+    derived = []
+    resolution = min(grid.nsres, grid.ewres)
+    window = config.window
+    if window is None:
+        window = cl.window_for_thickness(thickness)
+        derived.append("window")
+    if config.min_area is not None:
+        min_cells = int(np.ceil(config.min_area / (grid.nsres * grid.ewres))) if config.min_area else 0
+    elif config.remove:
+        min_cells = int(np.ceil(thickness * thickness))
+        derived.append("min_area")
+    else:
+        min_cells = 0
+    if config.min_width is not None:
+        width_cells = int(round(config.min_width / resolution)) if config.min_width else 0
+    elif config.remove:
+        width_cells = FRINGE_CELLS
+        derived.append("min_width")
+    else:
+        width_cells = 0
+    return RemovalRule(window, min_cells, width_cells, float(thickness), tuple(derived))
+
+
+def _remove(classes, config, grid):
+    """Removal of text, symbols, thin parts and small regions: ``(classes, RemovalRule or None)``."""
+    removed = np.isin(classes, list(config.remove)) if config.remove else None
+    thickness = cl.object_thickness(removed) if removed is not None else 0.0
+    rule = removal_rule(thickness, config, grid)
+    if not rule.active(config.remove):
+        return classes, None
+    out, _window = cl.remove_classes(classes, config.remove, rule.window, config.iterations,
+                                     rule.min_cells, rule.width_cells, config.separate)
+    return out, rule
+
+
+def rule_message(rule, config, grid):
+    """What the cleaning did, in map units, for the module's message."""
+    if rule is None:
+        return None
+    cell_area = grid.nsres * grid.ewres
+    resolution = min(grid.nsres, grid.ewres)
+
+    def how(name):
+        return " (derived)" if name in rule.derived else ""
+
+    parts = []
+    if config.remove:
+        parts.append("removed classes {} with a {}x{} moving window{}".format(
+            ",".join(map(str, config.remove)), rule.window, rule.window, how("window")))
+    parts.append("minimum mapping unit {:g} square map units{}".format(
+        round(rule.min_cells * cell_area, 2), how("min_area")))
+    parts.append("minimum width {:g} map units{}".format(
+        round(rule.width_cells * resolution, 2), how("min_width")))
+    text = "; ".join(parts)
+    return text[0].upper() + text[1:]
+
+
+def tuning_table(result):
+    """The lines that flag -p prints: the tuning table (CSV) and the chosen pair."""
+    t = result.tuning
+    lines = ["threshold,minsize,vw,moran,vw_norm,moran_norm,f"]
+    for k, (threshold, minsize) in enumerate(result.pairs):
+        lines.append("{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}".format(
+            threshold, minsize, t.vw[k], t.moran[k], t.vw_norm[k], t.moran_norm[k], t.f[k]))
+    lines.append("best: threshold={} minsize={}".format(*result.best_pair))
+    return lines
+
+
+def category_rules(labels, names):
+    """r.category rules (label:name) for the labels, "class <label>" where unnamed."""
+    return "\n".join("{}:{}".format(c, names.get(c, "class {}".format(c))) for c in labels)
+
+
+def colour_rules(labels, names):
+    """r.colors rules (label r:g:b) for the labels, by class name where known."""
+    rules = []
+    for i, label in enumerate(labels):
+        name = names.get(label, "").strip().lower()
+        rules.append("{} {}".format(label, NAMED_COLOURS.get(name, PALETTE[i % len(PALETTE)])))
+    return "\n".join(rules)

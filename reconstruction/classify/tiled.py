@@ -1,0 +1,151 @@
+"""r.histo.classify on a whole map sheet: tuned on a sample, classified in tiles.
+
+The same stage as :func:`reconstruction.classify.stage.classify_map`, for maps too
+large to tune on whole or to hold in one process:
+
+1. :func:`tune_on_windows`: the segmentation parameters are chosen on a
+   sample of windows (:func:`reconstruction.classify.tiling.tuning_windows`): each
+   pair's VW and Moran's I are the cell-weighted means over the windows;
+2. the caller segments every tile's outer window with the chosen pair
+   (in the order of :func:`training_first`, while the first ones are
+   classified: ``read_segments`` may wait for a tile's segmentation);
+3. :func:`classify_tiles`: the ensemble is fitted once, on the segments of
+   the training points (each seen in the tile whose core holds it), and
+   predicts the segments of each tile; each tile's core keeps its classes.
+   The removal's rule (window, minimum mapping unit) comes from the thickest
+   removed object over all tiles, then each tile is cleaned in its outer
+   window and keeps its core: a segment, a hole or a region cut by a tile's
+   edge is seen whole from the tile whose core holds it, up to the overlap.
+
+Pure: the caller reads the bands and segments of a tile's outer window
+(functions of a :class:`~reconstruction.classify.tiling.Tile`) and gets progress
+through ``percent(done, total)``.
+"""
+
+import time
+
+import numpy as np
+
+from ..core.errors import InputError
+from . import segments as cl
+from .stage import ClassifyResult, removal_rule, _ignore
+from .tiling import check_tiles
+
+
+def tune_on_windows(criteria, cells, alpha=1.0):
+    """Tuning over a sample: ``criteria[w][k]`` the (VW, Moran's I) of pair k in
+    window w, ``cells[w]`` its number of cells. Returns the
+    :class:`~reconstruction.classify.segments.TuningResult` of the weighted means."""
+    weights = np.asarray(cells, dtype=float)
+    stacked = np.asarray(criteria, dtype=float)  # (windows, pairs, 2)
+    mean = (stacked * weights[:, None, None]).sum(axis=0) / weights.sum()
+    return cl.tune(mean, alpha), [tuple(row) for row in mean]
+
+
+def _training_in(tile, training):
+    keep = tile.holds(training.rows, training.cols)
+    return np.flatnonzero(keep)
+
+
+def training_first(tiles, training):
+    """The tiles whose cores hold training points first, then the others, each
+    in their order: the order to segment them in when the classification of
+    the first tiles (which needs the model, fitted on the training tiles)
+    runs while the next ones are segmented."""
+    holding = [len(_training_in(tile, training)) > 0 for tile in tiles]
+    return [t for t, h in zip(tiles, holding) if h] + [t for t, h in zip(tiles, holding) if not h]
+
+
+def classify_tiles(tiles, read_bands, read_segments, training, config, grid, pairs, tuning,
+                   side, keep_segments=False, message=_ignore, percent=_ignore):
+    """Classify a map tile by tile with the chosen segmentation of each tile.
+
+    ``read_bands(tile)``: the bands of the tile's outer window (nan = no
+    data); ``read_segments(tile)``: its segments. ``pairs`` and ``tuning``:
+    the tried pairs and their :class:`TuningResult`; ``side``: the tiles' size
+    (a derived refill window larger than that is refused). Returns a
+    :class:`~reconstruction.classify.stage.ClassifyResult` (``chosen`` is the whole
+    map's segment ids when ``keep_segments``, else None).
+    """
+    start = time.perf_counter()
+    total = 2 * len(tiles) + sum(1 for t in tiles if len(_training_in(t, training)))
+    done = 0
+    # 1. the training segments' features, from the tiles whose cores hold the points
+    rows_of = np.full(len(training.labels), -1)
+    x_train = [None] * len(training.labels)
+    for tile in tiles:
+        members = _training_in(tile, training)
+        if not len(members):
+            continue
+        bands = read_bands(tile)
+        r = training.rows[members] - tile.orow0
+        c = training.cols[members] - tile.ocol0
+        if not all(np.isfinite(b[r, c]).all() for b in bands):
+            raise InputError("Some training points lie on no-data cells of the input maps")
+        segments = read_segments(tile)
+        index, _n = cl.relabel(segments)
+        _ids, features = cl.segment_features(segments, bands)
+        model_features = cl.finite_features(cl.select_features(features, len(bands),
+                                                               config.features))
+        at = index[r, c]
+        if (at < 0).any():
+            raise InputError("Some training points lie outside every segment")
+        for k, row in zip(members, at):
+            x_train[k] = model_features[row]
+            rows_of[k] = row
+        done += 1
+        percent(done, total)
+    message("Classifying the segments of {} tiles with {}...".format(
+        len(tiles), ",".join(config.classifiers)))
+    models = cl.fit_ensemble(np.stack(x_train), training.labels, config.classifiers, config.seed,
+                             config.nprocs)
+
+    # 2. every tile's segments classified; the core kept
+    classes = np.zeros((grid.rows, grid.cols), dtype=np.int32)
+    segment_ids = np.zeros((grid.rows, grid.cols), dtype=np.int32) if keep_segments else None
+    n_segments = 0
+    thickness = 0.0
+    for tile in tiles:
+        bands = read_bands(tile)
+        segments = read_segments(tile)
+        index, n = cl.relabel(segments)
+        _ids, features = cl.segment_features(segments, bands)
+        voted, _p = cl.predict_ensemble(models, cl.select_features(features, len(bands),
+                                                                   config.features))
+        tile_classes = cl.class_raster(index, voted.astype(np.int32))
+        if config.remove:
+            thickness = max(thickness, cl.object_thickness(np.isin(tile_classes, config.remove)))
+        classes[tile.core] = tile_classes[tile.core_in_outer]
+        core_index = index[tile.core_in_outer]
+        present = np.unique(core_index[core_index >= 0])
+        if keep_segments:
+            renumber = np.zeros(n + 1, dtype=np.int32)
+            renumber[present + 1] = np.arange(1, len(present) + 1) + n_segments
+            segment_ids[tile.core] = renumber[core_index + 1]
+        n_segments += len(present)
+        done += 1
+        percent(done, total)
+    timing = [("classification", time.perf_counter() - start)]
+    start = time.perf_counter()
+
+    # 3. the removal, by the rule of the thickest removed object of the whole map
+    rule = removal_rule(thickness, config, grid)
+    check_tiles(side, rule.window)
+    if rule.active(config.remove):
+        out = np.zeros_like(classes)
+        for tile in tiles:
+            cleaned, _w = cl.remove_classes(classes[tile.outer], config.remove, rule.window,
+                                            config.iterations, rule.min_cells, rule.width_cells,
+                                            config.separate)
+            out[tile.core] = cleaned[tile.core_in_outer]
+            done += 1
+            percent(done, total)
+        classes = out
+    else:
+        rule = None
+    percent(total, total)
+    timing.append(("removal", time.perf_counter() - start))
+    return ClassifyResult(
+        classes=classes, pairs=pairs, criteria=None, tuning=tuning, chosen=segment_ids,
+        segments=n_segments, window=rule.window if rule else None, rule=rule,
+        present=[c for c in training.classes if c not in config.remove], timing=timing)

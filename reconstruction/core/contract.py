@@ -1,0 +1,39 @@
+"""The data-flow contract between the modules, in code.
+
+Column names and values that pass from one module to the next
+(``../shared/docs/data-flow.md``). Every module and test uses these names
+instead of string literals.
+"""
+
+#: category of a plot in the plots map; later maps refer to it in a PLOT column
+PLOT = "plot"
+#: how a footprint was made: SOURCE_PROCEDURAL or SOURCE_ALIGNED
+SOURCE = "source"
+SOURCE_PROCEDURAL = "2pm"
+SOURCE_ALIGNED = "aligned"
+#: procedural case (0-5) of v.histo.subdivide ("pm_case": 2D procedural modelling's
+#: case; not "case", an SQL keyword that core GRASS tools do not quote, issue 12)
+CASE = "pm_case"
+#: footprint area (m2)
+AREA = "area"
+#: matching similarity of an aligned footprint (v.histo.align)
+SIMILARITY = "similarity"
+#: heights: terrain elevation, wall height above ground, roof height above the eaves
+GROUND = "ground"
+EAVES = "eaves"
+ATTIC = "attic"
+#: where a footprint's heights come from (v.histo.lod2 writes it as an attribute)
+HEIGHT_SOURCE = "height_source"
+#: its values: measured (aligned footprint), plot (its plot's aligned footprints),
+#: neighbours (aligned footprints around it), points (building points), range
+#: (drawn from height=/attic=), column (eaves_column=/attic_column=)
+HEIGHTS_MEASURED = "measured"
+HEIGHTS_PLOT = "plot"
+HEIGHTS_NEIGHBOURS = "neighbours"
+HEIGHTS_POINTS = "points"
+HEIGHTS_RANGE = "range"
+HEIGHTS_COLUMN = "column"
+
+#: every column name above (the values are not column names): none may be an SQL
+#: keyword (reconstruction/core/names.py, tested)
+COLUMNS = (PLOT, SOURCE, CASE, AREA, SIMILARITY, GROUND, EAVES, ATTIC, HEIGHT_SOURCE)

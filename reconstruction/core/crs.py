@@ -1,0 +1,118 @@
+"""Reference systems: EPSG codes, their CityJSON URLs, compound systems.
+
+- :func:`known`: whether an EPSG code names a reference system (issue 12,
+  item 7);
+- :func:`epsg_code`: the code of a CityJSON ``referenceSystem`` (URL, URN,
+  ``EPSG:7415``), :func:`crs_url` the URL of a code;
+- :func:`horizontal_epsg` and :func:`same_place`: a compound system (7415,
+  RD New + NAP heights) and its horizontal part (28992) locate points alike.
+
+PROJ's own database (``proj.db``, which GRASS, GDAL and PROJ install: no
+extra dependency) is asked through Python's sqlite3. Where it cannot be
+found, a plausibility check stands in: EPSG codes lie between 1024 and
+999999 (the dataset uses 2000 to 32767, and 900913).
+"""
+
+import functools
+import os
+import sqlite3
+import sys
+
+#: plausible EPSG codes when proj.db is not found
+PLAUSIBLE = (1024, 999999)
+#: compound reference systems -> their horizontal part, where PROJ's database is absent
+COMPOUND = {7415: 28992, 6190: 31370, 8370: 3812, 7405: 27700, 5555: 25832, 5556: 25833}
+
+
+def proj_db():
+    """The path of PROJ's ``proj.db``, or None."""
+    dirs = [os.environ.get(k) for k in ("PROJ_DATA", "PROJ_LIB")]
+    dirs += [os.path.join(sys.prefix, "share", "proj"), "/usr/share/proj", "/usr/local/share/proj"]
+    for directory in dirs:
+        for part in (directory or "").split(os.pathsep):
+            path = os.path.join(part, "proj.db")
+            if part and os.path.isfile(path):
+                return path
+    return None
+
+
+def known(code, database=None):
+    """True when EPSG ``code`` (an int) names a reference system in proj.db;
+    without proj.db (``database`` None and none found), whether it is plausible."""
+    database = database or proj_db()
+    if database:
+        try:
+            db = sqlite3.connect("file:{}?mode=ro".format(database), uri=True)
+            try:
+                row = db.execute("SELECT 1 FROM crs_view WHERE auth_name = 'EPSG' AND code = ?",
+                                 (str(int(code)),)).fetchone()
+            finally:
+                db.close()
+            return row is not None
+        except sqlite3.Error:
+            pass
+    return PLAUSIBLE[0] <= int(code) <= PLAUSIBLE[1]
+
+
+def crs_url(epsg):
+    """The OGC URL of an EPSG code (``28992`` -> https://www.opengis.net/def/crs/EPSG/0/28992).
+
+    A string that already is such a URL is returned as is; ``EPSG:7415`` works too.
+    A code that names no reference system (:func:`known`)
+    raises ValueError.
+    """
+    text = str(epsg).strip()
+    if text.startswith("http://") or text.startswith("https://"):
+        return text
+    if ":" in text:
+        text = text.split(":")[-1]
+    code = int(text)
+    if not known(code):
+        raise ValueError("EPSG:{} is not a known reference system".format(code))
+    return "https://www.opengis.net/def/crs/EPSG/0/{}".format(code)
+
+
+def epsg_code(reference_system):
+    """EPSG code of a CityJSON ``referenceSystem`` (OGC URL or URN, ``EPSG:7415``, 7415)."""
+    if reference_system is None or reference_system == "":
+        return None
+    text = str(reference_system).strip()
+    if "EPSG" not in text.upper() and not text.isdigit():
+        return None
+    code = text.replace("::", ":").replace("/", ":").split(":")[-1]
+    try:
+        return int(code)
+    except ValueError:
+        return None
+
+
+@functools.lru_cache(maxsize=64)
+def horizontal_epsg(code):
+    """The horizontal CRS of a compound EPSG CRS (7415 -> 28992), else the code itself.
+
+    Asks PROJ's database (``proj.db``, installed with GRASS) and falls back to
+    a short table of common compound systems.
+    """
+    if code is None:
+        return None
+    path = proj_db()
+    if path:
+        try:
+            with sqlite3.connect("file:{}?mode=ro".format(path), uri=True) as db:
+                row = db.execute("SELECT horiz_crs_auth_name, horiz_crs_code FROM compound_crs "
+                                 "WHERE auth_name = 'EPSG' AND code = ?", (str(code),)).fetchone()
+            if row is not None and row[0] == "EPSG":
+                return int(row[1])
+            if row is None:
+                return COMPOUND.get(int(code), int(code))
+        except (sqlite3.Error, ValueError):
+            pass
+    return COMPOUND.get(int(code), int(code))
+
+
+def same_place(a, b):
+    """True when two EPSG codes locate points the same way horizontally
+    (equal, or one is a compound CRS of the other: 7415 and 28992)."""
+    if a is None or b is None:
+        return True
+    return horizontal_epsg(a) == horizontal_epsg(b)

@@ -1,0 +1,676 @@
+"""Generalisation of raw building plots into simple plot polygons.
+
+Pure functions over shapely 2 geometries and numpy arrays (no GRASS), after
+Morlighem (2021, Sections 3.2.2-3.2.3):
+
+- ``alpha``: the alpha-shape operator of Arteaga (2013): points are sampled
+  in the plot (``regular`` grid, ``hexagonal`` grid, ``stratified`` (one
+  jittered point per grid cell) or ``random``, each with the densified
+  boundary), their alpha shape is the union of the Delaunay triangles whose
+  circumradius is at most alpha (scipy's Delaunay); its boundary is cleaned
+  to the largest cycle (dangling edges and pinched-off pieces dropped) and
+  stripped of collinear points. Holes wider than the alpha disk survive, so
+  courtyard plots keep their courtyard (the thesis lost such plots);
+- ``lines``: the buffered-lines generalisation of Commandeur (2012): the
+  segments of all rings become lines ranked by length; shorter segments are
+  merged into a line while all their end points lie within ``distance`` of
+  it and their direction within ``angle``; each final line is the
+  length-weighted average of its members; consecutive lines along each ring
+  are intersected back into a polygon (nearly parallel ones joined by a
+  short step). Holes and concave shapes are kept; plots that touch are
+  generalised together, so a shared edge becomes one line and stays shared.
+  ``orthogonal=True`` turns lines close to the dominant direction (or
+  perpendicular to it) exactly parallel or perpendicular;
+- ``simplify``: topology-preserving simplification (GEOS coverage
+  simplification, Visvalingam-Whyatt, which keeps shared edges shared; plain
+  topology-preserving Douglas-Peucker when the plots are not a coverage);
+- ``douglas``: plain Douglas-Peucker (``shapely.simplify``).
+
+:func:`generalize_plots` chains the steps and never loses a plot: when a step
+fails or gives an invalid or collapsed polygon for a plot, the next sensible
+method is tried for that plot only (another sampling, a smaller distance,
+Douglas-Peucker, topology-preserving simplification, the plot unchanged),
+and the method used is recorded per plot. Overlaps created between plots are
+removed at the end (GEOS coverage cleaning), so the output is a polygon
+coverage: plots may share boundaries, never overlap.
+"""
+
+import math
+from collections import namedtuple
+
+import numpy as np
+import shapely
+from shapely.geometry import LinearRing, Polygon
+
+from ..geom.overlaps import OverlapRule, resolve_overlaps
+
+# one home for the polygons of a geometry; both names stay importable from here
+from ..geom.polygons import explode as explode_plots, largest_polygon  # noqa: F401
+
+# Tuning (checked on the thesis's Delft 1961 plots): a join moves a corner at
+# most SHIFT x distance; the alpha outline is simplified by ALPHA_TOL x the
+# boundary spacing; the interior is sampled every INNER x alpha (the boundary
+# every alpha / 4): denser inner points change nothing but the run time;
+# vertices closer than CLEAN x distance to their neighbours' line are dropped.
+SHIFT = 3.0
+ALPHA_TOL = 0.1
+INNER = 0.5
+CLEAN = 0.05
+METHODS = ("alpha", "lines", "simplify", "douglas")
+SAMPLINGS = ("regular", "hexagonal", "stratified", "random")
+
+Generalization = namedtuple("Generalization", "plots methods steps fallbacks")
+Generalization.__doc__ = """Result of :func:`generalize_plots`.
+
+plots: list of shapely Polygons, one per input plot, in input order;
+methods: per plot, the methods used joined by ``+`` (e.g. ``alpha/regular+lines``);
+steps: list of ``(step name, list of polygons)`` after each method step
+(the first is ``("raw", inputs)``), for the per-step metrics;
+fallbacks: dict step -> number of plots that needed a fallback there.
+"""
+
+
+# ---------------------------------------------------------------------------
+# Helpers
+# ---------------------------------------------------------------------------
+
+def _clean(polygon, tolerance=1e-6):
+    """Drop repeated and collinear vertices; None when nothing valid remains."""
+    if polygon is None or polygon.is_empty:
+        return None
+    cleaned = shapely.simplify(polygon, tolerance, preserve_topology=True)
+    cleaned = largest_polygon(cleaned if cleaned.is_valid else shapely.make_valid(cleaned))
+    if cleaned is not None and cleaned.interiors:
+        # a hole touching the outline or another hole becomes one self-touching ring in
+        # GRASS's topology, invalid once exported: shrink such holes 1 cm off (issue 13)
+        holes = [Polygon(h) for h in cleaned.interiors]
+        edges = [cleaned.exterior, *cleaned.interiors]
+        kept = []
+        for k, hole in enumerate(holes):
+            if min(hole.distance(e) for j, e in enumerate(edges) if j != k + 1) < 0.01:
+                shrunk = shapely.get_parts(shapely.buffer(hole, -0.01, join_style="mitre"))
+                kept.extend(h for h in shrunk if h.geom_type == "Polygon" and not h.is_empty)
+            else:
+                kept.append(hole)
+        cleaned = Polygon(cleaned.exterior, [h.exterior for h in kept])
+    return shapely.orient_polygons(cleaned) if cleaned is not None else None
+
+
+def acceptable(new, old, min_share=0.6, max_growth=1.6):
+    """Is ``new`` a sound generalisation of ``old``?
+
+    One valid polygon, covering at least ``min_share`` of the old area, and
+    not larger than ``max_growth`` times it.
+    """
+    if new is None or new.is_empty or new.geom_type != "Polygon" or not new.is_valid:
+        return False
+    if new.area <= 0 or new.area > max_growth * old.area:
+        return False
+    return shapely.intersection(new, old).area >= min_share * old.area
+
+
+# ---------------------------------------------------------------------------
+# Alpha-shape step (Arteaga 2013)
+# ---------------------------------------------------------------------------
+
+def sample_points(polygon, spacing, sampling="regular", rng=None, inner_spacing=None):
+    """Points sampled in a polygon (interior by ``sampling``, plus its boundary).
+
+    The boundary (all rings) is densified to ``spacing`` so the alpha shape
+    follows the outline; the interior gets, at ``inner_spacing`` (default
+    ``spacing``), a regular square grid, a hexagonal grid, one random point
+    per grid cell (stratified) or uniform random points of the same density.
+    """
+    if sampling not in SAMPLINGS:
+        raise ValueError("unknown sampling '{}'".format(sampling))
+    rng = rng if rng is not None else np.random.default_rng(0)
+    step = inner_spacing or spacing
+    minx, miny, maxx, maxy = polygon.bounds
+    if sampling == "hexagonal":
+        ys = np.arange(miny + step / 2, maxy, step * math.sqrt(3) / 2)
+        rows = []
+        for k, y in enumerate(ys):
+            xs = np.arange(minx + (step / 2) * (1 + k % 2), maxx, step)
+            rows.append(np.column_stack([xs, np.full(len(xs), y)]))
+        inner = np.concatenate(rows) if rows else np.empty((0, 2))
+    elif sampling == "random":
+        n = max(int((maxx - minx) * (maxy - miny) / step ** 2), 1)
+        inner = np.column_stack([rng.uniform(minx, maxx, n), rng.uniform(miny, maxy, n)])
+    else:
+        gx, gy = np.meshgrid(np.arange(minx + step / 2, maxx, step),
+                             np.arange(miny + step / 2, maxy, step))
+        inner = np.column_stack([gx.ravel(), gy.ravel()])
+        if sampling == "stratified":
+            inner = inner + rng.uniform(-step / 2, step / 2, inner.shape)
+    inner = inner.reshape(-1, 2)
+    inner = inner[shapely.contains_xy(polygon, inner[:, 0], inner[:, 1])]
+    edge = shapely.get_coordinates(shapely.segmentize(polygon.boundary, spacing))
+    return np.unique(np.concatenate([edge, inner]), axis=0)
+
+
+def alpha_shape(points, alpha):
+    """Union of the Delaunay triangles of ``points`` with circumradius <= alpha."""
+    from scipy.spatial import Delaunay, QhullError
+
+    points = np.asarray(points, dtype=float)
+    if len(points) < 3:
+        return Polygon()
+    origin = points.mean(axis=0)
+    local = points - origin
+    try:
+        tri = Delaunay(local)
+    except QhullError:
+        return Polygon()
+    a, b, c = (local[tri.simplices[:, k]] for k in range(3))
+    la = np.hypot(*(b - c).T)
+    lb = np.hypot(*(a - c).T)
+    lc = np.hypot(*(a - b).T)
+    area2 = np.abs((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        radius = la * lb * lc / (2 * area2)
+    keep = (area2 > 1e-12) & (radius <= alpha)
+    if not keep.any():
+        return Polygon()
+    simplices = tri.simplices[keep]
+    rings = (points[simplices])
+    triangles = shapely.polygons(np.concatenate([rings, rings[:, :1]], axis=1))
+    return shapely.coverage_union_all(triangles)
+
+
+def alpha_generalize(polygon, alpha, sampling="regular", spacing=None, rng=None):
+    """Alpha-shape generalisation of one plot (None when it fails).
+
+    Samples points (see :func:`sample_points`, default spacing alpha / 4),
+    takes their alpha shape, keeps the largest cycle with the holes wider
+    than the alpha disk, and drops collinear vertices.
+    """
+    spacing = spacing or alpha / 4.0
+    points = sample_points(polygon, spacing, sampling, rng, inner_spacing=alpha * INNER)
+    shape = alpha_shape(points, alpha)
+    main = largest_polygon(shape)
+    if main is None:
+        return None
+    min_hole = math.pi * alpha ** 2 / 4
+    holes = [ring for ring in main.interiors if Polygon(ring).area >= min_hole]
+    main = Polygon(main.exterior, holes)
+    return _clean(main, spacing * ALPHA_TOL)
+
+
+# ---------------------------------------------------------------------------
+# Buffered-lines step (Commandeur 2012)
+# ---------------------------------------------------------------------------
+
+def _ring_arrays(polygon):
+    """Vertex arrays (open, counter-clockwise exterior first) of a polygon's rings."""
+    polygon = shapely.orient_polygons(polygon)
+    rings = [polygon.exterior] + list(polygon.interiors)
+    return [np.asarray(r.coords)[:-1, :2] for r in rings]
+
+
+class _LineSet:
+    """Lines made of merged segments (length-weighted axial direction and position)."""
+
+    def __init__(self, distance, angle, capacity):
+        self.distance = distance
+        self.angle = math.radians(min(angle, 90.0))  # axial directions differ by <= 90 deg
+        self.n = 0
+        self.dir2 = np.zeros((capacity, 2))    # sum of length * (cos 2a, sin 2a)
+        self.centre = np.zeros((capacity, 2))  # sum of length * midpoint
+        self.weight = np.zeros(capacity)       # total length
+        self.origin = np.zeros((capacity, 2))  # weighted centre
+        self.unit = np.zeros((capacity, 2))    # unit direction
+        self.points = []                       # (k, 2) end points of the members
+
+    def line(self, k):
+        return self.origin[k], self.unit[k]
+
+    def update(self, k):
+        theta = math.atan2(self.dir2[k, 1], self.dir2[k, 0]) / 2
+        self.unit[k] = (math.cos(theta), math.sin(theta))
+        self.origin[k] = self.centre[k] / self.weight[k]
+
+    def _fits(self, k, p, q, length, direction2):
+        dir2 = self.dir2[k] + length * direction2
+        centre = (self.centre[k] + length * (p + q) / 2) / (self.weight[k] + length)
+        theta = math.atan2(dir2[1], dir2[0]) / 2
+        normal = np.array([-math.sin(theta), math.cos(theta)])
+        points = np.concatenate([self.points[k], [p, q]])
+        return np.abs((points - centre) @ normal).max() <= self.distance
+
+    def add(self, p, q):
+        """Merge segment pq into the nearest line it fits, or start a line; its index."""
+        v = q - p
+        length = float(np.hypot(*v))
+        a = math.atan2(v[1], v[0])
+        direction2 = np.array([math.cos(2 * a), math.sin(2 * a)])
+        best = -1
+        if self.n:
+            origin, unit = self.origin[:self.n], self.unit[:self.n]
+            normal = np.column_stack([-unit[:, 1], unit[:, 0]])
+            d = np.maximum(np.abs(((p - origin) * normal).sum(axis=1)),
+                           np.abs(((q - origin) * normal).sum(axis=1)))
+            cosine = np.abs(unit @ v) / length
+            ok = np.flatnonzero((d <= self.distance) & (cosine >= math.cos(self.angle + 1e-9)))
+            for k in ok[np.argsort(d[ok], kind="stable")]:
+                if self._fits(k, p, q, length, direction2):
+                    best = int(k)
+                    break
+        if best < 0:
+            best = self.n
+            self.n += 1
+            self.points.append(np.array([p, q]))
+        else:
+            self.points[best] = np.concatenate([self.points[best], [p, q]])
+        self.dir2[best] += length * direction2
+        self.centre[best] += length * (p + q) / 2
+        self.weight[best] += length
+        self.update(best)
+        return best
+
+
+def _absorb_interruptions(lines, seg_line, ring_segments, seg_points):
+    """Give a run of segments between two runs of the same line to that line.
+
+    An edge that reads line A, then briefly line B, then A again is one edge
+    when B's points lie within the distance of A: B's segments there join A.
+    """
+    changed = True
+    while changed:
+        changed = False
+        for ids in ring_segments:
+            ids = np.asarray(ids)
+            seq = seg_line[ids]
+            starts = np.flatnonzero(seq != np.roll(seq, 1))
+            if len(starts) < 4:
+                continue
+            for j in range(len(starts)):
+                s0, s1 = starts[j], starts[(j + 1) % len(starts)]
+                run = np.arange(s0, s1 if s1 > s0 else s1 + len(seq)) % len(seq)
+                before, after = seq[(s0 - 1) % len(seq)], seq[s1 % len(seq)]
+                if before != after:
+                    continue
+                origin, u = lines.line(before)
+                normal = np.array([-u[1], u[0]])
+                pts = np.array([pt for k in ids[run] for pt in seg_points[k]])
+                if np.abs((pts - origin) @ normal).max() <= lines.distance:
+                    seg_line[ids[run]] = before
+                    changed = True
+                    break
+
+
+def _orthogonalize(lines, tolerance_deg=20.0):
+    """Snap line directions to the dominant direction or its perpendicular."""
+    weights = lines.weight[:lines.n]
+    thetas = np.arctan2(lines.dir2[:lines.n, 1], lines.dir2[:lines.n, 0]) / 2
+    dominant = math.atan2((weights * np.sin(4 * thetas)).sum(),
+                          (weights * np.cos(4 * thetas)).sum()) / 4
+    tol = math.radians(tolerance_deg)
+    for k, theta in enumerate(thetas):
+        off = (theta - dominant + math.pi / 4) % (math.pi / 2) - math.pi / 4
+        if abs(off) <= tol:
+            new = theta - off
+            lines.dir2[k] = weights[k] * np.array([math.cos(2 * new), math.sin(2 * new)])
+            lines.update(k)
+
+
+def _join(la, lb, corner, min_angle, max_shift, offset):
+    """Vertices joining line a to line b near ``corner``.
+
+    The intersection of the two lines when they cross at ``min_angle`` or more
+    within ``max_shift`` of the corner; otherwise the corner projected on both
+    lines: one vertex between them when they lie within ``offset`` of each
+    other, else a short step.
+    """
+    (pa, ua), (pb, ub) = la, lb
+    cross = ua[0] * ub[1] - ua[1] * ub[0]
+    if abs(cross) >= math.sin(min_angle):
+        t = ((pb - pa)[0] * ub[1] - (pb - pa)[1] * ub[0]) / cross
+        x = pa + t * ua
+        if np.hypot(*(x - corner)) <= max_shift:
+            return [x]
+    # nearly parallel (or far intersection): a short step through the corner
+    xa = pa + ((corner - pa) @ ua) * ua
+    xb = pb + ((corner - pb) @ ub) * ub
+    if np.hypot(*(xa - xb)) <= offset:
+        return [(xa + xb) / 2]
+    return [xa, xb]
+
+
+def buffered_lines(polygons, distance=5.0, angle=180.0, orthogonal=False, shift=None):
+    """Commandeur's buffered-lines generalisation of a group of plots.
+
+    All rings of all ``polygons`` share one set of lines, so an edge shared
+    by two plots becomes one line and stays shared. Returns one polygon (or
+    None where the reconstruction failed) per input polygon.
+    """
+    shift = SHIFT if shift is None else shift
+    rings = []              # (plot index, vertex array)
+    for i, polygon in enumerate(polygons):
+        for ring in _ring_arrays(polygon):
+            if len(ring) >= 3:
+                rings.append((i, ring))
+    # unique segments (shared edges of touching plots are one segment)
+    seg_index = {}
+    seg_points = []
+    ring_segments = []
+    for _, ring in rings:
+        ids = []
+        nxt = np.roll(ring, -1, axis=0)
+        for p, q in zip(ring, nxt):
+            kp, kq = tuple(np.round(p, 6)), tuple(np.round(q, 6))
+            key = (kp, kq) if kp <= kq else (kq, kp)
+            if key not in seg_index:
+                seg_index[key] = len(seg_points)
+                seg_points.append((np.array(key[0]), np.array(key[1])))
+            ids.append(seg_index[key])
+        ring_segments.append(ids)
+    if not seg_points:
+        return [None] * len(polygons)
+    lengths = np.array([np.hypot(*(q - p)) for p, q in seg_points])
+    order = np.lexsort((np.arange(len(lengths)), -lengths))
+    lines = _LineSet(distance, angle, len(seg_points))
+    seg_line = np.empty(len(seg_points), dtype=int)
+    for s in order:
+        p, q = seg_points[s]
+        seg_line[s] = lines.add(p, q)
+    _absorb_interruptions(lines, seg_line, ring_segments, seg_points)
+    if orthogonal:
+        _orthogonalize(lines)
+    line_params = {k: lines.line(k) for k in np.unique(seg_line)}
+    min_angle = math.radians(10.0)
+    max_shift = shift * distance
+    joins = {}
+    out_rings = {}
+    for (plot, ring), ids in zip(rings, ring_segments):
+        seq = seg_line[ids]
+        # rotate so the ring starts at a change of line
+        changes = np.flatnonzero(seq != np.roll(seq, 1))
+        if len(changes) < 3:
+            out_rings.setdefault(plot, []).append(None)
+            continue
+        start = changes[0]
+        seq = np.roll(seq, -start)
+        verts = np.roll(ring, -start, axis=0)
+        starts = np.flatnonzero(seq != np.roll(seq, 1))
+        coords = []
+        for j, s in enumerate(starts):
+            prev_line = seq[s - 1]
+            this_line = seq[s]
+            corner = verts[s]
+            key = (tuple(np.round(corner, 6)), prev_line, this_line)
+            if key not in joins:
+                joins[key] = _join(line_params[prev_line], line_params[this_line], corner,
+                                   min_angle, max_shift, distance)
+            coords.extend(joins[key])
+        out_rings.setdefault(plot, []).append(np.array(coords))
+    result = []
+    for i in range(len(polygons)):
+        parts = out_rings.get(i, [])
+        if not parts or parts[0] is None or len(parts[0]) < 3:
+            result.append(None)
+            continue
+        holes = [h for h in parts[1:] if h is not None and len(h) >= 3]
+        try:
+            polygon = Polygon(parts[0], holes)
+        except (ValueError, shapely.errors.GEOSException):
+            result.append(None)
+            continue
+        result.append(_clean(polygon, distance * CLEAN) if polygon.is_valid else None)
+    return result
+
+
+# ---------------------------------------------------------------------------
+# Simplification
+# ---------------------------------------------------------------------------
+
+def douglas(polygon, tolerance):
+    """Douglas-Peucker simplification of one plot (None when it breaks)."""
+    out = shapely.simplify(polygon, tolerance, preserve_topology=False)
+    return _clean(out) if out is not None and out.is_valid and not out.is_empty else None
+
+
+def simplify_one(polygon, tolerance):
+    """Topology-preserving Douglas-Peucker simplification of one plot."""
+    return _clean(shapely.simplify(polygon, tolerance, preserve_topology=True))
+
+
+def simplify_coverage(polygons, tolerance):
+    """Topology-preserving simplification of all plots, shared edges kept shared."""
+    arr = np.empty(len(polygons), dtype=object)
+    arr[:] = list(polygons)
+    try:
+        if len(arr) and shapely.coverage_is_valid(arr):
+            return [_clean(g) for g in shapely.coverage_simplify(arr, tolerance)]
+    except shapely.errors.GEOSException:
+        pass
+    return [simplify_one(g, tolerance) for g in arr]
+
+
+# ---------------------------------------------------------------------------
+# Groups and overlaps
+# ---------------------------------------------------------------------------
+
+def touching_groups(polygons, gap=0.0):
+    """Groups (lists of indices) of plots that touch or lie within ``gap``."""
+    arr = np.empty(len(polygons), dtype=object)
+    arr[:] = list(polygons)
+    n = len(arr)
+    parent = np.arange(n)
+
+    def find(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    if n:
+        tree = shapely.STRtree(arr)
+        if gap > 0:
+            a, b = tree.query(arr, predicate="dwithin", distance=gap)
+        else:
+            a, b = tree.query(arr, predicate="intersects")
+        for i, j in zip(a, b):
+            ri, rj = find(i), find(j)
+            if ri != rj:
+                parent[max(ri, rj)] = min(ri, rj)
+    groups = {}
+    for i in range(n):
+        groups.setdefault(find(i), []).append(i)
+    return list(groups.values())
+
+
+def overlapping_pairs(polygons, min_area=1e-6):
+    """Pairs (i, j), i < j, of plots whose interiors overlap by more than ``min_area``."""
+    arr = np.empty(len(polygons), dtype=object)
+    arr[:] = list(polygons)
+    if not len(arr):
+        return []
+    tree = shapely.STRtree(arr)
+    a, b = tree.query(arr, predicate="intersects")
+    pairs = []
+    for i, j in zip(a, b):
+        if i < j and shapely.intersection(arr[i], arr[j]).area > min_area:
+            pairs.append((int(i), int(j)))
+    return pairs
+
+
+def remove_overlaps(polygons):
+    """Remove overlaps between plots, keeping one polygon per plot.
+
+    GEOS coverage cleaning gives each overlap to the plot with the longest
+    shared border; a plot split or emptied by it keeps its largest part, or
+    its own area minus its neighbours. Coverage cleaning is made for slivers:
+    where plots overlap widely (one grown over another) it can return parts
+    that are not what each plot loses to its neighbours, and then plain
+    differences are used instead (pair by pair, the later plot loses the
+    shared area, or the earlier one when the later would vanish).
+    """
+    polygons = list(polygons)
+    pairs = overlapping_pairs(polygons)
+    if not pairs:
+        return polygons
+    involved = sorted({k for pair in pairs for k in pair})
+    arr = np.empty(len(involved), dtype=object)
+    arr[:] = [polygons[k] for k in involved]
+    try:
+        cleaned = shapely.coverage_clean(arr, snapping_distance=0.0)
+    except shapely.errors.GEOSException:
+        cleaned = None
+    if cleaned is not None:
+        # a plot may only lose (part of) what it shares with its neighbours
+        shared = dict.fromkeys(involved, 0.0)
+        for i, j in pairs:
+            area = shapely.intersection(polygons[i], polygons[j]).area
+            shared[i] += area
+            shared[j] += area
+        for k, geom in zip(involved, cleaned):
+            if geom is None or shapely.difference(geom, polygons[k]).area > 1e-6 or \
+                    geom.area < polygons[k].area - shared[k] - 1e-6:
+                cleaned = None
+                break
+    if cleaned is None:
+        return _plain_differences(polygons, pairs)
+    for k, geom in zip(involved, cleaned):
+        poly = _clean(largest_polygon(geom))
+        if poly is None:
+            others = shapely.union_all([polygons[j] for j in involved if j != k])
+            poly = _clean(largest_polygon(shapely.difference(polygons[k], others)))
+        if poly is not None:
+            polygons[k] = poly
+    # what is left: a plot lying wholly inside a neighbour's generalisation
+    # keeps its own shape and is cut out of the neighbour (which may get a hole)
+    return _plain_differences(polygons, overlapping_pairs(polygons))
+
+
+def _plot_kept(geometry):
+    return _clean(largest_polygon(geometry))
+
+
+#: pair by pair, the later plot loses the shared area, or the earlier one when
+#: the later would vanish (it lies inside the earlier)
+LATER_PLOT_LOSES = OverlapRule(
+    keep=_plot_kept, min_shared=1e-6, merge_winners=False, swap=True,
+    intersection=lambda later, earlier: shapely.intersection(earlier, later))
+
+
+def _plain_differences(polygons, pairs):
+    """Overlaps removed pair by pair (:data:`LATER_PLOT_LOSES`)."""
+    return resolve_overlaps(polygons, [(b, [a]) for a, b in pairs], LATER_PLOT_LOSES)[0]
+
+
+# ---------------------------------------------------------------------------
+# The chain
+# ---------------------------------------------------------------------------
+
+def _lines_for(polygon, distance, angle, orthogonal):
+    return buffered_lines([polygon], distance, angle, orthogonal)[0]
+
+
+def generalize_plots(polygons, methods=("alpha", "lines"), alpha=12.0, distance=5.0,
+                     angle=180.0, orthogonal=False, tolerance=1.0, seed=1):
+    """Generalise building plots, one output polygon per input polygon.
+
+    ``polygons``: valid shapely Polygons (see :func:`explode_plots`);
+    ``methods``: the steps in order (from :data:`METHODS`); ``alpha``: alpha
+    radius; ``distance`` / ``angle`` (degrees): the epsilons of the
+    buffered-lines step; ``orthogonal``: parallel / perpendicular lines;
+    ``tolerance``: the simplify and douglas tolerance; ``seed``: for the
+    stratified and random samplings. Returns a :class:`Generalization`.
+    """
+    for method in methods:
+        if method not in METHODS:
+            raise ValueError("unknown method '{}' (one of {})".format(method, ", ".join(METHODS)))
+    rng = np.random.default_rng(seed)
+    current = [shapely.orient_polygons(p) for p in polygons]
+    used = [[] for _ in current]
+    steps = [("raw", list(current))]
+    fallbacks = {}
+    previous = None
+    for step_no, method in enumerate(methods):
+        step_name = method if method not in [s[0] for s in steps] else "{}_{}".format(method, step_no + 1)
+        new = [None] * len(current)
+        labels = [None] * len(current)
+        if method == "alpha":
+            for i, poly in enumerate(current):
+                for sampling in SAMPLINGS:
+                    out = alpha_generalize(poly, alpha, sampling, rng=rng)
+                    if acceptable(out, poly):
+                        new[i], labels[i] = out, "alpha/" + sampling
+                        break
+        elif method == "lines":
+            for group in touching_groups(current):
+                outs = buffered_lines([current[i] for i in group], distance, angle, orthogonal)
+                for i, out in zip(group, outs):
+                    if acceptable(out, current[i]):
+                        new[i], labels[i] = out, "lines"
+            # a plot of a group may have failed because of its neighbours: alone
+            for i in range(len(current)):
+                if new[i] is None:
+                    out = _lines_for(current[i], distance, angle, orthogonal)
+                    if acceptable(out, current[i]):
+                        new[i], labels[i] = out, "lines"
+        elif method == "simplify":
+            outs = simplify_coverage(current, tolerance)
+            for i, out in enumerate(outs):
+                if acceptable(out, current[i]):
+                    new[i], labels[i] = out, "simplify"
+        elif method == "douglas":
+            for i, poly in enumerate(current):
+                out = douglas(poly, tolerance)
+                if acceptable(out, poly):
+                    new[i], labels[i] = out, "douglas"
+        failed = [i for i in range(len(current)) if new[i] is None]
+        for i in failed:
+            new[i], labels[i], redone = _fallback(method, i, current, steps, previous, alpha,
+                                                  distance, angle, orthogonal, tolerance, rng, used)
+            if redone is not None:  # the previous step was redone with another sampling
+                steps[-1][1][i] = redone
+                used[i][-1], labels[i] = labels[i].split("+", 1)
+        if failed:
+            fallbacks[step_name] = len(failed)
+        for i, label in enumerate(labels):
+            used[i].append(label)
+        current = new
+        steps.append((step_name, list(current)))
+        previous = method
+    final = remove_overlaps(current)
+    for i, poly in enumerate(final):
+        if not (poly is not None and poly.geom_type == "Polygon" and poly.is_valid):
+            final[i] = current[i]
+    if steps and final != current:
+        steps[-1] = (steps[-1][0], list(final))
+    return Generalization(final, ["+".join(u) if u else "none" for u in used], steps, fallbacks)
+
+
+def _fallback(method, i, current, steps, previous, alpha, distance, angle, orthogonal,
+              tolerance, rng, used):
+    """The next sensible method for plot ``i`` whose ``method`` step failed.
+
+    Returns ``(polygon, label, redone)``: ``redone`` is the new result of the
+    previous (alpha) step when it was redone with another sampling, else None.
+    """
+    poly = current[i]
+    if method == "lines":
+        if previous == "alpha":
+            # another sampling for the alpha step, then the lines again
+            source = steps[-2][1][i]
+            done = used[i][-1].split("/")[-1] if used[i] else None
+            for sampling in SAMPLINGS:
+                if sampling == done:
+                    continue
+                alt = alpha_generalize(source, alpha, sampling, rng=rng)
+                if acceptable(alt, source):
+                    out = _lines_for(alt, distance, angle, orthogonal)
+                    if acceptable(out, alt) and acceptable(out, source):
+                        return out, "alpha/{}+lines".format(sampling), alt
+        for factor in (2.0, 4.0):
+            out = _lines_for(poly, distance / factor, angle, orthogonal)
+            if acceptable(out, poly):
+                return out, "lines/{:g}".format(distance / factor), None
+        out = douglas(poly, tolerance)
+        if acceptable(out, poly):
+            return out, "douglas", None
+    out = simplify_one(poly, tolerance)
+    if acceptable(out, poly):
+        return out, "simplify", None
+    return poly, "none", None

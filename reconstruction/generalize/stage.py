@@ -1,0 +1,220 @@
+"""The v.histo.generalize stage as one entry point: from raw plot areas to
+generalised plots, their attribute columns and the assessment report.
+
+- :func:`read_config`: the module's options as a :class:`GeneralizeConfig`;
+- :func:`raw_plots`: the raw areas as single polygons, small ones dropped
+  (:class:`RawPlots`);
+- :func:`generalize_map`: generalises them (:mod:`reconstruction.generalize.operators`),
+  measures them (:mod:`reconstruction.generalize.shape_metrics`) and scores them against
+  ground truth (:mod:`reconstruction.generalize.assessment`): a :class:`GeneralizedPlots`
+  with the plots, the columns of the output map and a :class:`GeneralizeReport`.
+
+Bad input raises :class:`~reconstruction.core.errors.InputError` with the message
+a user should read.
+"""
+
+import csv
+import json
+from collections import Counter
+from dataclasses import asdict, dataclass
+from typing import Optional
+
+from ..core import safefile
+from ..core.errors import InputError
+from ..core.options import parse_list, parse_number
+from ..core.work_limits import check_alpha
+from . import assessment
+from . import operators as generalization
+from . import shape_metrics
+
+#: column of the output plots: the category of the raw area a plot comes from
+#: (only for vector input). Not :data:`reconstruction.core.contract.SOURCE` (how a
+#: footprint was made): the same word, another meaning, kept for compatibility.
+RAW_CATEGORY = "source"
+#: column of the output plots: the methods used, joined by "+"
+METHOD = "method"
+
+
+@dataclass(frozen=True)
+class GeneralizeConfig:
+    """The steps of v.histo.generalize and their parameters (map units, degrees)."""
+
+    methods: tuple = ("alpha", "lines")
+    alpha: float = 12.0
+    distance: float = 5.0
+    angle: float = 180.0
+    orthogonal: bool = False
+    tolerance: float = 1.0
+    min_area: float = 20.0
+    gt_buffer: float = 2.0
+    seed: int = 1
+
+
+def read_config(options, flags):
+    """The options and flags of v.histo.generalize (dicts of texts) as a :class:`GeneralizeConfig`."""
+    def positive(key, allow_zero=False):
+        return parse_number(options[key], key, minimum=0, allow_minimum=allow_zero)
+
+    return GeneralizeConfig(
+        methods=tuple(parse_list(options["method"])),
+        alpha=positive("alpha"), distance=positive("distance"),
+        angle=parse_number(options["angle"], "angle", minimum=0, maximum=180),
+        orthogonal=bool(flags["r"]), tolerance=positive("tolerance"),
+        min_area=positive("min_area", allow_zero=True), gt_buffer=positive("gt_buffer"),
+        seed=parse_number(options["seed"], "seed", int))
+
+
+@dataclass(frozen=True)
+class RawPlots:
+    """Raw plots as single polygons: ``cats`` the category of the area each comes
+    from (None for areas vectorised from a raster), ``areas`` how many raw
+    polygons there were, ``dropped`` how many of them were below min_area."""
+
+    polygons: list
+    cats: Optional[list]
+    areas: int
+    dropped: int
+
+
+def raw_plots(geometries, min_area, name, cats=None):
+    """The polygons of the raw areas ``geometries`` of map ``name`` (one per part,
+    see :func:`~reconstruction.generalize.operators.explode_plots`), those smaller
+    than ``min_area`` dropped."""
+    polygons, index = generalization.explode_plots(geometries)
+    if not polygons:
+        raise InputError("No area with a category in <{}>: nothing to generalise".format(name))
+    keep = [k for k, p in enumerate(polygons) if p.area >= min_area]
+    if not keep:
+        raise InputError("All {} raw areas are smaller than min_area={}: nothing to "
+                         "generalise".format(len(polygons), min_area))
+    return RawPlots(polygons=[polygons[k] for k in keep],
+                    cats=None if cats is None else [cats[index[k]] for k in keep],
+                    areas=len(polygons), dropped=len(polygons) - len(keep))
+
+
+@dataclass(frozen=True)
+class PointScores:
+    """Detection scores against ground-truth points (one in each true plot)."""
+
+    precision: float
+    recall: float
+    f_score: float
+    gt_points: int
+
+
+@dataclass(frozen=True)
+class ShapeScores:
+    """Shape agreement with reference plots (None where nothing matched)."""
+
+    gt_polygons: int
+    matched: int
+    turning_distance: Optional[float]
+    buffer_similarity: Optional[float]
+    turning_distances: list
+    buffer_similarities: list
+
+
+@dataclass(frozen=True)
+class GeneralizeReport:
+    """The figures of one run: counts, methods used, metrics per step, scores."""
+
+    plots: int
+    raw_areas: int
+    dropped_small: int
+    methods: dict
+    fallbacks: dict
+    steps: list
+    points: Optional[PointScores] = None
+    shapes: Optional[ShapeScores] = None
+
+    def figures(self):
+        """All figures as one dict, the JSON report (scores only when measured)."""
+        figures = {"plots": self.plots, "raw_areas": self.raw_areas,
+                   "dropped_small": self.dropped_small, "methods": self.methods,
+                   "fallbacks": self.fallbacks, "steps": self.steps}
+        for scores in (self.points, self.shapes):
+            if scores is not None:
+                figures.update(asdict(scores))
+        return figures
+
+    def scalars(self):
+        """The single-number figures (None where not measurable), in report order."""
+        return {k: v for k, v in self.figures().items()
+                if isinstance(v, (int, float)) or v is None}
+
+    def write_json(self, path):
+        with safefile.replacing(path) as f:
+            json.dump(self.figures(), f, indent=2)
+
+    def write_metrics_csv(self, path):
+        """The metrics summed and averaged after each step, one row per step."""
+        with safefile.replacing(path, newline="") as f:
+            writer = csv.DictWriter(f, fieldnames=list(self.steps[0].keys()))
+            writer.writeheader()
+            for row in self.steps:
+                writer.writerow({k: (round(v, 6) if isinstance(v, float) else v)
+                                 for k, v in row.items()})
+
+
+@dataclass(frozen=True)
+class GeneralizedPlots:
+    """Result of :func:`generalize_map`: the plots (one per raw polygon, in order),
+    the attribute columns of the output map, and the report."""
+
+    plots: list
+    columns: dict
+    report: GeneralizeReport
+
+
+def _step_rows(steps):
+    """One row of summary statistics of the Table 3.1 metrics per step."""
+    rows = []
+    for name, polygons in steps:
+        row = {"step": name}
+        row.update(shape_metrics.summarise_metrics(shape_metrics.plot_metrics(polygons)))
+        rows.append(row)
+    return rows
+
+
+def _point_scores(plots, xy):
+    scores = assessment.point_detection_scores(plots, xy)
+    return PointScores(scores.precision, scores.recall, scores.f_score, len(xy))
+
+
+def _shape_scores(plots, references, buffer):
+    refs, _index = generalization.explode_plots(references)
+    scores = shape_metrics.shape_scores(plots, refs, buffer)
+    return ShapeScores(scores["references"], scores["matched"], scores["turning_distance"],
+                       scores["buffer_similarity"], scores["turning_distances"],
+                       scores["buffer_similarities"])
+
+
+def generalize_map(raw, config, gt_points=None, gt_polygons=None):
+    """Generalise the raw plots; measure and score the result.
+
+    An alpha that would sample too many points in these plots raises
+    :class:`~reconstruction.core.errors.InputError` first
+    (:func:`reconstruction.core.work_limits.check_alpha`).
+
+    ``gt_points``: (n, 2) coordinates of ground-truth points, one in each true
+    plot; ``gt_polygons``: reference plot geometries. Returns a
+    :class:`GeneralizedPlots`.
+    """
+    if "alpha" in config.methods:
+        check_alpha(raw.polygons, config.alpha)
+    result = generalization.generalize_plots(
+        raw.polygons, config.methods, alpha=config.alpha, distance=config.distance,
+        angle=config.angle, orthogonal=config.orthogonal, tolerance=config.tolerance,
+        seed=config.seed)
+    metrics = shape_metrics.plot_metrics(result.plots)
+    columns = {RAW_CATEGORY: raw.cats} if raw.cats is not None else {}
+    columns[METHOD] = result.methods
+    columns.update({k: metrics[k] for k in shape_metrics.METRICS})
+    report = GeneralizeReport(
+        plots=len(result.plots), raw_areas=raw.areas, dropped_small=raw.dropped,
+        methods=dict(Counter(result.methods)), fallbacks=result.fallbacks,
+        steps=_step_rows(result.steps),
+        points=None if gt_points is None else _point_scores(result.plots, gt_points),
+        shapes=None if gt_polygons is None else _shape_scores(result.plots, gt_polygons,
+                                                              config.gt_buffer))
+    return GeneralizedPlots(result.plots, columns, report)

@@ -1,0 +1,19 @@
+"""Geometry every stage shares: rings, polygons, overlaps, grids and solids.
+
+- ``rings``: many rings (faces, solids) as flat arrays and their index helpers;
+- ``polygons``: the polygons of any shapely geometry, repaired and exploded;
+- ``overlaps``: overlapping geometries made disjoint, the policy an
+  :class:`OverlapRule`;
+- ``grid``: a raster as a numpy array with its place on the ground
+  (:class:`Grid`), a map picture (:class:`MapImage`);
+- ``solidset``: many LoD2 solids as flat numpy arrays (:class:`SolidSet`) and
+  their semantic surfaces.
+"""
+
+from . import grid, overlaps, polygons, rings, solidset
+from .grid import Grid, MapImage
+from .overlaps import OverlapRule, resolve_overlaps
+from .solidset import SolidSet
+
+__all__ = ["Grid", "MapImage", "OverlapRule", "SolidSet", "grid", "overlaps", "polygons",
+           "resolve_overlaps", "rings", "solidset"]

@@ -1,0 +1,328 @@
+"""The LoD2 stage's inputs beyond the footprints' columns: reference heights and street edges.
+
+Two typed entry points for v.histo.lod2 (pure: the GRASS readers are in
+:mod:`reconstruction.grassio.points`):
+
+- :func:`footprint_heights` -- the :class:`~reconstruction.lod2.stage.Heights` of
+  every footprint and where each came from (``height_source``): ground from
+  3D ground points or a DTM (:mod:`~reconstruction.lod2.heights`, the buffered
+  footprint's percentile) or from a column or a constant; eaves and attic
+  from ranges (``range``), else measured on aligned footprints
+  (``measured``: an input footprint that is an aligned footprint, by
+  overlap) or building points (``points``) and inferred for the others by
+  the height rule (:mod:`~reconstruction.lod2.neighbourhood`: ``neighbours``,
+  ``plot``), else from columns (``column``).
+- :func:`with_street_edges` -- the street edge of every ring
+  (:mod:`~reconstruction.lod2.street_edges`, with a streets raster or street
+  areas when given), handed to the roofs with the shared edges (no gable
+  end, hip end or stepped facade on a shared edge, see
+  :func:`reconstruction.lod2.roofs.plan.plan_roofs`), and written as attributes
+  ``street_edge`` (index of the edge in the footprint ring as written: edge
+  k runs from vertex k to k + 1 of the counter-clockwise ring, the wall
+  standing on it) and ``street_case`` (0-5, see :mod:`street_edges`).
+"""
+
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+from ..core.contract import (HEIGHT_SOURCE, HEIGHTS_COLUMN, HEIGHTS_MEASURED, HEIGHTS_POINTS,
+                       HEIGHTS_RANGE)
+from ..core.errors import InputError
+from . import heights as hts
+from . import neighbourhood as nb
+from . import stage as lod2
+from . import street_edges as se
+
+#: an input footprint is an aligned footprint when they overlap by this much
+#: (intersection over union)
+SAME_FOOTPRINT = 0.8
+#: ground points or cells are looked for up to this far around a footprint (m)
+MAX_GROUND_BUFFER = 50.0
+
+
+@dataclass(frozen=True)
+class AlignedFootprints:
+    """Aligned footprints with measured heights: geometries, their columns
+    (name -> values) and which height columns to read (``auto``, ``thesis``,
+    ``3dbag``, ``3dbag-2024``, see :func:`reconstruction.lod2.heights.height_columns`)."""
+
+    geometries: list
+    columns: dict
+    choice: str = "auto"
+
+
+@dataclass(frozen=True)
+class HeightOptions:
+    """Where the heights come from (see the module doc); ranges are ``(low, high)``."""
+
+    eaves_column: Optional[str] = "h_building"
+    attic_column: Optional[str] = "h_attic"
+    ground_column: Optional[str] = None
+    ground: float = 0.0
+    eaves_range: Optional[tuple] = None
+    attic_range: Optional[tuple] = None
+    #: (N, 3) ground points, or a DTM :class:`~reconstruction.geom.grid.Grid`
+    ground_points: Optional[np.ndarray] = None
+    elevation: object = None
+    ground_percentile: float = 20.0
+    aligned: Optional[AlignedFootprints] = None
+    #: (N, 3) building points (the shortened version)
+    building_points: Optional[np.ndarray] = None
+    #: plot polygons for the plot rule (:class:`~reconstruction.lod2.neighbourhood.Plots`)
+    plots: Optional[nb.Plots] = None
+    rule: nb.HeightRule = field(default_factory=nb.HeightRule)
+
+
+@dataclass(frozen=True)
+class HeightReport:
+    """What :func:`footprint_heights` did, in counts."""
+
+    #: where the ground came from: points, elevation, column or constant
+    ground_from: str
+    #: footprints without ground points or cells within the largest buffer
+    ground_missing: int = 0
+    #: footprints whose buffer had to grow beyond the first (a hole in the data)
+    ground_grown: int = 0
+    #: input footprints that are aligned footprints with measured heights
+    matched: int = 0
+    #: aligned footprints with measured heights (donors), and those without
+    aligned_measured: int = 0
+    aligned_unmeasured: int = 0
+    #: footprints with building points
+    with_points: int = 0
+    #: height_source label -> number of footprints
+    sources: dict = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class FootprintHeights:
+    """The :class:`~reconstruction.lod2.stage.Heights` of the footprints, the
+    ``height_source`` of each and the :class:`HeightReport`."""
+
+    heights: lod2.Heights
+    source: np.ndarray
+    report: HeightReport
+
+
+def _array(geoms):
+    out = np.empty(len(geoms), dtype=object)
+    out[:] = list(geoms)
+    return out
+
+
+def check_points_near(points, geometries, what, margin=MAX_GROUND_BUFFER):
+    """Raise :class:`InputError` when no point (N, 3) lies within ``margin`` of
+    the footprints' extent (points of another reference system or region)."""
+    import shapely
+
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    x0, y0, x1, y1 = shapely.total_bounds(_array(geometries))
+    near = ((pts[:, 0] >= x0 - margin) & (pts[:, 0] <= x1 + margin)
+            & (pts[:, 1] >= y0 - margin) & (pts[:, 1] <= y1 + margin))
+    if not near.any():
+        px0, py0 = pts[:, :2].min(axis=0) if len(pts) else (np.nan, np.nan)
+        px1, py1 = pts[:, :2].max(axis=0) if len(pts) else (np.nan, np.nan)
+        raise InputError("None of the {:,} {} lies within {:g} m of the footprints (footprints "
+                         "x {:.0f}..{:.0f}, y {:.0f}..{:.0f}; points x {:.0f}..{:.0f}, y "
+                         "{:.0f}..{:.0f}): are they in another reference system or "
+                         "region?".format(len(pts), what, margin, x0, x1, y0, y1, px0, px1,
+                                          py0, py1))
+
+
+def _ground(geoms, columns, opts):
+    """Absolute ground per footprint (NaN: unknown) and the report's ground fields."""
+    n = len(geoms)
+    if opts.ground_points is not None or opts.elevation is not None:
+        if opts.ground_points is not None:
+            check_points_near(opts.ground_points, geoms, "ground points")
+            g = hts.ground_from_points(geoms, opts.ground_points, opts.ground_percentile,
+                                       max_buffer=MAX_GROUND_BUFFER)
+            kind = "points"
+        else:
+            g = hts.ground_from_raster(geoms, opts.elevation, opts.ground_percentile,
+                                       max_buffer=MAX_GROUND_BUFFER)
+            kind = "elevation"
+        grown = int(np.sum(np.isfinite(g.buffer) & (g.buffer > 0.5 + 1e-9)))
+        return g.ground, dict(ground_from=kind, ground_missing=g.missing, ground_grown=grown)
+    if opts.ground_column:
+        return lod2.numeric_column(columns, opts.ground_column, "ground elevation"), \
+            dict(ground_from="column")
+    return np.full(n, float(opts.ground)), dict(ground_from="constant")
+
+
+def match_footprints(geoms, other, threshold=SAME_FOOTPRINT):
+    """Per footprint of ``geoms``: the index of the footprint of ``other`` it is
+    (intersection over union at least ``threshold``, the best), -1 for none."""
+    import shapely
+
+    a_geoms, b_geoms = _array(geoms), _array(other)
+    out = np.full(len(a_geoms), -1, dtype=np.int64)
+    if not len(a_geoms) or not len(b_geoms):
+        return out
+    a, b = shapely.STRtree(b_geoms).query(a_geoms, predicate="intersects")
+    if not len(a):
+        return out
+    inter = shapely.area(shapely.intersection(a_geoms[a], b_geoms[b]))
+    union = shapely.area(a_geoms[a]) + shapely.area(b_geoms[b]) - inter
+    iou = inter / np.maximum(union, 1e-12)
+    order = np.lexsort((-iou, a))
+    a, b, iou = a[order], b[order], iou[order]
+    first = np.concatenate([[True], a[1:] != a[:-1]])
+    keep = first & (iou >= threshold)
+    out[a[keep]] = b[keep]
+    return out
+
+
+def _plot_of(geoms, plots):
+    """Plot id of the plot holding each footprint's representative point (None: none)."""
+    import shapely
+
+    out = np.full(len(geoms), None, dtype=object)
+    if plots is None or not len(geoms):
+        return out
+    pts = shapely.point_on_surface(_array(geoms))
+    i, j = shapely.STRtree(_array(plots.geometries)).query(pts, predicate="within")
+    out[i] = np.asarray(plots.ids, dtype=object)[j]
+    return out
+
+
+def _measured(geoms, ground, opts, report):
+    """Eaves, attic (NaN: unknown) and labels of the footprints from aligned
+    footprints and building points, then the donors to append."""
+    n = len(geoms)
+    eaves, attic = np.full(n, np.nan), np.full(n, np.nan)
+    label = np.full(n, "", dtype=object)
+    donors = ([], np.zeros(0), np.zeros(0), np.zeros(0, dtype=object))
+    if opts.aligned is not None:
+        al = opts.aligned
+        if not len(al.geometries):
+            raise InputError("The aligned footprints map has no areas")
+        al_ground = None
+        if opts.ground_points is not None or opts.elevation is not None:
+            al_ground = _ground(al.geometries, {}, opts)[0]
+        m = hts.measured_heights(al.columns, al.choice, ground=al_ground)
+        if not m.known.any():
+            raise InputError("None of the {} aligned footprints has measured heights (all "
+                             "NULL, or roofs not above the ground)".format(len(m.known)))
+        which = match_footprints(geoms, al.geometries)
+        hit = which >= 0
+        hit[hit] &= m.known[which[hit]]
+        eaves[hit], attic[hit] = m.eaves[which[hit]], m.attic[which[hit]]
+        label[hit] = HEIGHTS_MEASURED
+        rest = np.setdiff1d(np.nonzero(m.known)[0], which[hit])
+        donor_geoms = [al.geometries[k] for k in rest]
+        donors = (donor_geoms, m.eaves[rest], m.attic[rest], _plot_of(donor_geoms, opts.plots))
+        report.update(matched=int(hit.sum()), aligned_measured=int(m.known.sum()),
+                      aligned_unmeasured=int((~m.known).sum()))
+    if opts.building_points is not None:
+        check_points_near(opts.building_points, geoms, "building points", margin=0.0)
+        roof = hts.roof_from_points(geoms, opts.building_points)
+        rh = hts.roof_heights(roof, ground)
+        use = ~np.isfinite(eaves) & np.isfinite(rh.eaves) & np.isfinite(rh.attic)
+        eaves[use], attic[use] = rh.eaves[use], rh.attic[use]
+        label[use] = HEIGHTS_POINTS
+        report.update(with_points=int(np.sum(roof.count > 0)))
+    return eaves, attic, label, donors
+
+
+def footprint_heights(geometries, columns, plot=None, options=None):
+    """The :class:`FootprintHeights` of footprints (shapely polygons) with their
+    attribute ``columns`` (name -> values) and plot ids ``plot`` (None:
+    unknown), from :class:`HeightOptions` (see the module doc)."""
+    opts = options or HeightOptions()
+    geoms = _array(geometries)
+    n = len(geoms)
+    ground, report = _ground(geoms, columns, opts)
+    source = np.full(n, HEIGHTS_COLUMN, dtype=object)
+    if opts.aligned is not None or opts.building_points is not None:
+        eaves, attic, label, (dg, de, da, dp) = _measured(geoms, ground, opts, report)
+        plot = np.full(n, None, dtype=object) if plot is None else np.asarray(plot, dtype=object)
+        r = nb.infer_heights(list(geoms) + list(dg), np.concatenate([eaves, de]),
+                             np.concatenate([attic, da]), plot=np.concatenate([plot, dp]),
+                             plots=opts.plots, rule=opts.rule)
+        eaves, attic = r.eaves[:n], r.attic[:n]
+        source = np.where(label != "", label, r.source[:n]).astype(object)
+    else:
+        eaves = lod2.numeric_column(columns, opts.eaves_column, "eaves height") \
+            if opts.eaves_range is None else None
+        attic = lod2.numeric_column(columns, opts.attic_column, "roof height") \
+            if opts.attic_range is None else None
+    if opts.eaves_range is not None:
+        eaves = lod2.Uniform(*opts.eaves_range)
+        source = np.full(n, HEIGHTS_RANGE, dtype=object)
+    if opts.attic_range is not None:
+        attic = lod2.Uniform(*opts.attic_range)
+    labels, counts = np.unique(source.astype(str), return_counts=True)
+    report["sources"] = {k or "none": int(c) for k, c in zip(labels, counts)}
+    return FootprintHeights(lod2.Heights(eaves, attic, ground, float(opts.ground)), source,
+                            HeightReport(**report))
+
+
+# ---------------------------------------------------------------------------
+# Street edges
+# ---------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class StreetOptions:
+    """How street edges are found: ``streets`` a classified
+    :class:`~reconstruction.geom.grid.Grid` with ``classes`` its street and water
+    labels, or street polygons, or None (the four cases alone); ``depth``
+    the strip (m) looked at in front of each edge."""
+
+    streets: object = None
+    classes: Optional[tuple] = None
+    depth: float = 3.0
+    tol: float = 0.1
+
+
+def with_street_edges(prepared, options=None):
+    """``prepared`` (:class:`~reconstruction.lod2.stage.Prepared`) with the street
+    edge and the shared edges of every ring given to its roofs, and the
+    attributes ``street_edge`` and ``street_case``; and the
+    :class:`~reconstruction.lod2.street_edges.StreetEdges`."""
+    opts = options or StreetOptions()
+    b = prepared.buildings
+    res = se.street_edges(b.footprints, tol=opts.tol, streets=opts.streets,
+                          classes=opts.classes, depth=opts.depth)
+    start = res.edges.start
+    shared = [res.shared[start[r]:start[r + 1]] for r in range(len(b))]
+    street = [int(e) if e >= 0 else None for e in res.edge]
+    buildings = lod2.Buildings(b.footprints, b.ground, b.eaves, b.attic, b.roof_types,
+                               b.uniforms, street=street, shared=shared)
+    prepared = with_attributes(prepared._replace(buildings=buildings),
+                               street_edge=res.edge.astype(int), street_case=res.case.astype(int))
+    return prepared, res
+
+
+def with_attributes(prepared, **per_ring):
+    """``prepared`` with more attributes written per building (values per ring)."""
+    return prepared._replace(extra=tuple(prepared.extra) + tuple(
+        (name, np.asarray(values).tolist()) for name, values in per_ring.items()))
+
+
+def with_height_source(prepared, source):
+    """``prepared`` with the ``height_source`` attribute (values per footprint)."""
+    source = np.asarray(source, dtype=object)
+    return with_attributes(prepared, **{HEIGHT_SOURCE: source[prepared.source]})
+
+
+def parse_classes(text, categories=None):
+    """Street and water classes from ``street_classes=`` text: integers or
+    category labels of the raster (``categories``: label -> value)."""
+    out = []
+    labels = {str(k).strip().lower(): v for k, v in (categories or {}).items()}
+    for item in [t.strip() for t in str(text or "").split(",") if t.strip()]:
+        try:
+            out.append(int(item))
+        except ValueError:
+            if item.lower() not in labels:
+                raise InputError("Street class <{}> is neither a number nor a category label "
+                                 "of the streets raster (labels: {})".format(
+                                     item, ", ".join(sorted(labels)) or "none")) from None
+            out.append(int(labels[item.lower()]))
+    if not out:
+        raise InputError("Give street_classes=, the street and water classes of the streets "
+                         "raster")
+    return tuple(out)

@@ -1,0 +1,373 @@
+"""The output side of v.histo.lod2: merge an existing city model, write
+CityJSON or CityJSONSeq, render a picture (issue 17).
+
+The sequence, after the buildings are built (:func:`reconstruction.lod2.stage.build`):
+
+1. :func:`read_existing` (before building, so that a wrong file fails
+   fast): the existing model (:func:`reconstruction.cityjson.existing.read_model`),
+   its reference system checked against the location's;
+2. :func:`match_existing`: the candidates are the footprints whose source
+   is ``aligned`` (:data:`~reconstruction.core.contract.SOURCE_ALIGNED`; every
+   footprint when the map has no source column, e.g. v.histo.align's output
+   itself); each is matched by id, then by geometry
+   (:func:`reconstruction.cityjson.existing.match`);
+3. :func:`build`: the footprints that are not copied built
+   (:func:`reconstruction.lod2.stage.build`);
+4. :func:`write_model`: the matched buildings copied
+   (:func:`reconstruction.cityjson.copied.copy_buildings`, with the footprint's
+   ``plot``, ``source`` and ``footprint`` as attributes where the building
+   has none of its own), the model written as one CityJSON file
+   (:func:`reconstruction.cityjson.merge.merge`) or as CityJSONSeq
+   (:func:`reconstruction.cityjson.seq.write`), whole or not at all
+   (:mod:`reconstruction.core.safefile`); then, if asked, the picture
+   (:func:`reconstruction.lod2.render.render`).
+"""
+
+import json
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+from ..cityjson import existing
+from ..cityjson import geometry as citygeometry
+from ..cityjson import copied as citycopy
+from ..cityjson import merge as citymerge
+from ..cityjson import model as cityjson
+from ..cityjson import seq as cityjsonseq
+from ..core import safefile
+from ..core.contract import PLOT, SOURCE, SOURCE_ALIGNED
+from ..core.errors import InputError
+from ..core.options import parse_number
+from ..geom.solidset import semantics, take
+from . import render
+from . import stage as lod2
+from .heights import height_columns
+from .inputs import AlignedFootprints
+from .render import parse_view
+from .solids.build import Buildings, build_solids
+
+FORMATS = ("cityjson", "cityjsonseq")
+
+
+@dataclass
+class ExistingRequest:
+    """What to copy from an existing model: ``path``; ``prefix`` put before
+    a footprint's id to make an object id (None: the automatic rule of
+    :mod:`reconstruction.cityjson.existing`); ``min_overlap``: least intersection over
+    union of a match by geometry; ``lods``: None (each building's highest),
+    "all" or a list of LoD strings."""
+    path: str
+    prefix: Optional[str] = None
+    min_overlap: float = 0.5
+    lods: object = None
+
+
+@dataclass
+class OutputRequest:
+    """Where and how the model is written: ``path``, ``format`` (one of
+    :data:`FORMATS`), ``reference_system`` (EPSG code or URL, or None),
+    ``title``; ``render``: path of a PNG picture (None: none), its ``view``
+    (:class:`~reconstruction.lod2.render.View`) and ``map_image``
+    (:class:`~reconstruction.geom.grid.MapImage` or None)."""
+    path: str
+    format: str = "cityjson"
+    reference_system: object = None
+    title: Optional[str] = None
+    render: Optional[str] = None
+    view: object = None
+    map_image: object = None
+
+
+@dataclass
+class ExistingMatch:
+    """The existing model and the building matched with every footprint.
+
+    ``candidates``: the footprints that may be copied (indices);
+    ``matches``: :class:`~reconstruction.cityjson.existing.Matches` of the candidates.
+    """
+    model: existing.ExistingModel
+    request: ExistingRequest
+    candidates: np.ndarray
+    matches: existing.Matches
+    #: per footprint count, the arrays of building() and copied()
+    _building: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+
+    def building(self, count):
+        """Per footprint (``count`` of them) the index of its existing building,
+        -1 for none (worked out once; do not change the array)."""
+        if count not in self._building:
+            out = np.full(count, -1, dtype=np.int64)
+            out[self.candidates] = self.matches.building
+            self._building[count] = out
+        return self._building[count]
+
+    def copied(self, count):
+        """The footprints (indices, of ``count``) whose existing building is
+        copied (worked out once)."""
+        key = ("copied", count)
+        if key not in self._building:
+            self._building[key] = np.nonzero(self.building(count) >= 0)[0]
+        return self._building[key]
+
+
+@dataclass
+class OutputReport:
+    """What was written: ``generated`` and ``copied`` buildings (top-level
+    objects), generated buildings left out because their footprint was
+    copied, the copy's :class:`~reconstruction.cityjson.copied.CopyReport` and the
+    match's :class:`~reconstruction.cityjson.existing.MatchReport` (None without an
+    existing model), the picture's path."""
+    generated: int
+    copied: int = 0
+    replaced: int = 0
+    copy: Optional[citycopy.CopyReport] = None
+    match: Optional[existing.MatchReport] = None
+    rendered: Optional[str] = None
+    candidates: int = 0
+    notes: list = field(default_factory=list)
+
+
+def parse_lods(text):
+    """The ``existing_lod=`` option: None (empty: each building's highest), "all",
+    or a list of LoD strings ("1.2", "2.2")."""
+    if text is None or not str(text).strip():
+        return None
+    values = [v.strip() for v in str(text).split(",") if v.strip()]
+    if [v.lower() for v in values] == ["all"]:
+        return "all"
+    bad = [v for v in values if citygeometry.lod_value(v) < 0]
+    if bad:
+        raise InputError("Option existing_lod= must be LoDs such as 2.2 or 1.2,2.2, or all, "
+                         "not <{}>".format(text))
+    return values
+
+
+def parse_format(text):
+    """The ``format=`` option (default cityjson)."""
+    value = (text or FORMATS[0]).strip().lower()
+    if value not in FORMATS:
+        raise InputError("Option format= must be one of {}, not <{}>".format(
+            ", ".join(FORMATS), text))
+    return value
+
+
+def requests_from_options(options, reference_system=None, title=None):
+    """The :class:`OutputRequest` and :class:`ExistingRequest` (None without
+    ``existing=``) of v.histo.lod2's options (a dict of their texts)."""
+    request = OutputRequest(path=options["output"], format=parse_format(options.get("format")),
+                            reference_system=reference_system, title=title,
+                            render=options.get("render") or None,
+                            view=parse_view(options.get("view")))
+    if not options.get("existing"):
+        for key in ("id_column", "id_prefix", "existing_lod"):
+            if options.get(key):
+                raise InputError("Option {}= needs existing= (the model to copy buildings "
+                                 "from)".format(key))
+        return request, None
+    overlap = parse_number(options.get("overlap") or "0.5", "overlap", minimum=0,
+                           allow_minimum=False, maximum=1)
+    return request, ExistingRequest(path=options["existing"],
+                                    prefix=options.get("id_prefix") or None,
+                                    min_overlap=overlap, lods=parse_lods(options.get("existing_lod")))
+
+
+def footprint_ids(columns, name):
+    """The values of the id column ``name`` (None when no column is given)."""
+    if not name:
+        return None
+    if name not in columns:
+        raise InputError("Column <{}> (id_column=, the building ids) not found in the input "
+                         "map; available: {}".format(name, ", ".join(sorted(columns))))
+    return columns[name]
+
+
+def read_existing(request, location_epsg=None):
+    """The existing model of ``request`` (:class:`ExistingRequest`), read and
+    checked: InputError for a file that is not CityJSON (2.0, 1.1 or
+    CityJSONSeq) and for a reference system that disagrees with the location's."""
+    if not 0 < request.min_overlap <= 1:
+        raise InputError("The least overlap must be in (0, 1], not {}".format(
+            request.min_overlap))
+    model = existing.read_model(request.path)
+    existing.check_reference_system(model, location_epsg)
+    return model
+
+
+def candidates(source, count):
+    """Indices of the footprints that may be copied: source ``aligned``
+    (every footprint when ``source`` is None: the map has no source column)."""
+    if source is None:
+        return np.arange(count)
+    return np.array([i for i, s in enumerate(source) if str(s).strip() == SOURCE_ALIGNED]
+                    if count else [], dtype=np.int64)
+
+
+def match_existing(model, request, footprints, ids=None):
+    """:class:`ExistingMatch` of the footprints (a
+    :class:`~reconstruction.lod2.stage.Footprints`) with the buildings of
+    ``model``; ``ids``: one building id per footprint (the ``id_column``), or None."""
+    todo = candidates(footprints.source, len(footprints.geometries))
+    polygons = [footprints.geometries[i] for i in todo.tolist()]
+    chosen = None if ids is None else [ids[i] for i in todo.tolist()]
+    matches = existing.match(model, polygons, ids=chosen, prefix=request.prefix,
+                             min_overlap=request.min_overlap)
+    return ExistingMatch(model, request, todo, matches)
+
+
+def attribute_columns(match, count, names=None):
+    """The attributes of the existing building matched with each of ``count``
+    footprints, as columns: name -> one value per footprint (None where it
+    matched nothing or the building lacks it); ``names``: the attributes
+    wanted (None: every one the matched buildings have). With the 3D BAG's
+    heights (``b3_h_maaiveld``, ``b3_h_50p``/``b3_h_dak_50p`` ...) these are
+    measured heights of the aligned footprints:
+    ``heights.measured_heights(attribute_columns(match, n))``."""
+    building = match.building(count)
+    attrs = [None if b < 0 else
+             match.model.objects[match.model.buildings[b]].get("attributes") or {}
+             for b in building.tolist()]
+    if names is None:
+        names = list(dict.fromkeys(k for a in attrs if a for k in a))
+    return {name: [None if a is None else a.get(name) for a in attrs] for name in names}
+
+
+def matched_heights(match, geometries, choice="auto"):
+    """The footprints (``geometries``) that ``match`` (an :class:`ExistingMatch`)
+    matched, with their existing buildings' attributes as columns, as
+    :class:`~reconstruction.lod2.inputs.AlignedFootprints`: for the 3D BAG
+    (``b3_h_maaiveld``, ``b3_h_50p`` ...) measured heights for the
+    neighbourhood analysis, so that no separate height columns are needed.
+    None when nothing matched or the buildings have no height attributes."""
+    hit = match.copied(len(geometries))
+    if not len(hit):
+        return None
+    columns = {name: [values[i] for i in hit.tolist()]
+               for name, values in attribute_columns(match, len(geometries)).items()}
+    try:
+        height_columns(list(columns), choice)
+    except InputError:
+        return None
+    return AlignedFootprints([geometries[i] for i in hit.tolist()], columns, choice)
+
+
+def without_copied(prepared, match):
+    """The :class:`~reconstruction.lod2.stage.Prepared` footprints without those
+    that ``match`` (an :class:`ExistingMatch` or None) copies: they are not built."""
+    if match is None:
+        return prepared
+    copied = match.copied(len(prepared.footprints.geometries))
+    keep = np.nonzero(~np.isin(prepared.source, copied))[0]
+    if len(keep) == len(prepared.source):
+        return prepared
+    b = prepared.buildings
+    parts = {name: _subset(getattr(b, name), keep) for name in Buildings.__slots__}
+    return prepared._replace(buildings=Buildings(**parts), source=prepared.source[keep],
+                             part=prepared.part[keep],
+                             extra=tuple((name, _subset(values, keep))
+                                         for name, values in prepared.extra),
+                             report=prepared.report._replace(rings=len(keep)))
+
+
+def _subset(values, keep):
+    """The entries ``keep`` of per-building ``values`` (an array, a list or None)."""
+    if values is None:
+        return None
+    return values[keep] if isinstance(values, np.ndarray) else [values[i] for i in keep.tolist()]
+
+
+def build(prepared, config, match=None):
+    """:func:`reconstruction.lod2.stage.build` of ``prepared``, the footprints that
+    ``match`` does not copy (:func:`without_copied`'s result: v.histo.lod2
+    reports their count before building); an empty result when it copies
+    every one. (Footprints it copies that are built anyway are left out
+    when written, see :func:`write_model`.)"""
+    if len(prepared.buildings) or match is None or not len(match.matches.matched):
+        return lod2.build(prepared, config)
+    ss, _, _, _ = build_solids(Buildings([], [], [], [], [], np.zeros((0, 3))))
+    return lod2.Lod2Result(ss, semantics(ss), [], np.zeros(0, dtype=object),
+                           np.zeros(0, dtype=np.int64), {}, prepared.report)
+
+
+def without_footprints(result, footprints):
+    """A :class:`~reconstruction.lod2.stage.Lod2Result` without the buildings of
+    the footprints ``footprints`` (indices)."""
+    drop = np.isin(result.footprint, np.asarray(footprints, dtype=np.int64))
+    if not drop.any():
+        return result
+    keep = np.nonzero(~drop)[0]
+    ss = take(result.solids, keep)
+    attributes = {k: _pick(v, keep) for k, v in result.attributes.items()}
+    return result._replace(solids=ss, semantics=semantics(ss), ids=[result.ids[i] for i in keep],
+                           roof_types=np.asarray(result.roof_types)[keep],
+                           footprint=np.asarray(result.footprint)[keep], attributes=attributes)
+
+
+def _pick(values, keep):
+    if isinstance(values, np.ndarray):
+        return values[keep]
+    return [values[i] for i in keep.tolist()]
+
+
+def copy_matched(match, footprints, count, fmt="cityjson"):
+    """The matched buildings (:class:`~reconstruction.cityjson.copied.CopiedBuildings`),
+    in footprint order, with their footprint's plot, source and category as
+    attributes where they have none of their own, ready to be written in
+    the format ``fmt``."""
+    building = match.building(count)
+    matched = match.copied(count)
+    cats = footprints.cats if footprints.cats is not None else list(range(1, count + 1))
+    attributes = {"footprint": [cats[i] for i in matched.tolist()]}
+    for name, values in ((PLOT, footprints.plot), (SOURCE, footprints.source)):
+        if values is not None:
+            attributes[name] = [values[i] for i in matched.tolist()]
+    return citycopy.copy_buildings(match.model, building[matched], lods=match.request.lods,
+                                    attributes=attributes, keep_numbering=fmt == "cityjson")
+
+
+def _single_text(result, copied, request):
+    """The single-file model's text, as pieces written in turn (one pass:
+    see ``citymerge.merged_pieces``)."""
+    text = cityjson.citymodel_text(result.solids, result.semantics, result.ids,
+                                   result.attributes, request.reference_system,
+                                   title=request.title)
+    return citymerge.merged_pieces(text, copied)
+
+
+def write_model(result, footprints, request, match=None):
+    """Write the model of a :class:`~reconstruction.lod2.stage.Lod2Result` (and the
+    buildings ``match`` copies, an :class:`ExistingMatch` or None) as
+    ``request`` (:class:`OutputRequest`) says; returns an :class:`OutputReport`."""
+    fmt = parse_format(request.format)
+    copied, report = None, OutputReport(generated=len(result.ids))
+    if match is not None:
+        count = len(footprints.geometries)
+        before = len(result.ids)
+        result = without_footprints(result, match.copied(count))
+        copied = copy_matched(match, footprints, count, fmt)
+        report = OutputReport(generated=len(result.ids), copied=len(copied),
+                              replaced=before - len(result.ids), copy=copied.report,
+                              match=match.matches.report, candidates=len(match.candidates))
+    pieces = None
+    if fmt == "cityjson":
+        pieces = _single_text(result, copied, request)
+        if request.render:
+            pieces = list(pieces)           # written, then drawn
+        cityjson.write_text(request.path, pieces)
+    else:
+        with safefile.replacing(request.path, "wb") as f:
+            cityjsonseq.write(f, result.solids, result.semantics, result.ids, result.attributes,
+                              request.reference_system, request.title, copied=copied)
+    if request.render:
+        document = json.loads(cityjson.joined_text(
+            pieces if pieces is not None else _single_text(result, copied, request)))
+        render_model(document, request, copied.ids if copied is not None else ())
+        report.rendered = request.render
+    return report
+
+
+def render_model(document, request, copied=()):
+    """The PNG picture of a CityJSON document (dict) at ``request.render``,
+    written to a temporary name and renamed when complete."""
+    with safefile.replacing_path(request.render, suffix=".png") as tmp:
+        render.render(document, tmp, request.view, map_image=request.map_image, copied=copied)

@@ -1,0 +1,439 @@
+"""Roofs of LoD2 buildings: flat, hip, gable, mansard and crow-stepped gable.
+
+The roof set of Morlighem (2021), Section 3.4.2, built in numpy:
+
+- **hip**: the straight skeleton of the footprint raised at the roof pitch.
+  The long faces get the pitch of the thesis's Eq. 3.13,
+  ``atan(height / (baseline / 2))``, the hip ends (the shortest edge and the
+  edge opposite it) a steeper pitch in ``[pitch_min, 90)`` degrees; the roof
+  is then scaled so that its ridge sits exactly at the roof height.
+- **gable**: a hip roof whose ends are vertical.
+- **mansard**: the skeleton truncated at the roof height with a flat top; the
+  inset (horizontal run of the lower faces) stays below :data:`MANSARD_CAP`
+  of the radius of the largest circle in the footprint, so that the flat top
+  is there (for a rectangle: below 0.45 of its width).
+- **stepped**: a gable roof whose street end (the shortest edge until the
+  street edge is known) is a crow-stepped facade of the given step height and
+  thickness, kept inside the footprint.
+- **flat**: the footprint at the eaves.
+
+This file draws the roof types and plans each roof (:func:`plan_roofs`:
+which solver family builds it, with which slopes); one function per family
+then solves the plan. The families: flat roofs; the lower envelope of the
+edge planes for convex footprints (:mod:`~reconstruction.lod2.roofs.envelope`, in
+batch), with the crow-stepped facade on top of a stepped roof's body
+(:mod:`~reconstruction.lod2.roofs.stepped`); CGAL's straight skeleton for concave
+ones (:mod:`~reconstruction.lod2.roofs.skeleton`). Roofs come as
+:class:`~reconstruction.lod2.roofs.model.RoofGroup` arrays where a family builds
+them in batch, as one :class:`~reconstruction.lod2.roofs.model.Roof` each
+otherwise.
+"""
+
+import math
+from typing import NamedTuple, Optional
+
+import numpy as np
+import shapely
+
+from ..outlines import end_edges, opposite_edges, outline_facts
+from .envelope import MAX_VERTICES as ENVELOPE_MAX_VERTICES
+from .envelope import batch_rows, envelope_arrays
+from .model import RoofConfig, flat_group
+from .skeleton import cgal_roofs
+from .stepped import clip_strips, stepped_arrays
+
+ROOF_TYPES = ("flat", "hip", "gable", "mansard", "stepped")
+
+#: Roof type probabilities (weights in percent) by period of construction and
+#: footprint shape, as in the thesis's Table B.1 as implemented in its published
+#: procedural-modelling script (histo3d, ``blender_procedural_mod.py``):
+#: "stepped" is its "dutch" roof. For n-sided footprints the script's
+#: complex-hip weights are used, since hip and gable roofs work on any
+#: footprint here; the split year is 1915 (the thesis's table; the script
+#: uses 1930).
+ROOF_PROBABILITIES = {
+    ("before", 4): {"flat": 10, "hip": 20, "gable": 20, "mansard": 10, "stepped": 40},
+    ("after", 4): {"flat": 25, "hip": 25, "gable": 25, "mansard": 10, "stepped": 15},
+    ("before", "n"): {"flat": 15, "hip": 65, "mansard": 20},
+    ("after", "n"): {"flat": 40, "hip": 40, "mansard": 20},
+}
+SPLIT_YEAR = 1915
+#: Roofs lower than this (m) are flat when the type is drawn (thesis: < 1 m).
+MIN_PITCHED_HEIGHT = 1.0
+#: a mansard's inset is at most this share of the footprint's inscribed radius
+MANSARD_CAP = 0.9
+#: the inscribed radius is found to this (m) where it caps an inset, ...
+MANSARD_CAP_TOLERANCE = 1e-3
+#: ... to this (m) first, to tell where it may (see :func:`mansard_caps`)
+MANSARD_CAP_COARSE = 0.05
+
+
+def draw_roof_types(n_vertices, years, attic, uniforms, probabilities=None):
+    """Draw a roof type per footprint with the thesis's probabilities.
+
+    ``n_vertices``: vertices per footprint; ``years``: construction year (or
+    the map year) per footprint, None/nan = before 1915; ``attic``: roof
+    height, below :data:`MIN_PITCHED_HEIGHT` the roof is flat; ``uniforms``:
+    a uniform number in [0, 1) per footprint, so that a footprint's type does
+    not depend on the others. Returns an object array of roof type names.
+    """
+    probabilities = probabilities or ROOF_PROBABILITIES
+    n_vertices = np.asarray(n_vertices)
+    years = np.asarray([np.nan if y is None else y for y in np.broadcast_to(
+        np.asarray(years, dtype=object), n_vertices.shape)], dtype=float)
+    out = np.empty(n_vertices.shape, dtype=object)
+    u = np.asarray(uniforms, dtype=float).reshape(n_vertices.shape)
+    after = np.where(np.isnan(years), False, years > SPLIT_YEAR)
+    for period, is_after in (("before", False), ("after", True)):
+        for shape in (4, "n"):
+            sel = (after == is_after) & ((n_vertices == 4) if shape == 4 else (n_vertices != 4))
+            out[sel] = weighted_pick(list(probabilities[(period, shape)].items()), u[sel])
+    out[np.asarray(attic, dtype=float) < MIN_PITCHED_HEIGHT] = "flat"
+    return out
+
+
+def weighted_pick(weights, uniforms):
+    """The names of ``weights`` ((name, weight) pairs) picked by uniform numbers
+    in [0, 1): each name for a share of [0, 1) proportional to its weight."""
+    names = [name for name, _ in weights]
+    cum = np.cumsum([w for _, w in weights], dtype=float)
+    cum /= cum[-1]
+    idx = np.minimum(np.searchsorted(cum, uniforms, side="right"), len(names) - 1)
+    return np.asarray(names, dtype=object)[idx]
+
+
+# ---------------------------------------------------------------------------
+# Planning: which family builds each roof, with which slopes
+# ---------------------------------------------------------------------------
+
+class EnvelopeJob(NamedTuple):
+    """A roof of a convex footprint for :func:`~reconstruction.lod2.roofs.envelope.envelope_arrays`."""
+
+    #: footprint index
+    index: int
+    #: the footprint, or the main body of a stepped roof (its inner edge first)
+    xy: np.ndarray
+    #: tangent of each edge's pitch, inf for a vertical (gable) end
+    slopes: np.ndarray
+    #: height of the flat top (mansard), or None: the ridge is scaled to the roof height
+    top: Optional[float]
+    #: True for the main body of a stepped roof (its facade is in ``RoofPlan.facades``)
+    body: bool = False
+
+
+class SkeletonJob(NamedTuple):
+    """A roof of a concave footprint for :func:`~reconstruction.lod2.roofs.skeleton.cgal_roofs`."""
+
+    index: int
+    xy: np.ndarray
+    #: pitch of each edge (degrees, 90 = gable end)
+    pitches: np.ndarray
+    #: height of the flat top (mansard), or None: the ridge is scaled to the roof height
+    top: Optional[float]
+
+
+class Facade(NamedTuple):
+    """The crow-stepped facade of a stepped roof."""
+
+    #: the footprint edge it stands on
+    end: int
+    #: step height (m)
+    step: float
+
+
+class RoofPlan(NamedTuple):
+    """Which solver family builds each roof, and its parameters."""
+
+    #: the roof type each footprint gets (a stepped roof on a concave or
+    #: triangular footprint, or too short for its facade, is a gable)
+    kinds: list
+    #: vertex count -> footprints with a flat roof
+    flat: dict
+    #: convex roofs and stepped roofs' bodies, in footprint order
+    envelope: list
+    #: footprint -> its :class:`Facade`, for the stepped roofs among ``envelope``
+    facades: dict
+    #: concave roofs, in footprint order
+    skeleton: list
+    #: footprint -> its ends: ``(edge, "gable" | "hip" | "stepped")`` pairs, the
+    #: edges with a vertical gable end, a hip end steeper than the long faces
+    #: or a crow-stepped facade
+    ends: dict
+
+
+def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None, shared=None):
+    """The :class:`RoofPlan` of footprints (local coordinates, counter-clockwise
+    rings); arguments as :func:`make_roofs`.
+
+    No end goes on a shared edge (``shared``), as a builder would do it: a
+    gable or stepped roof whose far end (opposite the street edge) is shared
+    with the neighbour behind gets a hip there at the pitch of its long faces
+    (a front gable with a hipped back, the common Dutch town house), so no
+    gable wall and no steep end stands against the neighbour; a hip roof's
+    shared end takes the long faces' pitch too; a stepped facade needs a free
+    street end (else the roof is a gable); a gable with both ends shared is a
+    hip at one pitch; a concave gable keeps its free arm ends only."""
+    config = config or RoofConfig()
+    B = len(footprints)
+    kinds = list(roof_types)
+    uniforms = np.asarray(uniforms, dtype=float).reshape(B, 3)
+    facts = outline_facts(footprints, street)
+    convex_all, end_all, opp_all = (v.tolist() for v in (facts.convex, facts.end, facts.opposite))
+    attic = np.asarray(attic, dtype=float)
+    flat = np.array([k == "flat" for k in roof_types], dtype=bool) | (attic <= 1e-3)
+    bodies = _stepped_bodies(footprints, roof_types, flat, facts, config.thickness)
+    lo, hi = config.inset
+    wanted = lo + (hi - lo) * uniforms[:, 1]                  # the mansards' insets, uncapped
+    caps = mansard_caps(footprints, [k == "mansard" and not f for k, f in zip(roof_types, flat)],
+                        wanted)
+    plan = RoofPlan(kinds, {}, [], {}, [], {})
+    for i, (xy, kind) in enumerate(zip(footprints, roof_types)):
+        h = float(attic[i])
+        n = len(xy)
+        mask = None if shared is None else shared[i]
+        if flat[i]:
+            plan.flat.setdefault(n, []).append(i)
+            continue
+        end = end_all[i]
+        convex = convex_all[i] and n <= ENVELOPE_MAX_VERTICES
+        if kind == "mansard":
+            ins = max(min(wanted[i], caps[i]), 1e-3)
+            if convex:
+                plan.envelope.append(EnvelopeJob(i, xy, np.full(n, h / ins), h))
+            else:
+                pitch = np.full(n, math.degrees(math.atan2(h, ins)))
+                plan.skeleton.append(SkeletonJob(i, xy, pitch, h))
+            continue
+        opp = opp_all[i]
+        if kind == "stepped" and i in bodies and _free(mask, end):
+            body, body_opp = bodies[i]
+            slopes = np.ones(len(body))
+            slopes[0] = np.inf
+            plan.ends[i] = [(end, "stepped")]
+            if body_opp >= 0 and _free(mask, opp):
+                slopes[body_opp] = np.inf
+                plan.ends[i].append((opp, "gable"))
+            s_lo, s_hi = config.step
+            plan.facades[i] = Facade(end, s_lo + (s_hi - s_lo) * uniforms[i, 2])
+            plan.envelope.append(EnvelopeJob(i, body, slopes, None, body=True))
+            continue
+        if kind == "stepped":
+            kind = "gable"
+        if convex:
+            if kind == "gable" and not _free(mask, end) and not _free(mask, opp):
+                kind = "hip"                 # no free end: one pitch all round
+            slopes = _convex_slopes(kind, n, h, end if _free(mask, end) else -1,
+                                    opp if _free(mask, opp) else -1, float(facts.end_length[i]),
+                                    uniforms[i, 0], config.pitch_min)
+            plan.envelope.append(EnvelopeJob(i, xy, slopes, None))
+            ends = [(e, kind) for e in (end, opp) if _free(mask, e) and slopes[e] > 1.0 + 1e-9]
+        else:
+            pitch = np.full(n, 45.0)
+            ends = []
+            if kind == "gable":
+                ends = [(e, "gable") for e in (end_edges(xy) or [end]) if _free(mask, e)]
+                pitch[[e for e, _ in ends]] = 90.0
+                if not ends:
+                    kind = "hip"
+            plan.skeleton.append(SkeletonJob(i, xy, pitch, None))
+        kinds[i] = kind
+        if ends:
+            plan.ends[i] = ends
+    return plan
+
+
+def mansard_caps(footprints, which, wanted=None):
+    """Per footprint the largest inset of a mansard roof (m): :data:`MANSARD_CAP`
+    of the radius of the largest circle inside it, where ``which`` (else 0).
+
+    Not the footprint's shortest edge: the lower faces of the short edges of
+    a footprint end below the top, as hip faces do, and a cadastre outline
+    has edges of a few millimetres; capped by those, its mansard had lower
+    faces within a degree of vertical, walls above the eaves on every edge,
+    the shared ones too.
+
+    ``wanted`` (per footprint, or None): the insets the caps are for; a cap
+    above its footprint's wanted inset need not be exact and may be any
+    value at least that inset. GEOS's search for the circle refines a grid
+    of cells until no cell could hold a centre :data:`MANSARD_CAP_TOLERANCE`
+    farther from the boundary than the best one; where the centres line a
+    ridge (a long near-rectangle) it splits cells all along it, up to its
+    iteration limit (2,000 + 2,000 ln(diameter / tolerance)): up to 20 ms a
+    footprint, 0.25 s for the 403 mansards of the Brussels 1924 footprints,
+    99 % of it for 40 of them. So the radius is first found to
+    :data:`MANSARD_CAP_COARSE`: the best centre's distance to the boundary
+    is at most the true radius, which the fine search comes within its
+    tolerance of; where that distance less the fine tolerance already puts
+    the cap at or above the wanted inset, ``min(wanted, cap)`` is the wanted
+    inset either way, and the fine search runs only for the others."""
+    idx = np.nonzero(np.asarray(which, dtype=bool))[0]
+    out = np.zeros(len(footprints))
+    if not len(idx):
+        return out
+    polygons = np.empty(len(idx), dtype=object)
+    polygons[:] = [shapely.Polygon(np.asarray(footprints[i], dtype=float)) for i in idx]
+    if wanted is not None:
+        coarse = shapely.length(shapely.maximum_inscribed_circle(
+            polygons, tolerance=MANSARD_CAP_COARSE))
+        out[idx] = MANSARD_CAP * (coarse - MANSARD_CAP_TOLERANCE)     # at most the cap
+        fine = out[idx] < np.asarray(wanted, dtype=float)[idx]
+        idx, polygons = idx[fine], polygons[fine]
+    if len(idx):
+        out[idx] = MANSARD_CAP * shapely.length(
+            shapely.maximum_inscribed_circle(polygons, tolerance=MANSARD_CAP_TOLERANCE))
+    return out
+
+
+def _free(shared, edge):
+    """True when ``edge`` (-1: none) exists and is not ``shared`` (None: no edge is)."""
+    return edge >= 0 and (shared is None or edge >= len(shared) or not shared[edge])
+
+
+def _stepped_bodies(footprints, roof_types, flat, facts, thickness):
+    """footprint -> (main body ring, the body edge opposite its inner edge or
+    -1) of the stepped roofs of convex footprints whose facade strip fits."""
+    want = np.array([k == "stepped" for k in roof_types], dtype=bool) & ~flat & facts.convex
+    want &= np.array([4 <= len(xy) <= ENVELOPE_MAX_VERTICES for xy in footprints], dtype=bool)
+    bodies = {}
+    for n in sorted({len(footprints[i]) for i in np.nonzero(want)[0]}):
+        idx = np.array([i for i in np.nonzero(want)[0] if len(footprints[i]) == n])
+        body, ok = clip_strips(np.stack([footprints[i] for i in idx]), facts.end[idx], thickness)
+        opp = opposite_edges(body, np.zeros(len(idx), dtype=np.int64))
+        for k in np.nonzero(ok)[0]:
+            bodies[int(idx[k])] = (body[k], int(opp[k]))
+    return bodies
+
+
+def _convex_slopes(kind, n, h, end, opp, end_length, u, pitch_min):
+    """Edge slopes of a hip or gable roof on a convex footprint: hip ends of a
+    quadrilateral steeper (between ``pitch_min`` and 89 degrees, drawn by
+    ``u``), gable ends vertical."""
+    slopes = np.ones(n)
+    ends = [e for e in (end, opp) if e >= 0]
+    if kind == "hip" and n == 4:
+        p_long = math.degrees(math.atan2(h, end_length / 2.0))
+        low = min(max(pitch_min, p_long), 89.0)
+        p_end = low + (89.0 - low) * u
+        slopes[ends] = math.tan(math.radians(p_end)) / math.tan(math.radians(p_long))
+    elif kind == "gable":
+        slopes[ends] = np.inf
+    return slopes
+
+
+# ---------------------------------------------------------------------------
+# Solving the plan: one function per family
+# ---------------------------------------------------------------------------
+
+class RoofSet(NamedTuple):
+    """The roofs of a set of footprints (see :func:`make_roofs`)."""
+
+    #: the roof type each footprint really got
+    kinds: list
+    #: roofs built in batch (:class:`~reconstruction.lod2.roofs.model.RoofGroup`)
+    groups: list
+    #: per footprint, its roof when built alone (a
+    #: :class:`~reconstruction.lod2.roofs.model.Roof`), else None (in a group, or not built)
+    single: list
+
+    def each(self):
+        """Every footprint's :class:`~reconstruction.lod2.roofs.model.Roof`, None
+        where it could not be built."""
+        out = list(self.single)
+        for group in self.groups:
+            for j, i in enumerate(group.index.tolist()):
+                out[i] = group.roof(j)
+        return out
+
+
+def make_roofs(footprints, roof_types, attic, uniforms, street=None, config=None, shared=None):
+    """Roofs of footprints (local coordinates, counter-clockwise rings).
+
+    ``roof_types``: a type per footprint; ``attic``: roof heights above the
+    eaves; ``uniforms``: (B, 3) uniform numbers in [0, 1) per footprint (hip
+    end pitch, mansard inset, crow-step height), so that the result does not
+    depend on the order of work; ``street``: optional street edge index per
+    footprint; ``config``: the :class:`~reconstruction.lod2.roofs.model.RoofConfig`;
+    ``shared``: optional per footprint a boolean array, True for its edges
+    shared with a neighbour (see :func:`plan_roofs`). Returns the
+    :class:`RoofSet`; a roof that could not be built is in no
+    group and None (the caller falls back to a simpler type).
+    """
+    config = config or RoofConfig()
+    attic = np.asarray(attic, dtype=float)
+    plan = plan_roofs(footprints, roof_types, attic, uniforms, config, street, shared)
+    groups = _envelope_roofs(plan, footprints, attic, config.thickness)
+    groups.extend(_flat_roofs(plan, footprints))
+    single = [None] * len(footprints)
+    for i, roof in _skeleton_roofs(plan, attic):
+        single[i] = roof
+    return RoofSet(plan.kinds, groups, single)
+
+
+def _envelope_roofs(plan, footprints, attic, thickness):
+    """The envelope roofs of the plan and the stepped roofs on their bodies,
+    as groups: per batch (vertex count, with or without a flat top), the
+    stepped roofs, then the others."""
+    groups = []
+    for jobs, env in _batch_envelope(plan.envelope):
+        if jobs[0].top is None:           # hip, gable, stepped bodies: ridge at the roof height
+            env = env.scaled_to(np.array([attic[j.index] for j in jobs], dtype=float))
+        bodies = np.array([k for k, j in enumerate(jobs) if j.body], dtype=int)
+        if len(bodies):
+            owner = np.array([jobs[k].index for k in bodies], dtype=int)
+            facades = [plan.facades[i] for i in owner]
+            for group in stepped_arrays(np.stack([footprints[i] for i in owner]),
+                                        [f.end for f in facades], env.take(bodies),
+                                        [f.step for f in facades], thickness):
+                groups.append(group._replace(index=owner[group.index]))
+        plain = np.array([k for k, j in enumerate(jobs) if not j.body], dtype=int)
+        plain = plain[env.ok[plain]]
+        if len(plain):
+            groups.append(env.group(np.array([jobs[k].index for k in plain], dtype=int), plain))
+    return groups
+
+
+def _batch_envelope(jobs):
+    """:func:`~reconstruction.lod2.roofs.envelope.envelope_arrays` of the jobs,
+    batched by vertex count and flat top (at most
+    :func:`~reconstruction.lod2.roofs.envelope.batch_rows` at once): a list of
+    (jobs, envelope)."""
+    batches = {}
+    for job in jobs:
+        batches.setdefault((len(job.xy), job.top is not None), []).append(job)
+    out = []
+    for (n, has_top), jobs_n in batches.items():
+        rows = batch_rows(n, has_top)
+        for k in range(0, len(jobs_n), rows):
+            items = jobs_n[k:k + rows]
+            xy = np.stack([it.xy for it in items])
+            slopes = np.stack([it.slopes for it in items])
+            top = np.array([it.top for it in items], dtype=float) if has_top else None
+            out.append((items, envelope_arrays(xy, slopes, top)))
+    return out
+
+
+def _flat_roofs(plan, footprints):
+    """The flat roofs of the plan, one group per vertex count."""
+    return [flat_group(np.array(idx, dtype=int), np.stack([footprints[i] for i in idx]))
+            for idx in plan.flat.values()]
+
+
+def _skeleton_roofs(plan, attic):
+    """(footprint, roof or None) of the skeleton roofs of the plan."""
+    jobs = plan.skeleton
+    if not jobs:
+        return []
+    res = cgal_roofs([j.xy for j in jobs], [j.pitches for j in jobs], [j.top for j in jobs])
+    return [(j.index, roof if j.top is not None else scale_roof(roof, float(attic[j.index])))
+            for j, roof in zip(jobs, res)]
+
+
+def scale_roof(roof, height):
+    """A roof with its heights scaled so that its highest point is at
+    ``height`` (None stays None)."""
+    if roof is None or roof.zmax <= 1e-9:
+        return None
+    v = roof.vertices.copy()
+    v[:, 2] *= height / roof.zmax
+    return roof._replace(vertices=v, zmax=height)
+

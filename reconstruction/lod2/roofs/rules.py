@@ -1,0 +1,289 @@
+"""Which roof a footprint gets: weights by construction period and footprint shape.
+
+The thesis's Table B.1 (percent):
+
+======================  ====================  ===================  ====================  ===================
+roof                    4-sided, before 1915  4-sided, after 1915  n-sided, before 1915  n-sided, after 1915
+======================  ====================  ===================  ====================  ===================
+flat                    10                    25                   60                    60
+hip                     20                    25                   --                    --
+gable                   20                    25                   --                    --
+mansard                 10                    10                   40                    40
+crow-stepped gable      40                    15                   --                    --
+======================  ====================  ===================  ====================  ===================
+
+The default (:data:`DEFAULT_RULES`, the suite's
+:data:`reconstruction.lod2.roofs.plan.ROOF_PROBABILITIES`) keeps the 4-sided columns
+and changes the n-sided ones to **flat 15, hip 65, mansard 20 before 1915;
+flat 40, hip 40, mansard 20 after**. Why: the thesis gave n-sided footprints
+only flat and mansard roofs because its procedural tool (BCGA in Blender)
+could not build other roofs on them; its published script carries these
+"complex hip" weights for n-sided footprints and overrides them with the
+table's only for that reason. Here hip roofs are built on any footprint (the
+straight skeleton, CGAL for concave ones), so 60 % flat roofs on the L, T and
+U shaped houses of 19th-century blocks would be an artefact of the old tool,
+not a finding about the buildings. The split year stays the table's 1915
+(the script used 1930). :data:`THESIS_RULES` is the table as printed; a
+``rules=`` file reproduces it or any other.
+
+A rules file is CSV (``#`` comments allowed) or JSON::
+
+    from,to,shape,flat,hip,gable,mansard,stepped
+    ,1915,4,10,20,20,10,40
+    1916,,4,25,25,25,10,15
+    ,1915,n,60,0,0,40,0
+    1916,,n,60,0,0,40,0
+
+``from``/``to``: the period's first and last year (empty: open); periods
+follow each other without gap (``from`` = the previous ``to`` + 1) from an
+open start to an open end; a year belongs to the first period whose ``to``
+is not below it, an unknown year to the first period. ``shape``: ``4``
+(4-sided footprints), another vertex count, or ``n`` (every other shape;
+each period needs one). Weights in percent, one column per roof type
+(:data:`reconstruction.lod2.roofs.plan.ROOF_TYPES`), summing to 100 in every row. JSON:
+``{"rules": [{"from": null, "to": 1915, "shape": "4", "weights": {"flat": 10,
+...}}, ...]}``. Roofs lower than 1 m are flat whatever the rules say.
+"""
+
+import csv
+import io
+import json
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...core.errors import InputError
+from . import plan as roofs
+
+
+@dataclass(frozen=True)
+class RoofRule:
+    """One row: a period (``first``..``last`` years, None = open), a shape class
+    (``"4"``, another vertex count, or ``"n"``) and the weights (name, percent)
+    in drawing order."""
+
+    first: float
+    last: float
+    shape: str
+    weights: tuple
+
+    def matches_shape(self, n_vertices):
+        n_vertices = np.asarray(n_vertices)
+        if self.shape == "n":
+            return np.ones(n_vertices.shape, dtype=bool)
+        return n_vertices == int(self.shape)
+
+
+@dataclass(frozen=True)
+class RoofRules:
+    """A table of :class:`RoofRule` rows; :meth:`draw` picks a roof per footprint."""
+
+    rules: tuple
+
+    def __post_init__(self):
+        _check(self.rules)
+
+    @property
+    def periods(self):
+        """The periods ``(first, last)`` in order."""
+        seen = []
+        for r in self.rules:
+            if (r.first, r.last) not in seen:
+                seen.append((r.first, r.last))
+        return sorted(seen, key=lambda p: -math.inf if p[0] is None else p[0])
+
+    def row_of(self, n_vertices, years):
+        """(F,) index into ``rules`` of the row of every footprint."""
+        n_vertices = np.asarray(n_vertices)
+        years = np.asarray([np.nan if y is None else y for y in np.broadcast_to(
+            np.asarray(years, dtype=object), n_vertices.shape)], dtype=float)
+        periods = self.periods
+        ends = np.array([np.inf if last is None else last for _, last in periods])
+        period = np.where(np.isnan(years), 0, np.searchsorted(ends, years, side="left"))
+        row = np.full(n_vertices.shape, -1, dtype=np.int64)
+        for p, bounds in enumerate(periods):
+            here = [k for k, r in enumerate(self.rules) if (r.first, r.last) == bounds]
+            # exact vertex counts first, the catch-all "n" last
+            for k in sorted(here, key=lambda k: self.rules[k].shape == "n"):
+                sel = (period == p) & (row < 0) & self.rules[k].matches_shape(n_vertices)
+                row[sel] = k
+        return row
+
+    def draw(self, n_vertices, years, attic, uniforms):
+        """A roof type per footprint (object array) from one uniform number in
+        [0, 1) per footprint (as :func:`reconstruction.lod2.roofs.plan.draw_roof_types`,
+        which the default rules reproduce exactly)."""
+        n_vertices = np.asarray(n_vertices)
+        u = np.asarray(uniforms, dtype=float).reshape(n_vertices.shape)
+        row = self.row_of(n_vertices, years)
+        out = np.empty(n_vertices.shape, dtype=object)
+        for k, rule in enumerate(self.rules):
+            sel = row == k
+            if not sel.any():
+                continue
+            out[sel] = roofs.weighted_pick(rule.weights, u[sel])
+        out[np.asarray(attic, dtype=float) < roofs.MIN_PITCHED_HEIGHT] = "flat"
+        return out
+
+    def table(self):
+        """The rules as CSV text (the rules-file format)."""
+        names = list(roofs.ROOF_TYPES)
+        lines = ["from,to,shape," + ",".join(names)]
+        for r in self.rules:
+            w = dict(r.weights)
+            lines.append(",".join(["" if r.first is None else "{:g}".format(r.first),
+                                   "" if r.last is None else "{:g}".format(r.last), r.shape]
+                                  + ["{:g}".format(w.get(n, 0)) for n in names]))
+        return "\n".join(lines) + "\n"
+
+
+def _check(rules, where="rules"):
+    if not rules:
+        raise InputError("The roof {} have no rows".format(where))
+    seen = set()
+    for k, r in enumerate(rules):
+        what = "row {} ({}, {}-sided)".format(k + 1, _period_text(r.first, r.last), r.shape)
+        if r.shape != "n" and not (r.shape.isdigit() and int(r.shape) >= 3):
+            raise InputError("Roof rules {}: shape must be n or a vertex count of 3 or more, "
+                             "not <{}>".format(what, r.shape))
+        for name, w in r.weights:
+            if name not in roofs.ROOF_TYPES:
+                raise InputError("Roof rules {}: unknown roof type <{}> (known: {})".format(
+                    what, name, ", ".join(roofs.ROOF_TYPES)))
+            if not (w >= 0 and math.isfinite(w)):
+                raise InputError("Roof rules {}: weight of {} must be 0 or more, not {}".format(
+                    what, name, w))
+        total = sum(w for _, w in r.weights)
+        if abs(total - 100.0) > 1e-6:
+            raise InputError("Roof rules {}: the weights sum to {:g}, not 100".format(what, total))
+        key = (r.first, r.last, r.shape)
+        if key in seen:
+            raise InputError("Roof rules {}: a second row for the same period and shape".format(
+                what))
+        seen.add(key)
+    periods = sorted({(r.first, r.last) for r in rules},
+                     key=lambda p: -math.inf if p[0] is None else p[0])
+    if periods[0][0] is not None or periods[-1][1] is not None:
+        raise InputError("Roof rules: the first period must have no start and the last no end "
+                         "(every year needs a row), not {}".format(
+                             ", ".join(_period_text(*p) for p in periods)))
+    for (f0, l0), (f1, l1) in zip(periods, periods[1:]):
+        if l0 is None or f1 is None or f1 != l0 + 1:
+            raise InputError("Roof rules: periods {} and {} do not follow each other (the "
+                             "next starts the year after the last ends)".format(
+                                 _period_text(f0, l0), _period_text(f1, l1)))
+    for p in periods:
+        if not any((r.first, r.last) == p and r.shape == "n" for r in rules):
+            raise InputError("Roof rules: period {} has no row for n-sided footprints "
+                             "(shape n, every other shape)".format(_period_text(*p)))
+
+
+def _period_text(first, last):
+    return "{}-{}".format("" if first is None else "{:g}".format(first),
+                          "" if last is None else "{:g}".format(last))
+
+
+def _rules_from_probabilities(probabilities, split):
+    bounds = {"before": (None, float(split)), "after": (float(split) + 1, None)}
+    return RoofRules(tuple(RoofRule(*bounds[period], str(shape), tuple(weights.items()))
+                           for (period, shape), weights in probabilities.items()))
+
+
+#: the suite's default, :data:`reconstruction.lod2.roofs.plan.ROOF_PROBABILITIES` (see the module doc)
+DEFAULT_RULES = _rules_from_probabilities(roofs.ROOF_PROBABILITIES, roofs.SPLIT_YEAR)
+#: the thesis's Table B.1 as printed
+THESIS_RULES = _rules_from_probabilities({
+    ("before", 4): {"flat": 10, "hip": 20, "gable": 20, "mansard": 10, "stepped": 40},
+    ("after", 4): {"flat": 25, "hip": 25, "gable": 25, "mansard": 10, "stepped": 15},
+    ("before", "n"): {"flat": 60, "mansard": 40},
+    ("after", "n"): {"flat": 60, "mansard": 40},
+}, 1915)
+
+
+# ---------------------------------------------------------------------------
+# Rules files
+# ---------------------------------------------------------------------------
+
+def _year(text, what):
+    if text is None or (isinstance(text, str) and not text.strip()):
+        return None
+    try:
+        value = float(text)
+    except (TypeError, ValueError):
+        raise InputError("Roof rules {}: a year must be a number, not <{}>".format(
+            what, text)) from None
+    if not math.isfinite(value):
+        raise InputError("Roof rules {}: a year must be finite, not <{}>".format(what, text))
+    return value
+
+
+def _weight(text, what):
+    if text is None or (isinstance(text, str) and not text.strip()):
+        return 0.0
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        raise InputError("Roof rules {}: a weight must be a number, not <{}>".format(
+            what, text)) from None
+
+
+def _from_csv(text):
+    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
+    reader = csv.reader(io.StringIO("\n".join(lines)))
+    header = [h.strip().lower() for h in next(reader, [])]
+    for need in ("from", "to", "shape"):
+        if need not in header:
+            raise InputError("Roof rules: the CSV header needs columns from, to, shape and one "
+                             "per roof type (got {})".format(", ".join(header) or "nothing"))
+    names = [h for h in header if h not in ("from", "to", "shape")]
+    rows = []
+    for k, cells in enumerate(reader, start=2):
+        if len(cells) != len(header):
+            raise InputError("Roof rules line {}: {} values for {} columns".format(
+                k, len(cells), len(header)))
+        cell = dict(zip(header, (c.strip() for c in cells)))
+        what = "line {}".format(k)
+        rows.append(RoofRule(_year(cell["from"], what), _year(cell["to"], what),
+                             cell["shape"].lower(),
+                             tuple((n, _weight(cell[n], what)) for n in names)))
+    return tuple(rows)
+
+
+def _from_json(text):
+    try:
+        data = json.loads(text)
+    except ValueError as error:
+        raise InputError("Roof rules: not valid JSON ({})".format(error)) from None
+    items = data.get("rules") if isinstance(data, dict) else data
+    if not isinstance(items, list):
+        raise InputError('Roof rules: the JSON must be {"rules": [...]} or a list of rows')
+    rows = []
+    for k, item in enumerate(items, start=1):
+        what = "row {}".format(k)
+        if not isinstance(item, dict) or not isinstance(item.get("weights"), dict):
+            raise InputError("Roof rules {}: needs from, to, shape and weights".format(what))
+        rows.append(RoofRule(_year(item.get("from"), what), _year(item.get("to"), what),
+                             str(item.get("shape", "")).strip().lower(),
+                             tuple((str(n).strip().lower(), _weight(w, what))
+                                   for n, w in item["weights"].items())))
+    return tuple(rows)
+
+
+def parse_rules(text):
+    """:class:`RoofRules` from the text of a rules file (JSON when it starts
+    with ``{`` or ``[``, else CSV). Raises InputError on any mistake."""
+    stripped = text.lstrip()
+    rows = _from_json(text) if stripped[:1] in ("{", "[") else _from_csv(text)
+    return RoofRules(rows)
+
+
+def read_rules(path):
+    """:class:`RoofRules` from a rules file (see the module doc)."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+    except OSError as error:
+        raise InputError("Cannot read the roof rules file '{}': {}".format(
+            path, error.strerror or error)) from None
+    return parse_rules(text)

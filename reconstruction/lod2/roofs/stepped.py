@@ -1,0 +1,232 @@
+"""Crow-stepped gable roofs of convex footprints, in batch.
+
+A stepped roof is a gable roof over the main body of the footprint (an
+:mod:`~reconstruction.lod2.roofs.envelope` roof of the footprint less a strip of
+the facade's thickness along its street end) and, on that strip, a facade
+slab whose profile rises in steps above the body's gable profile, kept
+inside the footprint.
+"""
+
+import numpy as np
+
+from .model import RoofGroup
+
+#: a facade of more steps (a side) is no crow-stepped gable: the roof falls back to a gable
+MAX_STEPS = 64
+#: about the largest memory (bytes) of the facade arrays of one batch
+BATCH_BYTES = 64 * 2 ** 20
+
+
+def clip_strips(xy, ends, thickness):
+    """Split convex footprints (G, n, 2) at distance ``thickness`` from their
+    edge ``ends``.
+
+    Returns ``(body, ok)``: the main body rings (G, n, 2), each starting
+    with its inner edge (parallel to the end edge) and going on with the
+    footprint's vertices after the end edge, and False where the strip would
+    cut more than the two edges next to the end edge.
+    """
+    G, n, _ = xy.shape
+    ends = np.asarray(ends, dtype=np.int64)
+    ring = xy[np.arange(G)[:, None], (ends[:, None] + np.arange(n)) % n]   # end edge first
+    a, b = ring[:, 0], ring[:, 1]
+    t = (b - a) / np.hypot(*(b - a).T)[:, None]
+    nrm = np.stack([-t[:, 1], t[:, 0]], axis=1)
+    d = np.einsum("gkx,gx->gk", ring - a[:, None], nrm)
+    ok = d[:, 2:].min(axis=1) > thickness + 0.05
+    dd = np.where(ok[:, None], d, 1.0)
+    body = ring.copy()
+    body[:, 0] = a + (ring[:, -1] - a) * (thickness / dd[:, -1])[:, None]
+    body[:, 1] = b + (ring[:, 2] - b) * (thickness / dd[:, 2])[:, None]
+    return body, ok
+
+
+def _interp_rows(x, xp, fp):
+    """``np.interp`` row by row: ``x`` (G, Q) at the points ``xp`` (G, K)
+    (non-decreasing in every row) with values ``fp`` (G, K), in one call
+    (rows are shifted apart along the axis, so ``x`` must lie within its
+    row's range)."""
+    G = len(xp)
+    if G == 0 or x.shape[1] == 0:
+        return np.zeros(x.shape)
+    span = float(max(np.abs(xp).max(), np.abs(x).max())) * 2.0 + 1.0
+    off = (np.arange(G, dtype=float) * (2.0 * span))[:, None]
+    return np.interp(x + off, (xp + off).ravel(), fp.ravel())
+
+
+def stepped_arrays(xy, ends, body, steps, thickness):
+    """Crow-stepped gable roofs over convex footprints with the same number of
+    vertices, as arrays.
+
+    ``xy``: (G, n, 2) footprints (local coordinates, counter-clockwise);
+    ``ends``: (G,) index of the stepped edge; ``body``: the
+    :class:`~reconstruction.lod2.roofs.envelope.Envelope` gable roofs (scaled to
+    the roof height) of the main bodies from :func:`clip_strips` (inner edge
+    first, vertical face on edge 0); ``steps``: (G,) step heights;
+    ``thickness`` of the facade. The facade is a slab between the street edge
+    and the inner edge whose profile rises in steps of ``steps`` above the
+    body roof's gable profile.
+
+    Returns a list of :class:`~reconstruction.lod2.roofs.model.RoofGroup`, one per
+    number of steps (at most :data:`MAX_STEPS`; in batches of about
+    :data:`BATCH_BYTES`), whose ``index`` are rows of the input; their vertices
+    past the footprint are the body roof's (its base, then its nodes), then
+    the facade corners; ``wall_mid`` is set where the inner edge's ends lie
+    on the edges next to the street edge. Rows whose facade cannot be built
+    (steps too narrow, no gable profile) are in no group.
+    """
+    xy = np.asarray(xy, dtype=float)
+    G, n, _ = xy.shape
+    ends = np.asarray(ends, dtype=np.int64)
+    steps = np.asarray(steps, dtype=float)
+    rows = np.arange(G)
+    bxy, nodes, ring_idx, cnt = body.xy, body.nodes, body.faces, body.counts
+    C = nodes.shape[1]
+    a = xy[rows, ends]
+    b = xy[rows, (ends + 1) % n]
+    L = np.hypot(*(b - a).T)
+    t = (b - a) / L[:, None]
+    nrm = np.stack([-t[:, 1], t[:, 0]], axis=1)
+    qa, qb = bxy[:, 0], bxy[:, 1]
+    # the gable profile on the inner edge: the face of the body's plane 0,
+    # its nodes (roof vertices n + k) sorted along the edge
+    prof = ring_idx[:, 0]
+    K = prof.shape[1]
+    is_top = (np.arange(K) < cnt[:, 0, None]) & (prof >= n)
+    T = is_top.sum(axis=1)
+    node_of = np.where(is_top, prof - n, 0)
+    pts = nodes[rows[:, None], node_of]                             # (G, K, 3)
+    up = np.where(is_top, np.einsum("gkx,gx->gk", pts[..., :2] - a[:, None], t), np.inf)
+    order = np.argsort(up, axis=1, kind="stable")
+    top_k = np.take_along_axis(node_of, order, axis=1)             # body node numbers
+    up = np.take_along_axis(up, order, axis=1)
+    zp = np.take_along_axis(pts[..., 2], order, axis=1)
+    ua = np.einsum("gx,gx->g", qa - a, t)
+    ub = np.einsum("gx,gx->g", qb - a, t)
+    # profile (u, z), padded at the end with its last point
+    col = np.arange(K + 2)
+    inside = (col >= 1) & (col[None, :] <= T[:, None])
+    src = np.clip(col - 1, 0, K - 1)
+    pu = np.where(inside, up[:, src], ub[:, None])
+    pz = np.where(inside, zp[:, src], 0.0)
+    pu[:, 0], pz[:, 0] = ua, 0.0
+    H = pz.max(axis=1)
+    s = steps
+    margin = np.minimum(0.1, s / 4.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        nsteps = np.ceil((H + margin) / s)
+    ok = body.ok & (T > 0) & (H > 1e-3) & np.isfinite(nsteps) & (nsteps <= MAX_STEPS)
+    nsteps = np.where(ok, nsteps, 1).astype(np.int64)
+    iapex = np.argmax(pz, axis=1)
+    last = T + 1
+    rising = np.minimum(col[None, :], iapex[:, None])
+    falling = np.maximum(last[:, None] - col[None, :], iapex[:, None])
+    lo, hi = np.maximum(0.0, ua), np.minimum(L, ub)
+    out = []
+    for q in np.unique(nsteps[ok]):
+        same = np.nonzero(ok & (nsteps == q))[0]
+        # about 8 arrays of (rows, faces, face size) numbers of 8 bytes
+        m_q = 2 + 4 * (int(q) - 1)
+        size = (4 + m_q + ring_idx.shape[1]) * max(m_q + 2 + ring_idx.shape[2], 4) * 64
+        rows = max(1, BATCH_BYTES // size)
+        for first in range(0, len(same), rows):
+            sel = same[first:first + rows]
+            g = len(sel)
+            Q = int(q) - 1
+            zq = np.arange(1, Q + 1, dtype=float)[None, :] * s[sel, None] - margin[sel, None]
+            uL = _interp_rows(zq, np.take_along_axis(pz[sel], rising[sel], axis=1),
+                              np.take_along_axis(pu[sel], rising[sel], axis=1))
+            uR = _interp_rows(zq, np.take_along_axis(pz[sel], falling[sel], axis=1),
+                              np.take_along_axis(pu[sel], falling[sel], axis=1))
+            seq = np.concatenate([lo[sel, None], uL, uR[:, ::-1], hi[sel, None]], axis=1)
+            wide = np.all(np.diff(seq, axis=1) >= 0.02, axis=1)
+            sel, uL, uR = sel[wide], uL[wide], uR[wide]
+            g = len(sel)
+            if g == 0:
+                continue
+            zs = np.arange(1, Q + 2, dtype=float)[None, :] * s[sel, None]
+            # outline of the stepped profile, left to right: (u, z) corners
+            nc = 4 + 4 * Q
+            cu = np.empty((g, nc))
+            cz = np.empty((g, nc))
+            cu[:, 0] = cu[:, 1] = lo[sel]
+            cz[:, 0], cz[:, 1] = 0.0, zs[:, 0]
+            cu[:, 2:2 + 2 * Q:2] = uL
+            cu[:, 3:3 + 2 * Q:2] = uL
+            cz[:, 2:2 + 2 * Q:2] = zs[:, :Q]
+            cz[:, 3:3 + 2 * Q:2] = zs[:, 1:Q + 1]
+            k0 = 2 + 2 * Q
+            cu[:, k0:k0 + 2 * Q:2] = uR[:, ::-1]
+            cu[:, k0 + 1:k0 + 2 * Q:2] = uR[:, ::-1]
+            cz[:, k0:k0 + 2 * Q:2] = zs[:, Q:0:-1]
+            cz[:, k0 + 1:k0 + 2 * Q:2] = zs[:, Q - 1::-1] if Q else zs[:, :0]
+            cu[:, -2] = cu[:, -1] = hi[sel]
+            cz[:, -2], cz[:, -1] = zs[:, 0], 0.0
+            # inner corners on the front (the street edge) and the back (inner edge)
+            m = nc - 2
+            fxy = a[sel, None] + cu[:, 1:-1, None] * t[sel, None]
+            bk = fxy + (nrm[sel] * thickness)[:, None]
+            fxy[:, 0], fxy[:, -1] = a[sel], b[sel]
+            bk[:, 0], bk[:, -1] = qa[sel], qb[sel]
+            # roof vertices: footprint, body roof (its base, then its nodes), facade
+            R = 2 * n + C + 2 * m
+            roof = np.zeros((g, R, 3))
+            roof[:, :n, :2] = xy[sel]
+            roof[:, n:2 * n, :2] = bxy[sel]
+            roof[:, 2 * n:2 * n + C] = nodes[sel]
+            base = 2 * n + C
+            roof[:, base:base + m, :2] = fxy
+            roof[:, base + m:, :2] = bk
+            roof[:, base:base + m, 2] = cz[:, 1:-1]
+            roof[:, base + m:, 2] = cz[:, 1:-1]
+            e = ends[sel]
+            ia, ib = e, (e + 1) % n
+            i_qa, i_qb = n, n + 1
+            front = np.empty((g, m + 2), dtype=np.int64)
+            front[:, 0], front[:, -1] = ia, ib
+            front[:, 1:-1] = base + np.arange(m)
+            back = np.empty((g, m + 2), dtype=np.int64)
+            back[:, 0], back[:, -1] = i_qa, i_qb
+            back[:, 1:-1] = base + m + np.arange(m)
+            P = ring_idx.shape[1]
+            Kb = ring_idx.shape[2]
+            F = 4 + (m - 1) + (P - 1)
+            Kf = max(m + 2 + K, Kb, 4)
+            faces = np.zeros((g, F, Kf), dtype=np.int64)
+            fcnt = np.zeros((g, F), dtype=np.int64)
+            # front facade, seen from the street
+            faces[:, 0, :m + 2] = front[:, ::-1]
+            fcnt[:, 0] = m + 2
+            # back face (towards the ridge): the gable profile (right to left), then the outline
+            Tg = T[sel]
+            reverse = np.clip(Tg[:, None] - 1 - np.arange(K), 0, K - 1)
+            prof_rev = np.where(np.arange(K)[None, :] < Tg[:, None],
+                                np.take_along_axis(top_k[sel], reverse, axis=1), 0) + 2 * n
+            pos = np.arange(Kf)[None, :]
+            outline = back[np.arange(g)[:, None], np.clip(pos - Tg[:, None], 0, m + 1)]
+            faces[:, 1] = np.where(pos < Tg[:, None],
+                                   prof_rev[:, np.minimum(np.arange(Kf), K - 1)], outline)
+            fcnt[:, 1] = Tg + m + 2
+            # side faces of the slab
+            faces[:, 2, :4] = np.stack([ia, front[:, 1], back[:, 1], np.full(g, i_qa)], axis=1)
+            faces[:, 3, :4] = np.stack([ib, np.full(g, i_qb), back[:, -2], front[:, -2]], axis=1)
+            fcnt[:, 2:4] = 4
+            # treads and risers
+            i = np.arange(1, m)
+            faces[:, 4:4 + m - 1, :4] = np.stack([front[:, i], front[:, i + 1], back[:, i + 1],
+                                                  back[:, i]], axis=2)
+            fcnt[:, 4:4 + m - 1] = 4
+            # the body roof but its vertical face on the inner edge; its base vertices
+            # beyond the inner edge are the footprint's
+            k = ring_idx[sel, 1:]
+            mapped = np.where((k >= 2) & (k < n), (e[:, None, None] + k) % n, n + k)
+            faces[:, 4 + m - 1:, :Kb] = mapped
+            bc = cnt[sel, 1:]
+            fcnt[:, 4 + m - 1:] = np.where(bc >= 3, bc, 0)
+            wall_mid = np.full((g, n), -1, dtype=np.int64)
+            wall_mid[np.arange(g), (e - 1) % n] = i_qa
+            wall_mid[np.arange(g), ib] = i_qb
+            out.append(RoofGroup("stepped", sel, xy[sel], roof[:, n:], faces, fcnt,
+                                 roof[..., 2].max(axis=1), wall_mid))
+    return out
+

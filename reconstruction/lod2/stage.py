@@ -1,0 +1,389 @@
+"""The LoD2 stage: footprints with heights -> valid LoD2 buildings -> CityJSON.
+
+One entry point, :func:`build_model` (or its two halves, :func:`prepare`
+and :func:`build`, for a caller that reports between them):
+
+1. per footprint, its heights (:class:`Heights`: values, e.g. from columns,
+   or ranges drawn at random) and its requested roof type
+   (:class:`RoofRequests`), checked: no eaves height -> left out, no roof
+   height -> flat roof, no ground -> the default ground;
+2. the footprints taken apart into polygons and cleaned into rings
+   (:mod:`~reconstruction.lod2.outlines`), counting what is left out and why;
+3. roof types drawn with the thesis's probabilities where "auto" is
+   requested (:func:`reconstruction.lod2.roofs.plan.draw_roof_types`);
+4. the solids (:func:`reconstruction.lod2.solids.build.build_solids`), their ids
+   (``building_<cat>``, ``building_<cat>_<part>`` for footprints of several
+   polygons), attributes and semantic surfaces;
+5. the CityJSON text (:func:`citymodel_text`).
+
+Random numbers come from one seeded generator, drawn per footprint (roof
+type, roof shape, heights) before any footprint is left out, so that a
+footprint's building does not depend on the others.
+"""
+
+from typing import NamedTuple, Optional
+
+import numpy as np
+
+from ..cityjson import model as cityjson
+from ..core.contract import PLOT, SOURCE
+from ..core.errors import InputError
+from ..geom.solidset import semantics
+from .outlines import clean_rings, footprint_polygons, rings_are_simple
+from .roofs.model import RoofConfig
+from .roofs.plan import ROOF_TYPES, draw_roof_types
+from .solids.build import Buildings, build_solids
+from .solids.vertex_budget import needs_budget
+
+#: what a roof column or ``roof=`` may ask for besides a roof type
+AUTO = "auto"
+
+
+# ---------------------------------------------------------------------------
+# Inputs
+# ---------------------------------------------------------------------------
+
+class Uniform(NamedTuple):
+    """Heights drawn at random per footprint, uniformly in [low, high]."""
+
+    low: float
+    high: float
+
+    def draw(self, uniforms):
+        """The heights for uniform numbers in [0, 1)."""
+        return self.low + (self.high - self.low) * uniforms
+
+
+class Heights(NamedTuple):
+    """The heights of every footprint (m): per footprint values (nan = unknown)
+    or a :class:`Uniform` range."""
+
+    #: wall height above the ground; unknown, zero or negative: the footprint is left out
+    eaves: object
+    #: roof height above the eaves; unknown or negative: a flat roof
+    attic: object
+    #: terrain elevation, one value or per footprint; unknown: ``ground_default``
+    ground: object = 0.0
+    ground_default: float = 0.0
+
+
+class RoofRequests(NamedTuple):
+    """What each footprint asks of its roof."""
+
+    #: per footprint, a roof type of :data:`~reconstruction.lod2.roofs.plan.ROOF_TYPES`
+    #: or "auto" (drawn with the thesis's probabilities)
+    types: np.ndarray
+    #: per footprint, its construction year (or the map's); nan = unknown,
+    #: which draws as built before the split year
+    years: np.ndarray
+
+
+class Footprints(NamedTuple):
+    """Footprint geometries and what is written of them."""
+
+    #: shapely Polygon or MultiPolygon per footprint (None or empty: left out)
+    geometries: list
+    #: category per footprint (ids ``building_<cat>``); None: 1, 2, ...
+    cats: Optional[list] = None
+    #: per footprint, its building plot and source (written as attributes), or None
+    plot: Optional[list] = None
+    source: Optional[list] = None
+
+
+class Lod2Config(NamedTuple):
+    """Parameters of the stage that are the same for every footprint."""
+
+    roof: RoofConfig = RoofConfig()
+    #: seed of every random draw
+    seed: int = 1
+    #: processes building the solids (the result does not depend on it)
+    nprocs: int = 1
+    #: year of the map, written as attribute ``map_year``
+    map_year: Optional[int] = None
+    #: the roof choice (:class:`~reconstruction.lod2.roofs.rules.RoofRules`); None: the default
+    rules: object = None
+
+
+# ---------------------------------------------------------------------------
+# Outputs
+# ---------------------------------------------------------------------------
+
+class RoofFallback(NamedTuple):
+    """A roof that failed validation and fell back to a simpler type."""
+
+    #: category of the footprint
+    footprint: object
+    kind: str
+    reason: str
+
+
+class Lod2Report(NamedTuple):
+    """What happened to the footprints, in counts."""
+
+    #: footprints left out for an unknown, zero or negative eaves height
+    bad_eaves: int
+    #: footprints with an unknown or negative roof height (flat roof)
+    bad_attic: int
+    #: footprints with an unknown ground elevation (on the default ground)
+    bad_ground: int
+    #: holes (inner courtyards) filled
+    holes_filled: int
+    #: footprints or polygons of footprints left out as empty or degenerate, and why
+    left_out: int
+    left_out_reasons: dict
+    #: footprint polygons to build on
+    rings: int
+    #: polygons that gave no valid solid, even flat (known after :func:`build`)
+    dropped: int = 0
+    #: buildings whose roof failed validation and is simpler than requested
+    fell_back: int = 0
+    #: buildings whose roof type the roof rules changed (a stepped facade with
+    #: no free street end is a gable; a gable with no free end is a hip)
+    by_rule: int = 0
+    #: every roof that failed validation (a building may fall back more than once)
+    fallbacks: tuple = ()
+    #: buildings whose pitched roof stands on their simplified outline (more
+    #: than :data:`~reconstruction.lod2.solids.vertex_budget.MAX_ROOF_VERTICES` vertices)
+    simplified: int = 0
+
+
+class Prepared(NamedTuple):
+    """The footprints ready to build (see :func:`prepare`)."""
+
+    buildings: Buildings
+    #: per building, its footprint (index) and part number (-1: a single polygon)
+    source: np.ndarray
+    part: np.ndarray
+    #: the eaves and roof heights of every footprint as used
+    eaves: np.ndarray
+    attic: np.ndarray
+    ground: np.ndarray
+    cats: list
+    footprints: Footprints
+    report: Lod2Report
+    #: more attributes to write: (name, values per building of ``buildings``) pairs
+    extra: tuple = ()
+
+
+class Lod2Result(NamedTuple):
+    """The LoD2 buildings of :func:`build_model`."""
+
+    #: the valid solids (:class:`~reconstruction.geom.solidset.SolidSet`), one per building
+    solids: object
+    #: per face, its semantic surface (GROUND, WALL, ROOF of :mod:`~reconstruction.geom.solidset`)
+    semantics: np.ndarray
+    #: per building, its CityJSON id and the roof type it got
+    ids: list
+    roof_types: np.ndarray
+    #: per building, the index of its footprint
+    footprint: np.ndarray
+    #: attribute name -> values, one per building
+    attributes: dict
+    report: Lod2Report
+
+    def roof_counts(self):
+        """Roof type -> number of buildings, for every type of
+        :data:`~reconstruction.lod2.roofs.plan.ROOF_TYPES`."""
+        return {k: int(np.sum(self.roof_types == k)) for k in ROOF_TYPES}
+
+
+# ---------------------------------------------------------------------------
+# Inputs from attribute columns
+# ---------------------------------------------------------------------------
+
+def numeric_column(columns, name, label):
+    """Values of a numeric column as floats (None or '' -> nan).
+
+    ``columns``: name -> values; ``label`` says what the column is for in
+    the messages. Raises :class:`InputError` when it is missing or not numeric.
+    """
+    if name not in columns:
+        raise InputError("Column <{}> ({}) not found in the input map; available: {}".format(
+            name, label, ", ".join(sorted(columns))))
+    out = []
+    for v in columns[name]:
+        if v is None or v == "":
+            out.append(np.nan)
+            continue
+        try:
+            out.append(float(v))
+        except (TypeError, ValueError):
+            raise InputError("Column <{}> ({}) is not numeric: value <{}>".format(
+                name, label, v)) from None
+    return np.asarray(out, dtype=float)
+
+
+def heights_from_columns(columns, count, eaves_column=None, attic_column=None,
+                         ground_column=None, ground=0.0, eaves_range=None, attic_range=None):
+    """The :class:`Heights` of ``count`` footprints: eaves and roof heights
+    from ranges ``(low, high)`` where given, else from their columns; the
+    ground from its column where given, else ``ground`` (also for its NULLs)."""
+    if eaves_range is not None:
+        eaves = Uniform(*eaves_range)
+    else:
+        eaves = numeric_column(columns, eaves_column, "eaves height")
+    if attic_range is not None:
+        attic = Uniform(*attic_range)
+    else:
+        attic = numeric_column(columns, attic_column, "roof height")
+    if ground_column:
+        values = numeric_column(columns, ground_column, "ground elevation")
+    else:
+        values = np.full(count, float(ground))
+    return Heights(eaves, attic, values, float(ground))
+
+
+def requests_from_columns(columns, count, roof=AUTO, roof_column=None, map_year=None,
+                          year_column=None):
+    """The :class:`RoofRequests` of ``count`` footprints: ``roof`` for all,
+    but the roof column's type where it has one; the construction year from
+    its column where known and not after ``map_year`` (later values, e.g.
+    9999, are unknown), else ``map_year``."""
+    requested = np.full(count, roof, dtype=object)
+    if roof_column:
+        if roof_column not in columns:
+            raise InputError("Column <{}> (roof type) not found in the input map".format(
+                roof_column))
+        values = [None if v is None else str(v).strip().lower() for v in columns[roof_column]]
+        known = ROOF_TYPES + (AUTO,)
+        unknown = sorted({v for v in values if v not in (None, "") and v not in known})
+        if unknown:
+            raise InputError("Unknown roof types in column <{}>: {} (known: {})".format(
+                roof_column, ", ".join(unknown), ", ".join(ROOF_TYPES)))
+        requested = np.array([v if v not in (None, "") else roof for v in values], dtype=object)
+    years = np.full(count, np.nan if map_year is None else float(map_year))
+    if year_column:
+        built = numeric_column(columns, year_column, "construction year")
+        known = ~np.isnan(built) & (built > 0)
+        if map_year is not None:
+            known &= built <= map_year
+        years = np.where(known, built, years)
+    return RoofRequests(requested, years)
+
+
+# ---------------------------------------------------------------------------
+# The stage
+# ---------------------------------------------------------------------------
+
+def build_model(footprints, heights, requests, config=None):
+    """The :class:`Lod2Result` of :class:`Footprints` with their
+    :class:`Heights` and :class:`RoofRequests` (see the module doc)."""
+    config = config or Lod2Config()
+    return build(prepare(footprints, heights, requests, config), config)
+
+
+def prepare(footprints, heights, requests, config=None):
+    """The footprints as buildings ready to build (:class:`Prepared`): heights
+    checked, polygons cleaned, roof types drawn. Steps 1 to 3 of the module doc."""
+    config = config or Lod2Config()
+    n = len(footprints.geometries)
+    rng = np.random.default_rng(config.seed)
+    u_type = rng.random(n)
+    u_shape = rng.random((n, 3))
+    u_height = rng.random((n, 2))
+    eaves = _per_footprint(heights.eaves, u_height[:, 0], n)
+    attic = _per_footprint(heights.attic, u_height[:, 1], n)
+    ground = _per_footprint(heights.ground, None, n)
+    requested = np.asarray(requests.types, dtype=object)
+    bad_eaves = np.isnan(eaves) | (eaves <= 0)
+    bad_attic = np.isnan(attic) | (attic < 0)
+    if bad_attic.any():
+        attic = np.where(bad_attic, 0.0, attic)
+        requested = np.where(bad_attic, "flat", requested)
+    bad_ground = np.isnan(ground)
+    if bad_ground.any():
+        ground = np.where(bad_ground, float(heights.ground_default), ground)
+    rings, src, part, holes, left_out, reasons = _footprint_rings(footprints.geometries, bad_eaves)
+    nverts = np.array([len(r) for r in rings])
+    draw = draw_roof_types if config.rules is None else config.rules.draw
+    drawn = draw(nverts, np.asarray(requests.years)[src], attic[src], u_type[src])
+    types = np.where(requested[src] == AUTO, drawn, requested[src])
+    report = Lod2Report(bad_eaves=int(bad_eaves.sum()), bad_attic=int(bad_attic.sum()),
+                        bad_ground=int(bad_ground.sum()), holes_filled=holes, left_out=left_out,
+                        left_out_reasons=reasons, rings=len(rings))
+    cats = footprints.cats if footprints.cats is not None else list(range(1, n + 1))
+    return Prepared(Buildings(rings, ground[src], eaves[src], attic[src], types, u_shape[src]),
+                    src, part, eaves, attic, ground, cats, footprints, report)
+
+
+def _per_footprint(values, uniforms, n):
+    """Per footprint values (floats) of a height: drawn from a :class:`Uniform`, or given."""
+    if isinstance(values, Uniform):
+        return values.draw(uniforms)
+    values = np.asarray(values, dtype=float)
+    return np.full(n, float(values)) if values.ndim == 0 else values
+
+
+def _footprint_rings(geometries, skip):
+    """The clean rings of every polygon of the footprints (but those to ``skip``):
+    ``(rings, footprint of each, part of each, holes, left out, reasons)``."""
+    polys, src, part, holes, left_out = footprint_polygons(geometries, skip=skip)
+    reasons = {}
+    cleaned, why = clean_rings(polys)
+    ok = np.array([r is not None for r in cleaned], dtype=bool)
+    for w in why:
+        if w is not None:
+            left_out += 1
+            reasons[w] = reasons.get(w, 0) + 1
+    rings = [r for r, good in zip(cleaned, ok) if good]
+    src, part = src[ok], part[ok]
+    simple = rings_are_simple(rings)
+    if not simple.all():
+        left_out += int((~simple).sum())
+        reasons["self-intersecting outline"] = int((~simple).sum())
+        rings = [r for r, good in zip(rings, simple) if good]
+        src, part = src[simple], part[simple]
+    return rings, src, part, holes, left_out, reasons
+
+
+def build(prepared, config=None):
+    """The :class:`Lod2Result` of :func:`prepare`'s buildings: steps 4 of the module doc.
+
+    Raises :class:`InputError` when no footprint is left to build.
+    """
+    config = config or Lod2Config()
+    buildings = prepared.buildings
+    if not len(buildings):
+        raise InputError("No footprint left to build")
+    ss, kept, got, log = build_solids(buildings, config.roof, nprocs=config.nprocs)
+    src, cats = prepared.source, prepared.cats
+    fsrc = src[kept]
+    part = prepared.part
+    ids = []
+    for j, i in zip(kept, fsrc):
+        base = "building_{}".format(cats[i])
+        ids.append(base if part[j] < 0 else "{}_{}".format(base, part[j] + 1))
+
+    def per_building(values):
+        return [values[i] for i in fsrc] if values is not None else [None] * len(fsrc)
+
+    attributes = {
+        "roof_type": list(got),
+        "eaves_height": np.round(prepared.eaves[fsrc], 3),
+        "roof_height": np.round(np.where(got == "flat", 0.0, prepared.attic[fsrc]), 3),
+        "ground_height": np.round(prepared.ground[fsrc], 3),
+        "map_year": [config.map_year] * len(fsrc),
+        PLOT: per_building(prepared.footprints.plot),
+        SOURCE: per_building(prepared.footprints.source),
+        "footprint": [cats[i] for i in fsrc],
+    }
+    for name, values in prepared.extra:
+        attributes[name] = [values[j] for j in kept]
+    failed = np.zeros(len(buildings), dtype=bool)
+    failed[[f.index for f in log]] = True
+    changed = got != buildings.roof_types[kept]
+    report = prepared.report._replace(dropped=len(buildings) - len(kept),
+                                      fell_back=int(np.sum(changed & failed[kept])),
+                                      by_rule=int(np.sum(changed & ~failed[kept])),
+                                      simplified=int(needs_budget(
+                                          [buildings.footprints[k] for k in kept], got).sum()),
+                                      fallbacks=[RoofFallback(cats[src[f.index]], f.kind, f.reason)
+                                                 for f in log])
+    return Lod2Result(ss, semantics(ss), ids, got, fsrc, attributes, report)
+
+
+def citymodel_text(result, reference_system=None, title=None):
+    """The CityJSON 2.0 text of a :class:`Lod2Result` (see
+    :func:`reconstruction.cityjson.model.citymodel_text`)."""
+    return cityjson.citymodel_text(result.solids, result.semantics, result.ids, result.attributes,
+                                   reference_system, title=title)

@@ -1,0 +1,352 @@
+"""Core of r.histo.classify: criteria, features, ensemble, removal (no GRASS needed)."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from reconstruction.classify import segments as cl
+
+# ---------------------------------------------------------------------------
+# Parameters and segmentation criteria
+# ---------------------------------------------------------------------------
+
+
+def test_parameter_values_are_inclusive_and_without_float_drift():
+    assert cl.parameter_values(0.07, 0.10, 0.01) == [0.07, 0.08, 0.09, 0.1]
+    assert cl.parameter_values(7, 10, 1, 0) == [7, 8, 9, 10]
+    assert cl.parameter_values(5, 5, 1) == [5]
+    with pytest.raises(ValueError):
+        cl.parameter_values(1, 2, 0)
+    with pytest.raises(ValueError):
+        cl.parameter_values(2, 1, 1)
+
+
+def test_relabel_makes_ids_consecutive_and_keeps_no_data():
+    index, n = cl.relabel(np.array([[5, 5, 0], [9, 2, 9]]))
+    assert n == 3
+    assert index.tolist() == [[1, 1, -1], [2, 0, 2]]
+
+
+def test_criteria_of_homogeneous_segments_and_a_checkerboard():
+    # two homogeneous halves: no variance inside; two segments of opposite
+    # means next to each other: Moran's I = n / |pairs| * z1 z2 / (z1^2 + z2^2) = -1
+    segments = np.array([[1, 1, 2, 2]] * 4)
+    band = np.where(segments == 1, 10.0, 30.0)
+    vw, moran = cl.segmentation_criteria(segments, [band, band * 2])
+    assert vw == pytest.approx(0.0)
+    assert moran == pytest.approx(-1.0)
+
+
+def test_area_weighted_variance_by_hand():
+    segments = np.array([[1, 1, 1, 2]])
+    band = np.array([[0.0, 2.0, 4.0, 7.0]])  # segment 1: var 8/3, segment 2: var 0
+    vw, _ = cl.segmentation_criteria(segments, [band])
+    assert vw == pytest.approx((3 * 8 / 3 + 1 * 0) / 4)
+
+
+def test_morans_i_matches_the_textbook_formula():
+    rng = np.random.default_rng(3)
+    segments = np.repeat(np.repeat(np.arange(1, 10).reshape(3, 3), 4, axis=0), 4, axis=1)
+    band = rng.normal(size=segments.shape) + segments * 0.5
+    _, moran = cl.segmentation_criteria(segments, [band])
+    means = np.array([band[segments == s].mean() for s in range(1, 10)])
+    w = np.zeros((9, 9))
+    for i in range(9):
+        for j in range(9):
+            ri, ci, rj, cj = i // 3, i % 3, j // 3, j % 3
+            w[i, j] = abs(ri - rj) + abs(ci - cj) == 1
+    z = means - means.mean()
+    expected = 9 / w.sum() * (w * np.outer(z, z)).sum() / (z ** 2).sum()
+    assert moran == pytest.approx(expected)
+
+
+def test_normalise_f_function_and_tuning_choice():
+    assert cl.normalise([1.0, 3.0, 2.0]).tolist() == [1.0, 0.0, 0.5]
+    assert cl.normalise([4.0, 4.0]).tolist() == [1.0, 1.0]
+    assert cl.f_function(1.0, 1.0, 1.0) == pytest.approx(1.0)
+    assert cl.f_function(0.0, 0.0) == 0.0
+    # alpha weighs the criteria: F = (1 + a^2) SA VW / (a^2 SA + VW)
+    assert cl.f_function(0.5, 1.0, 2.0) == pytest.approx(5 * 0.5 / (4 * 0.5 + 1))
+    # pair 1 has the lowest VW and the lowest Moran's I: best in both
+    result = cl.tune([(5.0, 0.3), (1.0, -0.2), (3.0, 0.1)])
+    assert result.best == 1
+    assert result.f[1] == pytest.approx(1.0)
+    assert result.vw_norm.tolist() == [0.0, 1.0, 0.5]
+
+
+# ---------------------------------------------------------------------------
+# Object features
+# ---------------------------------------------------------------------------
+
+
+def test_features_match_a_per_segment_loop():
+    rng = np.random.default_rng(7)
+    segments = rng.integers(1, 6, size=(20, 30))
+    segments[0, :5] = 0  # no data
+    bands = [rng.normal(100, 20, size=segments.shape) for _ in range(3)]
+    bands[1][3, 3] = np.nan  # a no-data cell of one band
+    ids, features = cl.segment_features(segments, bands)
+    assert ids.tolist() == [1, 2, 3, 4, 5]
+    assert features.shape == (5, 20)
+    names = cl.feature_names(3)
+    assert names[:5] == ["b1_mean", "b1_median", "b1_variance", "b1_q1", "b1_q3"]
+    for row, sid in enumerate(ids):
+        for b, band in enumerate(bands):
+            values = band[(segments == sid) & np.isfinite(band)]
+            got = features[row, 5 * b:5 * b + 5]
+            expected = [values.mean(), np.median(values), values.var(),
+                        np.percentile(values, 25), np.percentile(values, 75)]
+            assert got == pytest.approx(expected)
+        assert features[row, 15] == (segments == sid).sum()
+
+
+def test_shape_features_of_a_square_and_a_line():
+    segments = np.zeros((12, 12), dtype=int)
+    segments[1:5, 1:5] = 1   # 4 x 4 square: area 16, perimeter 16
+    segments[8, 1:11] = 2    # 1 x 10 line: area 10, perimeter 22
+    band = np.ones(segments.shape)
+    _, features = cl.segment_features(segments, [band])
+    area, perimeter, square, circle, fractal = features[:, 5:].T
+    assert area.tolist() == [16, 10]
+    # the background (id 0) is no data, and its edges count as perimeter
+    assert perimeter.tolist() == [16, 22]
+    assert square[0] == pytest.approx(1.0)
+    assert square[1] == pytest.approx(4 * np.sqrt(10) / 22)
+    assert circle[0] == pytest.approx(16 / (2 * np.sqrt(np.pi * 16)))
+    assert fractal[0] == pytest.approx(2 * np.log(16) / np.log(16.0001))
+
+
+def test_select_features_takes_groups_and_logs_sizes():
+    features = np.arange(1, 21, dtype=float).reshape(1, 20)
+    spectral = cl.select_features(features, 3, ("spectral",))
+    assert spectral.shape == (1, 15)
+    size = cl.select_features(features, 3, ("size",))
+    assert size.tolist() == [[np.log(16), np.log(17)]]
+    assert cl.select_features(features, 3, ("spectral", "size", "shape")).shape == (1, 20)
+    with pytest.raises(ValueError):
+        cl.select_features(features, 3, ("colour",))
+
+
+def test_finite_features_replaces_nan_and_inf_by_column_median():
+    out = cl.finite_features([[1.0, np.inf], [3.0, 2.0], [np.nan, 4.0]])
+    assert out.tolist() == [[1.0, 3.0], [3.0, 2.0], [2.0, 4.0]]
+
+
+# ---------------------------------------------------------------------------
+# Classifiers
+# ---------------------------------------------------------------------------
+
+
+def test_majority_vote_with_ties_to_the_first_classifier():
+    predictions = np.array([[1, 1, 1, 2, 3],
+                            [1, 2, 2, 4, 4],
+                            [1, 2, 3, 2, 5]])
+    assert cl.majority_vote(predictions).tolist() == [1, 2, 1, 2, 3]
+    assert cl.majority_vote(np.array([[4, 5], [6, 5]])).tolist() == [4, 5]
+
+
+def test_points_to_cells_and_outside_points():
+    from reconstruction.geom.grid import Grid
+
+    grid = Grid(None, north=10, west=0, nsres=1, ewres=1, size=(10, 10))
+    xy = np.array([[0.5, 9.5], [9.9, 0.1], [10.5, 5], [5, -1]])
+    rows, cols = grid.cells(xy[:, 0], xy[:, 1])
+    assert rows.tolist() == [0, 9, -1, -1]
+    assert cols.tolist() == [0, 9, -1, -1]
+
+
+def _blobs(seed=0):
+    rng = np.random.default_rng(seed)
+    centres = np.array([[0, 0, 0], [10, 0, 0], [0, 10, 0]], dtype=float)
+    labels = np.repeat([1, 3, 4], 40)
+    features = centres[np.repeat([0, 1, 2], 40)] + rng.normal(0, 1, size=(120, 3))
+    return features, labels
+
+
+def test_ensemble_separates_clear_classes_and_is_seeded():
+    features, labels = _blobs()
+    train = np.arange(0, 120, 8)  # 15 training segments, 5 per class
+    voted, predictions = cl.classify_segments(features, train, labels[train], seed=4)
+    assert set(predictions) == {"rf", "knn", "svm"}
+    assert (voted == labels).mean() > 0.95
+    again, _ = cl.classify_segments(features, train, labels[train], seed=4)
+    assert np.array_equal(voted, again)
+    rf_only, _ = cl.classify_segments(features, train, labels[train], classifiers=("rf",), seed=4)
+    assert (rf_only == labels).mean() > 0.95
+
+
+def test_ensemble_refuses_a_single_class_and_unknown_classifiers():
+    features, labels = _blobs()
+    with pytest.raises(ValueError):
+        cl.classify_segments(features, [0, 1, 2], [1, 1, 1])
+    with pytest.raises(ValueError):
+        cl.make_classifiers(("rf", "boost"))
+
+
+# ---------------------------------------------------------------------------
+# Removal of text and symbols
+# ---------------------------------------------------------------------------
+
+
+def test_thickness_and_window():
+    mask = np.zeros((20, 20), dtype=bool)
+    mask[5:8, 2:18] = True  # a stroke 3 cells thick
+    assert cl.object_thickness(mask) == 3
+    assert cl.removal_window(mask) == 3
+    mask[10:19, 2:11] = True  # a 9 x 9 symbol
+    assert cl.object_thickness(mask) == 9
+    assert cl.removal_window(mask) == 5  # 9 / 2 + 1 = 5.5 -> 5, odd
+    assert cl.object_thickness(np.zeros((3, 3), bool)) == 0
+
+
+def test_fill_takes_the_modal_class_of_the_surroundings():
+    classes = np.full((9, 9), 4)
+    classes[:, 5:] = 1
+    classes[3:6, 3:6] = 2  # text mostly on class 4
+    holes = classes == 2
+    filled, left = cl.fill_from_surroundings(classes, holes, window=3)
+    assert not left.any()
+    assert not (filled == 2).any()
+    assert (filled[3:6, 3:5] == 4).all()
+    assert (filled[:, 6:] == 1).all()
+
+
+def test_fill_respects_iterations_exclusions_and_no_data():
+    classes = np.full((11, 11), 1)
+    classes[1:10, 1:10] = 2
+    holes = classes == 2
+    _, left = cl.fill_from_surroundings(classes, holes, window=3, iterations=1)
+    assert left.sum() == 7 * 7
+    filled, left = cl.fill_from_surroundings(classes, holes, window=3, exclude=(1,))
+    assert np.array_equal(left, holes) and (filled[holes] == 2).all()
+    empty = np.zeros((5, 5), dtype=int)
+    filled, left = cl.fill_from_surroundings(empty, empty == 0, window=3)
+    assert left.all()
+    with pytest.raises(ValueError):
+        cl.fill_from_surroundings(classes, holes, window=4)
+
+
+def test_nearest_fill_meets_halfway_where_the_modal_window_favours_the_solid_class():
+    # a plot (1) beside a street (4) whose name covers columns 20-29: only
+    # specks of the street show between the letters (columns 23 and 26)
+    classes = np.full((30, 40), 4)
+    classes[:, :20] = 1
+    holes = np.zeros(classes.shape, bool)
+    holes[:, 20:30] = True
+    holes[::3, 23] = False
+    holes[1::3, 26] = False
+    inner = slice(5, 25)  # away from the map's edge
+    modal, _ = cl.fill_from_surroundings(classes, holes, window=9)
+    nearest, left = cl.fill_from_nearest(classes, holes)
+    assert not left.any()
+    # the midline between the plot (column 19) and the first street cells (23)
+    # is column 21: the nearest fill stops there, the modal one goes past it
+    assert (nearest[inner, 20:22] == 1).all() and not (nearest[inner, 22:] == 1).any()
+    assert (modal[inner, 22] == 1).all()
+    # no class is invented, known cells keep theirs, ties go to the 3 x 3 majority
+    assert np.array_equal(nearest[~holes], classes[~holes])
+    assert set(np.unique(nearest)) == {1, 4}
+
+
+def test_nearest_fill_respects_reach_exclusions_and_no_data():
+    classes = np.full((11, 11), 1)
+    classes[1:10, 1:10] = 2
+    holes = classes == 2
+    _, left = cl.fill_from_nearest(classes, holes, reach=1)
+    assert left.sum() == 7 * 7
+    filled, left = cl.fill_from_nearest(classes, holes, exclude=(1,))
+    assert np.array_equal(left, holes) and (filled[holes] == 2).all()
+    empty = np.zeros((5, 5), dtype=int)
+    filled, left = cl.fill_from_nearest(empty, empty == 0)
+    assert left.all()
+
+
+def test_small_regions_and_thin_parts():
+    classes = np.full((12, 12), 4)
+    classes[2:8, 2:8] = 1
+    classes[10, 10] = 1          # a single building cell
+    classes[2:8, 9] = 5          # a one-cell wide line
+    small = cl.small_regions(classes, 4)
+    assert small[10, 10] and small.sum() == 1
+    thin = cl.thin_parts(classes, 3)
+    assert thin[2:8, 9].all() and thin[10, 10]
+    assert not thin[2:8, 2:8].any()
+
+
+def _two_plots_and_a_street_name():
+    """Two plots 6 cells apart; a street name fills the street between them."""
+    classes = np.full((30, 40), 4)          # street
+    classes[2:12, 5:35] = 1                 # plot north of the street
+    classes[18:28, 5:35] = 1                # plot south of the street
+    classes[12:18, 10:30] = 2               # street name, touching both plots
+    return classes
+
+
+def test_removed_name_does_not_join_separated_plots():
+    from scipy import ndimage
+
+    classes = _two_plots_and_a_street_name()
+    plain, _ = cl.remove_classes(classes, [2], window=7)
+    assert ndimage.label(plain == 1)[1] == 1  # the modal fill bridges the street
+    kept, _ = cl.remove_classes(classes, [2], window=7, separate=[1])
+    assert ndimage.label(kept == 1)[1] == 2
+    assert (kept[12:18, 10:30] == 4).all()
+
+
+def test_removed_symbol_rejoins_the_plot_it_covered():
+    from scipy import ndimage
+
+    classes = np.full((30, 40), 4)
+    classes[5:25, 10:20] = 1                # one narrow plot
+    classes[12:17, 8:22] = 6                # a symbol printed across it
+    out, window = cl.remove_classes(classes, [6], separate=[1])
+    assert window == 3
+    assert ndimage.label(out == 1)[1] == 1
+    assert (out[12:17, 10:20] == 1).all()
+
+
+def test_minimum_mapping_unit_and_thin_parts_are_refilled():
+    classes = np.full((30, 30), 4)
+    classes[5:20, 5:20] = 1
+    classes[25:27, 25:27] = 1               # a 4-cell building fragment
+    classes[5:20, 22] = 1                   # a one-cell colour fringe
+    out, _ = cl.remove_classes(classes, [], min_cells=10, min_width=3)
+    assert (out[5:20, 5:20] == 1).all()
+    assert (out[25:27, 25:27] == 4).all()
+    assert (out[5:20, 22] == 4).all()
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 10_000), st.integers(1, 3))
+def test_fill_leaves_no_hole_and_invents_no_class(seed, half):
+    rng = np.random.default_rng(seed)
+    classes = rng.choice([1, 3, 4], size=(25, 25))
+    holes = rng.random((25, 25)) < 0.4
+    holes[0, 0] = False
+    for filled, left in (cl.fill_from_surroundings(classes, holes, window=2 * half + 1),
+                         cl.fill_from_nearest(classes, holes, window=2 * half + 1)):
+        assert not left.any()
+        assert np.array_equal(filled[~holes], classes[~holes])
+        assert set(np.unique(filled)) <= {1, 3, 4}
+
+
+def test_class_raster_maps_segment_labels_back():
+    index, _ = cl.relabel(np.array([[3, 3, 0], [7, 3, 7]]))
+    out = cl.class_raster(index, np.array([1, 4]))
+    assert out.tolist() == [[1, 1, 0], [4, 1, 4]]
+
+
+def test_label_across_a_courtyard_plot_is_filled_when_nothing_gets_joined():
+    from scipy import ndimage
+
+    classes = np.full((60, 60), 4)
+    classes[10:50, 25:55] = 1               # courtyard plot ...
+    classes[18:42, 33:47] = 4               # ... around its yard
+    classes[10:50, 5:16] = 1                # a second plot across a 9-cell street
+    classes[28:33, 13:37] = 2               # a label across the street and the west wing
+    out, _ = cl.remove_classes(classes, [2], window=5, separate=[1])
+    assert ndimage.label(out == 1)[1] == 2  # the two plots stay apart ...
+    assert (out[28:33, 25:33] == 1).all()   # ... the wing is whole again ...
+    assert (out[28:33, 14:16] == 1).all()   # ... and so is the other plot's edge
+    assert (out[28:33, 17:24] == 4).all()

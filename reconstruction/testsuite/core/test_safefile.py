@@ -1,0 +1,77 @@
+"""Files written whole or not at all, through links, never over devices (issue 12, item 6)."""
+
+import os
+import stat
+
+import pytest
+
+from reconstruction.core import crs as epsg
+from reconstruction.core import safefile
+from reconstruction.core.errors import InputError
+from reconstruction.core.options import integer_column
+
+
+def test_a_new_file_gets_the_usual_permissions_and_no_temporary_file_remains(tmp_path):
+    path = tmp_path / "a.json"
+    safefile.write_text(str(path), "new")
+    assert path.read_text() == "new"
+    umask = os.umask(0)
+    os.umask(umask)
+    assert stat.S_IMODE(path.stat().st_mode) == 0o666 & ~umask
+    assert os.listdir(str(tmp_path)) == ["a.json"]
+
+
+def test_a_replaced_file_keeps_its_permissions_and_a_part_file_is_left_alone(tmp_path):
+    path = tmp_path / "a.json"
+    path.write_text("old")
+    path.chmod(0o640)
+    (tmp_path / "a.json.part").write_text("someone's")
+    safefile.write_text(str(path), "new")
+    assert path.read_text() == "new" and stat.S_IMODE(path.stat().st_mode) == 0o640
+    assert (tmp_path / "a.json.part").read_text() == "someone's"
+
+
+def test_a_failure_leaves_the_old_file_and_nothing_else(tmp_path):
+    path = tmp_path / "a.csv"
+    path.write_text("old")
+    with pytest.raises(RuntimeError):
+        with safefile.replacing(str(path), newline="") as f:
+            f.write("half")
+            raise RuntimeError("interrupted")
+    assert path.read_text() == "old" and os.listdir(str(tmp_path)) == ["a.csv"]
+
+
+def test_a_link_is_written_through(tmp_path):
+    target = tmp_path / "sub" / "model.json"
+    target.parent.mkdir()
+    target.write_text("old")
+    link = tmp_path / "link.json"
+    link.symlink_to(target)
+    safefile.write_text(str(link), "new")
+    assert link.is_symlink() and target.read_text() == "new"
+    assert sorted(os.listdir(str(target.parent))) == ["model.json"]
+
+
+@pytest.mark.parametrize("path", ["/dev/null", "/dev/full", "/"])
+def test_something_else_than_a_regular_file_is_never_replaced(path):
+    with pytest.raises(InputError, match="not a regular file"):
+        safefile.write_text(path, "x")
+
+
+def test_epsg_codes():
+    if epsg.proj_db() is None:
+        pytest.skip("PROJ's proj.db is not installed")
+    assert epsg.known(28992) and epsg.known(7415)
+    assert not epsg.known(999999999) and not epsg.known(1)
+
+
+def test_epsg_codes_without_proj_db_are_checked_for_plausibility(tmp_path):
+    missing = str(tmp_path / "proj.db")
+    assert epsg.known(28992, missing) and not epsg.known(999999999, missing)
+
+
+def test_integer_columns_refuse_fractions_and_text():
+    assert integer_column([1, 2.0, "3", None, ""], "plot", "m") == [1, 2, 3, None, None]
+    for bad in (1.5, "two", float("nan"), float("inf")):
+        with pytest.raises(InputError, match="Column <plot> of vector map <m> must hold whole"):
+            integer_column([1, bad], "plot", "m")

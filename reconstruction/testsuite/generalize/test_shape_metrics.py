@@ -1,0 +1,158 @@
+"""Shape metrics, turning-function distance and buffer similarity (no GRASS needed)."""
+
+import math
+
+import numpy as np
+import pytest
+import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from shapely import affinity
+from shapely.geometry import MultiPolygon, Polygon, box
+
+from reconstruction.generalize import shape_metrics as sm
+
+L_SHAPE = Polygon([(0, 0), (20, 0), (20, 10), (10, 10), (10, 20), (0, 20)])
+COURTYARD = Polygon(box(0, 0, 30, 30).exterior.coords, [box(10, 10, 20, 20).exterior.coords[::-1]])
+
+
+def test_rectangle_metrics_by_hand():
+    m = sm.plot_metrics([box(0, 0, 20, 10)])
+    assert m["area"][0] == pytest.approx(200)
+    assert m["perimeter"][0] == pytest.approx(60)
+    assert m["vertices"][0] == 4
+    assert m["holes"][0] == 0
+    assert m["compactness"][0] == pytest.approx(4 * math.pi * 200 / 60 ** 2)
+    assert m["roundness"][0] == pytest.approx(m["compactness"][0])
+    assert m["elongation"][0] == pytest.approx(0.5)
+    for key in ("convexity", "solidity", "rectangularity"):
+        assert m[key][0] == pytest.approx(1.0)
+    assert m["concavity"][0] == 0
+
+
+def test_concave_and_holed_plots():
+    m = sm.plot_metrics([L_SHAPE, COURTYARD])
+    # L: area 300, perimeter 80; hull = square minus a triangle of 50 -> area 350
+    hull_perimeter = 20 + 10 + math.hypot(10, 10) + 10 + 20
+    assert m["area"].tolist() == pytest.approx([300, 800])
+    assert m["solidity"][0] == pytest.approx(300 / 350)
+    assert m["convexity"][0] == pytest.approx(hull_perimeter / 80)
+    assert m["roundness"][0] == pytest.approx(4 * math.pi * 300 / hull_perimeter ** 2)
+    assert m["rectangularity"][0] == pytest.approx(300 / 400)
+    assert m["concavity"].tolist() == [1, 1]  # the hole makes the courtyard's perimeter longer
+    assert m["holes"].tolist() == [0, 1]
+    assert m["vertices"].tolist() == [6, 8]
+    assert m["perimeter"][1] == pytest.approx(160)
+
+
+def test_multipolygons_missing_and_empty_geometries():
+    multi = MultiPolygon([box(0, 0, 1, 1), Polygon(COURTYARD.exterior, COURTYARD.interiors)])
+    m = sm.plot_metrics([multi, None, Polygon()])
+    assert m["holes"].tolist() == [1, 0, 0]
+    assert m["vertices"].tolist() == [12, 0, 0]
+    assert m["area"][0] == pytest.approx(801)
+    assert np.isnan(m["area"][1]) and np.isnan(m["compactness"][2])
+
+
+def test_summary_statistics():
+    polygons = [box(0, 0, 10, 10), box(0, 0, 20, 10), box(0, 0, 30, 10), None]
+    row = sm.summarise_metrics(sm.plot_metrics(polygons))
+    assert row["plots"] == 4
+    assert row["area_sum"] == pytest.approx(600)
+    assert row["area_mean"] == pytest.approx(200)
+    assert row["area_median"] == pytest.approx(200)
+    assert row["area_std"] == pytest.approx(np.std([100, 200, 300]))
+    assert row["vertices_sum"] == 12
+    assert list(row)[:3] == ["plots", "area_sum", "area_mean"]
+    assert len(row) == 1 + len(sm.METRICS) * len(sm.STATISTICS)
+
+
+def test_turning_function_of_a_square():
+    starts, angles = sm.turning_function(box(0, 0, 1, 1))
+    assert starts.tolist() == pytest.approx([0, 0.25, 0.5, 0.75])
+    assert np.diff(angles).tolist() == pytest.approx([math.pi / 2] * 3)
+
+
+def test_turning_distance_invariances():
+    base = L_SHAPE
+    moved = affinity.translate(affinity.scale(affinity.rotate(base, 37, origin="centroid"), 3, 3), 500, -20)
+    restarted = Polygon(list(base.exterior.coords)[3:-1] + list(base.exterior.coords)[:3])
+    clockwise = Polygon(list(base.exterior.coords)[::-1])
+    for other in (base, moved, restarted, clockwise):
+        assert sm.turning_distance(base, other) == pytest.approx(0, abs=1e-6)
+
+
+def _brute_force(a, b, n=720):
+    """Dense numeric version of Arkin's distance (an upper bound of the exact one)."""
+    sa, ta = sm.turning_function(a)
+    sb, tb = sm.turning_function(b)
+    s = (np.arange(n) + 0.5) / n
+    best = math.inf
+    for t in np.concatenate([np.arange(n) / n, (sa[:, None] - sb[None, :]).ravel() % 1]):
+        pos = s + t
+        va = ta[np.searchsorted(sa, pos % 1, side="right") - 1] + 2 * math.pi * np.floor(pos)
+        vb = tb[np.searchsorted(sb, s, side="right") - 1]
+        d = va - vb
+        best = min(best, math.sqrt(max(np.mean(d ** 2) - np.mean(d) ** 2, 0)))
+    return best
+
+
+def test_turning_distance_matches_a_dense_evaluation():
+    pairs = [(box(0, 0, 1, 1), box(0, 0, 3, 1)), (L_SHAPE, box(0, 0, 20, 20)),
+             (Polygon([(0, 0), (4, 0), (0, 3)]), box(0, 0, 2, 1))]
+    for a, b in pairs:
+        exact = sm.turning_distance(a, b)
+        dense = _brute_force(a, b)
+        assert 0 < exact <= dense + 1e-9
+        assert dense == pytest.approx(exact, abs=0.02)
+        assert sm.turning_distance(b, a) == pytest.approx(exact, abs=1e-9)
+
+
+def test_turning_distance_grows_with_difference():
+    square = box(0, 0, 10, 10)
+    near = sm.turning_distance(square, box(0, 0, 11, 10))
+    far = sm.turning_distance(square, box(0, 0, 40, 10))
+    assert 0 < near < far
+
+
+def test_buffer_similarity_by_hand():
+    a, b = box(0, 0, 10, 10), box(0, 0, 20, 10)
+    # A lies inside B; B inside A's 2 m buffer (-2..12): 12 x 10 of 200
+    assert sm.buffer_similarity(a, b, 2) == pytest.approx((100 + 60) / 2)
+    assert sm.buffer_similarity(a, affinity.translate(a, 1.5, 0), 2) == pytest.approx(100)
+    assert sm.buffer_similarity(a, affinity.translate(a, 100, 0), 2) == 0
+    assert sm.buffer_similarity(a, None) == 0
+
+
+def test_match_and_shape_scores():
+    refs = [box(0, 0, 10, 10), box(100, 0, 110, 10), box(200, 0, 210, 10)]
+    plots = [box(101, 0, 111, 10), box(0, 0, 10.5, 10), box(50, 50, 60, 60), box(0, 0, 1, 1)]
+    assert sm.match_plots(plots, refs).tolist() == [1, 0, -1]
+    scores = sm.shape_scores(plots, refs, buffer=2)
+    assert scores["matched"] == 2
+    assert scores["buffer_similarity"] == pytest.approx(100)
+    assert scores["turning_distance"] == pytest.approx(
+        np.mean([sm.turning_distance(plots[1], refs[0]), 0.0]))
+    assert scores["turning_distances"][2] is None
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.lists(st.tuples(st.floats(0, 2 * math.pi), st.floats(0.5, 1.0)), min_size=3, max_size=9,
+                unique_by=lambda p: round(p[0], 2)),
+       st.floats(0, 360), st.floats(0.1, 50))
+def test_star_polygons_distance_properties(spokes, angle, scale):
+    spokes = sorted(spokes)
+    polygon = Polygon([(r * math.cos(t), r * math.sin(t)) for t, r in spokes])
+    if not polygon.is_valid or polygon.area < 1e-3:
+        return
+    other = affinity.scale(affinity.rotate(polygon, angle), scale, scale)
+    assert sm.turning_distance(polygon, other) == pytest.approx(0, abs=1e-6)
+    hull = polygon.convex_hull
+    d = sm.turning_distance(polygon, hull)
+    assert d >= 0 and d == pytest.approx(sm.turning_distance(hull, polygon), abs=1e-6)
+    similarity = sm.buffer_similarity(polygon, other, 0.1)
+    assert 0 <= similarity <= 100 + 1e-9
+    m = sm.plot_metrics([polygon])
+    for key in ("compactness", "roundness", "convexity", "solidity", "rectangularity", "elongation"):
+        assert 0 < m[key][0] <= 1 + 1e-9
+    assert shapely.is_valid(polygon)

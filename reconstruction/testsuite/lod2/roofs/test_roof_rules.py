@@ -1,0 +1,112 @@
+"""Roof rules: the thesis's Table B.1 as data, the suite's default, rules files."""
+
+import json
+
+import numpy as np
+import pytest
+
+from reconstruction.lod2.roofs import rules as roof_rules
+from reconstruction.lod2.roofs import plan as roofs
+from reconstruction.core.errors import InputError
+
+
+def U(n, seed):
+    """n uniform numbers in [0, 1) of one seed: what a roof draw takes."""
+    return np.random.default_rng(seed).random(n)
+
+THESIS_CSV = """# the thesis's Table B.1
+from,to,shape,flat,hip,gable,mansard,stepped
+,1915,4,10,20,20,10,40
+1916,,4,25,25,25,10,15
+,1915,n,60,0,0,40,0
+1916,,n,60,,,40,
+"""
+
+
+def weights(rules, first, last, shape):
+    row = [r for r in rules.rules if (r.first, r.last, r.shape) == (first, last, shape)][0]
+    return {k: v for k, v in row.weights if v}
+
+
+def test_a_rules_file_reproduces_the_thesis_table_exactly():
+    rules = roof_rules.parse_rules(THESIS_CSV)
+    for first, last in ((None, 1915.0), (1916.0, None)):
+        for shape in ("4", "n"):
+            assert weights(rules, first, last, shape) == weights(roof_rules.THESIS_RULES, first,
+                                                                 last, shape)
+    assert weights(rules, None, 1915.0, "4") == {"flat": 10, "hip": 20, "gable": 20,
+                                                 "mansard": 10, "stepped": 40}
+    assert weights(rules, 1916.0, None, "n") == {"flat": 60, "mansard": 40}
+    # and draws the same roofs
+    n = np.array([4, 4, 5, 6, 4, 7] * 50)
+    years = np.array([1800, 1950, 1900, 1990, np.nan, 1915] * 50)
+    a = rules.draw(n, years, np.full(len(n), 3.0), U(len(n), 4))
+    b = roof_rules.THESIS_RULES.draw(n, years, np.full(len(n), 3.0), U(len(n), 4))
+    assert list(a) == list(b)
+
+
+def test_the_default_draws_exactly_what_roofs_draws_today():
+    rng = np.random.default_rng(9)
+    n = rng.integers(3, 9, 5000)
+    years = rng.choice([1700, 1880, 1915, 1915.5, 1916, 1961, np.nan], 5000)
+    attic = rng.uniform(0, 5, 5000)
+    a = roof_rules.DEFAULT_RULES.draw(n, years, attic, U(len(n), 2))
+    b = roofs.draw_roof_types(n, years, attic, U(len(n), 2))
+    assert list(a) == list(b)
+
+
+def test_the_default_table_round_trips_through_a_file(tmp_path):
+    path = tmp_path / "rules.csv"
+    path.write_text(roof_rules.DEFAULT_RULES.table())
+    again = roof_rules.read_rules(str(path))
+    n = np.array([4, 5] * 100)
+    years = np.array([1900, 1950, 1950, 1900] * 50)
+    assert list(again.draw(n, years, np.full(200, 3.0), U(len(n), 1))) == \
+        list(roof_rules.DEFAULT_RULES.draw(n, years, np.full(200, 3.0), U(len(n), 1)))
+
+
+def test_json_rules_with_three_periods_and_a_vertex_count(tmp_path):
+    data = {"rules": [
+        {"from": None, "to": 1850, "shape": "n", "weights": {"stepped": 100}},
+        {"from": 1851, "to": 1930, "shape": "n", "weights": {"gable": 50, "hip": 50}},
+        {"from": 1851, "to": 1930, "shape": "3", "weights": {"flat": 100}},
+        {"from": 1931, "to": None, "shape": "n", "weights": {"flat": 100}},
+    ]}
+    path = tmp_path / "rules.json"
+    path.write_text(json.dumps(data))
+    rules = roof_rules.read_rules(str(path))
+    got = rules.draw([4, 4, 3, 5, 4], [1800, 1900, 1900, 2000, None], [3.0] * 5,
+                     U(5, 0))
+    assert got[0] == "stepped" and got[1] in ("gable", "hip") and got[2] == "flat"
+    assert got[3] == "flat" and got[4] == "stepped"       # unknown year: the first period
+
+
+def test_low_roofs_stay_flat():
+    got = roof_rules.THESIS_RULES.draw([4, 4], [1800, 1800], [0.5, 3.0],
+                                       U(2, 0))
+    assert got[0] == "flat"
+
+
+@pytest.mark.parametrize("text,message", [
+    (THESIS_CSV.replace(",1915,4,10,20,20,10,40", ",1915,4,10,20,20,10,30"),
+     "sum to 90, not 100"),
+    (THESIS_CSV.replace("flat,hip", "flat,dome"), "unknown roof type <dome>"),
+    (THESIS_CSV.replace("1916,,4", "1920,,4").replace("1916,,n", "1920,,n"),
+     "do not follow each other"),
+    (THESIS_CSV.replace(",1915,n,60,0,0,40,0\n", ""), "no row for n-sided"),
+    (THESIS_CSV + ",1915,4,10,20,20,10,40\n", "a second row"),
+    (THESIS_CSV.replace("1916,,n", "1916,2000,n").replace("1916,,4", "1916,2000,4"),
+     "the last no end"),
+    (THESIS_CSV.replace(",1915,4,10", ",1915,4,-10"), "0 or more"),
+    ("from,to\n,,\n", "needs columns"),
+    ('{"rules": [{"shape": "n"}]}', "needs from, to, shape and weights"),
+    ("{not json", "not valid JSON"),
+])
+def test_bad_rules_are_refused(text, message):
+    with pytest.raises(InputError, match=message):
+        roof_rules.parse_rules(text)
+
+
+def test_a_missing_rules_file_is_an_input_error(tmp_path):
+    with pytest.raises(InputError, match="Cannot read"):
+        roof_rules.read_rules(str(tmp_path / "none.csv"))

@@ -1,0 +1,176 @@
+"""lod2_output.py: v.histo.lod2's output side without GRASS (issue 17)."""
+
+import io
+import json
+import os
+
+import numpy as np
+import pytest
+import shapely
+
+from reconstruction.cityjson import geometry as citygeometry
+from reconstruction.cityjson import model as cityjson
+from reconstruction.cityjson import seq as cityjsonseq
+from reconstruction.cityjson import existing
+from reconstruction.lod2 import stage as lod2
+from reconstruction.lod2 import output as lod2_output
+from reconstruction.core.errors import InputError
+from reconstruction.testsuite.cityjson.test_existing import BAG, BOXES, FORMS
+
+OPTIONS = {"output": "out.city.json", "format": "cityjson", "render": "", "view": "210,35",
+           "existing": "", "id_column": "", "id_prefix": "", "overlap": "0.5",
+           "existing_lod": ""}
+
+
+@pytest.fixture(scope="module")
+def sample(bag_sample):
+    return bag_sample
+
+
+def test_requests_from_options():
+    request, wanted = lod2_output.requests_from_options(OPTIONS, 28992, "t")
+    assert wanted is None and request.format == "cityjson" and request.render is None
+    assert (request.view.azimuth, request.view.elevation) == (210, 35)
+    request, wanted = lod2_output.requests_from_options(
+        dict(OPTIONS, existing="m.city.json", id_prefix="NL.IMBAG.Pand.", overlap="0.8",
+             existing_lod="1.2,2.2", format="cityjsonseq"))
+    assert request.format == "cityjsonseq"
+    assert wanted == lod2_output.ExistingRequest("m.city.json", "NL.IMBAG.Pand.", 0.8,
+                                                 ["1.2", "2.2"])
+
+
+@pytest.mark.parametrize("change,message", [
+    ({"format": "obj"}, "format="), ({"existing_lod": "2.2"}, "needs existing="),
+    ({"existing": "m", "overlap": "0"}, "overlap="), ({"existing": "m", "overlap": "2"}, "at most 1"),
+    ({"existing": "m", "existing_lod": "high"}, "existing_lod="), ({"view": "1,2,3"}, "view="),
+])
+def test_bad_options(change, message):
+    with pytest.raises(InputError, match=message):
+        lod2_output.requests_from_options(dict(OPTIONS, **change))
+
+
+def test_lods_and_candidates():
+    assert lod2_output.parse_lods("") is None and lod2_output.parse_lods("ALL") == "all"
+    assert lod2_output.parse_lods("1.2, 2.2") == ["1.2", "2.2"]
+    assert lod2_output.candidates(["2pm", "aligned", None, " aligned"], 4).tolist() == [1, 3]
+    assert lod2_output.candidates(None, 3).tolist() == [0, 1, 2]
+    with pytest.raises(InputError, match="id_column"):
+        lod2_output.footprint_ids({"cat": [1]}, "pand_id")
+    assert lod2_output.footprint_ids({"cat": [1]}, "") is None
+
+
+def built(polygons, source):
+    n = len(polygons)
+    footprints = lod2.Footprints(list(polygons), cats=list(range(1, n + 1)),
+                                 plot=list(range(100, 100 + n)), source=source)
+    result = lod2.build_model(
+        footprints, lod2.Heights(eaves=np.full(n, 6.0), attic=np.full(n, 3.0)),
+        lod2.RoofRequests(types=np.full(n, "gable", dtype=object), years=np.full(n, np.nan)))
+    return footprints, result
+
+
+def test_without_footprints_leaves_the_others_as_they_were():
+    footprints, result = built(BOXES, ["2pm"] * 3)
+    less = lod2_output.without_footprints(result, [1])
+    assert less.ids == [result.ids[0], result.ids[2]] and len(less.solids) == 2
+    assert less.attributes["plot"] == [100, 102]
+    doc = json.loads(lod2.citymodel_text(less))
+    whole = citygeometry.resolved(json.loads(lod2.citymodel_text(result)))
+    assert citygeometry.resolved(doc) == {k: v for k, v in whole.items() if k != result.ids[1]}
+    assert lod2_output.without_footprints(result, []) is result
+
+
+@pytest.mark.parametrize("fmt", lod2_output.FORMATS)
+def test_write_model_copies_the_matched_aligned_footprints(sample, tmp_path, fmt):
+    model = existing.read_model(os.path.join(sample, FORMS[1]))
+    fps = existing.footprints(model)
+    polygons = [fps.geometry(model.buildings.index(b)) for b in BAG] + BOXES
+    # the second BAG footprint is not aligned: generated, not copied
+    footprints, result = built(polygons, ["aligned", "2pm", "aligned", "2pm", "2pm"])
+    wanted = lod2_output.ExistingRequest(os.path.join(sample, FORMS[1]))
+    match = lod2_output.match_existing(model, wanted, footprints)
+    assert match.candidates.tolist() == [0, 2]
+    assert match.matches.report == existing.MatchReport(2, 0, 1, 1, 0)
+    path = str(tmp_path / "m.city.json")
+    request = lod2_output.OutputRequest(path, fmt, 28992, "t")
+    report = lod2_output.write_model(result, footprints, request, match)
+    assert (report.generated, report.copied, report.replaced) == (4, 1, 1)
+    with open(path) as f:
+        doc = cityjsonseq.collect(f) if fmt == "cityjsonseq" else json.load(f)
+    assert cityjson.consistency_errors(doc) == []
+    attrs = doc["CityObjects"][BAG[0]]["attributes"]
+    assert (attrs["plot"], attrs["source"], attrs["footprint"]) == (100, "aligned", 1)
+    assert "building_1" not in doc["CityObjects"] and "building_2" in doc["CityObjects"]
+    assert BAG[1] not in doc["CityObjects"]
+    assert not os.path.exists(path + ".part")
+
+
+def test_a_failing_sequence_leaves_nothing(tmp_path, monkeypatch):
+    footprints, result = built(BOXES, None)
+
+    def broken(f, *args, **kwargs):
+        f.write(b"half")              # the file is opened binary
+        raise OSError("disk full")
+
+    monkeypatch.setattr(lod2_output.cityjsonseq, "write", broken)
+    path = str(tmp_path / "m.city.jsonl")
+    with pytest.raises(OSError):
+        lod2_output.write_model(result, footprints,
+                                lod2_output.OutputRequest(path, "cityjsonseq"))
+    assert os.listdir(tmp_path) == []
+
+
+def test_render_of_the_written_model(tmp_path, monkeypatch):
+    monkeypatch.delenv("DISPLAY", raising=False)
+    footprints, result = built(BOXES + [shapely.box(85000, 446500, 85014, 446508)], None)
+    png = str(tmp_path / "m.png")
+    request = lod2_output.OutputRequest(str(tmp_path / "m.city.jsonl"), "cityjsonseq",
+                                        render=png)
+    report = lod2_output.write_model(result, footprints, request)
+    assert report.rendered == png and os.path.getsize(png) > 1000
+    assert sorted(os.listdir(tmp_path)) == ["m.city.jsonl", "m.png"]
+    with open(request.path) as f:
+        assert len(cityjsonseq.collect(io.StringIO(f.read()))["CityObjects"]) == 4
+
+
+def test_copied_footprints_are_not_built(sample, tmp_path):
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    fps = existing.footprints(model)
+    polygons = [fps.geometry(model.buildings.index(b)) for b in BAG]
+    wanted = lod2_output.ExistingRequest("m")
+    for extra, built_ids in ((BOXES[:1], ["building_3"]), ([], [])):
+        footprints = lod2.Footprints(polygons + extra, source=["aligned"] * (2 + len(extra)))
+        prepared = lod2.prepare(footprints, lod2.Heights(eaves=6.0, attic=3.0),
+                                lod2.RoofRequests(np.full(len(polygons + extra), "hip"),
+                                                  np.full(len(polygons + extra), np.nan)))
+        match = lod2_output.match_existing(model, wanted, footprints)
+        assert match.matches.report.by_geometry == 2
+        less = lod2_output.without_copied(prepared, match)
+        assert less.report.rings == len(built_ids) == len(less.buildings)
+        result = lod2_output.build(less, lod2.Lod2Config(), match)
+        assert result.ids == built_ids
+        report = lod2_output.write_model(result, footprints, lod2_output.OutputRequest(
+            str(tmp_path / "m.city.json"), reference_system=28992), match)
+        assert (report.generated, report.copied, report.replaced) == (len(built_ids), 2, 0)
+    assert lod2_output.without_copied(prepared, None) is prepared
+    with pytest.raises(InputError, match="No footprint left"):
+        lod2_output.build(lod2.prepare(lod2.Footprints([None]), lod2.Heights(6.0, 3.0),
+                                       lod2.RoofRequests(np.array(["hip"]), np.array([np.nan]))),
+                          lod2.Lod2Config())
+
+
+def test_the_matched_buildings_heights_are_measured_heights(sample):
+    from reconstruction.lod2 import heights
+
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    fps = existing.footprints(model)
+    polygons = [BOXES[0]] + [fps.geometry(model.buildings.index(b)) for b in BAG]
+    footprints = lod2.Footprints(polygons, source=["aligned"] * 3)
+    match = lod2_output.match_existing(model, lod2_output.ExistingRequest("m"), footprints)
+    columns = lod2_output.attribute_columns(match, 3)
+    assert columns["b3_h_maaiveld"][0] is None and columns["identificatie"][1:] == list(BAG)
+    measured = heights.measured_heights(columns)
+    assert np.isnan(measured.eaves[0]) and measured.known[1:].all()
+    assert measured.ground[2] == pytest.approx(-0.077)
+    assert lod2_output.attribute_columns(match, 3, ["b3_h_dak_max"]) == {
+        "b3_h_dak_max": [None] + [model.objects[b]["attributes"]["b3_h_dak_max"] for b in BAG]}
