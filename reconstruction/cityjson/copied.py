@@ -15,6 +15,7 @@ CityJSONSeq features need them.
 import collections
 import dataclasses
 from dataclasses import dataclass, field
+from typing import Optional
 
 import numpy as np
 
@@ -70,12 +71,12 @@ class CopiedBuildings:
     vertices: np.ndarray
     vertex_start: np.ndarray
     scale: float
-    reference_system: object
+    reference_system: Optional[str]
     extensions: dict
     report: CopyReport
-    layout: object = None
-    rows: np.ndarray = None
-    copied_geometries: list = None
+    layout: Optional[citygeometry.Layout] = None
+    rows: Optional[np.ndarray] = None
+    copied_geometries: Optional[list] = None
     stored_local: bool = False
     model_numbered: bool = False
 

@@ -47,6 +47,7 @@ Matching (:func:`match`), by id first, then by geometry:
 import json
 import os
 from dataclasses import dataclass, field
+from typing import Optional
 
 import numpy as np
 
@@ -82,7 +83,8 @@ class ExistingModel:
     """
     path: str
     version: str
-    reference_system: object
+    #: the ``metadata.referenceSystem`` as read (an OGC URL or URN, ``EPSG:7415``), or None
+    reference_system: Optional[str]
     scale: np.ndarray
     translate: np.ndarray
     objects: dict

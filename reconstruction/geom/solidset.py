@@ -9,7 +9,7 @@ indices oriented outwards. Many solids travel together as a
 
 import itertools
 import math
-from typing import NamedTuple
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -260,7 +260,8 @@ def concat(sets):
                     np.concatenate(normals) if known else None)
 
 
-class FaceGeometry(NamedTuple):
+@dataclass(frozen=True)
+class FaceGeometry:
     """The faces of a :class:`SolidSet` as :func:`face_geometry` measures them."""
 
     #: per ring entry, its coordinates (m, relative to the solid's first vertex)

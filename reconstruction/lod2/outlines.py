@@ -11,7 +11,7 @@ where the roofs need them in bulk (:func:`outline_facts`).
 
 import heapq
 import math
-from typing import NamedTuple
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -22,7 +22,8 @@ from ..geom.rings import following, preceding, ring_neighbours, starts
 # Footprints ready for extrusion
 # ---------------------------------------------------------------------------
 
-class FootprintPolygons(NamedTuple):
+@dataclass(frozen=True)
+class FootprintPolygons:
     """The polygons of footprint geometries (see :func:`footprint_polygons`)."""
 
     #: (P,) shapely polygons
@@ -325,7 +326,8 @@ def street_end(xy, street=None):
     return int(np.argmin(edge_lengths(xy)))
 
 
-class OutlineFacts(NamedTuple):
+@dataclass(frozen=True)
+class OutlineFacts:
     """What the roofs need to know of footprint outlines, one entry per footprint."""
 
     #: True for a ring without a reflex vertex

@@ -284,7 +284,8 @@ def build(prepared, config, match=None):
     when written, see :func:`write_model`.)"""
     if len(prepared.buildings) or match is None or not len(match.matches.matched):
         return lod2.build(prepared, config)
-    ss, _, _, _ = build_solids(Buildings([], [], [], [], [], np.zeros((0, 3))))
+    built = build_solids(Buildings([], [], [], [], [], np.zeros((0, 3))))
+    ss = built.solids
     return lod2.Lod2Result(ss, semantics(ss), [], np.zeros(0, dtype=object),
                            np.zeros(0, dtype=np.int64), {}, prepared.report)
 

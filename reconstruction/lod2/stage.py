@@ -317,7 +317,8 @@ def _per_footprint(values, uniforms, n):
 def _footprint_rings(geometries, skip):
     """The clean rings of every polygon of the footprints (but those to ``skip``):
     ``(rings, footprint of each, part of each, holes, left out, reasons)``."""
-    polys, src, part, holes, left_out = footprint_polygons(geometries, skip=skip)
+    fp = footprint_polygons(geometries, skip=skip)
+    polys, src, part, holes, left_out = fp.polygons, fp.source, fp.part, fp.holes, fp.empty
     reasons = {}
     cleaned, why = clean_rings(polys)
     ok = np.array([r is not None for r in cleaned], dtype=bool)
@@ -345,7 +346,8 @@ def build(prepared, config=None):
     buildings = prepared.buildings
     if not len(buildings):
         raise InputError("No footprint left to build")
-    ss, kept, got, log = build_solids(buildings, config.roof, nprocs=config.nprocs)
+    built = build_solids(buildings, config.roof, nprocs=config.nprocs)
+    ss, kept, got, log = built.solids, built.kept, built.types, built.log
     src, cats = prepared.source, prepared.cats
     fsrc = src[kept]
     part = prepared.part

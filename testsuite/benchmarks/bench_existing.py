@@ -131,9 +131,10 @@ def generated_model(n, seed=3):
         x0, y0 = 80000.0 + (i % 200) * 25.0, 440000.0 + (i // 200) * 30.0
         w, d = rng.uniform(5, 9), rng.uniform(10, 18)
         rings.append(outlines.clean_ring(np.array([[0, 0], [w, 0], [w, d], [0, d]]) + [x0, y0])[0])
-    ss, kept, got, _ = solids.build_solids(solids.Buildings(
+    built = solids.build_solids(solids.Buildings(
         rings, np.zeros(n), np.full(n, 9.0), np.full(n, 3.0), np.array(["gable"] * n, dtype=object),
         rng.random((n, 3))))
+    ss, kept, got = built.solids, built.kept, built.types
     ids = ["building_{}".format(k + 1) for k in kept]
     return ss, solidset.semantics(ss), ids, {"roof_type": list(got), "source": ["2pm"] * len(kept)}
 

@@ -43,7 +43,8 @@ def thesis_footprints(folder):
 
     geoms, columns = read_shapefile(os.path.join(DATA, folder, "thesis_output",
                                                  "final_all_footprints.shp"))
-    polygons, src, _, _, _ = outlines.footprint_polygons(geoms)
+    fp = outlines.footprint_polygons(geoms)
+    polygons, src = fp.polygons, fp.source
     rings, _ = outlines.clean_rings(polygons)
     keep = [k for k, r in enumerate(rings) if r is not None]
 

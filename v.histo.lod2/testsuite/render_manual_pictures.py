@@ -62,7 +62,8 @@ def roof_types_picture(path):
     n = len(fps)
     buildings = solids.Buildings(fps, np.zeros(n), np.full(n, 9.0), np.full(n, 4.5), kinds,
                                  np.full((n, 3), 0.5), street=[0] * n)
-    ss, kept, got, _ = solids.build_solids(buildings, RoofConfig(step=(0.6, 0.6)))
+    built = solids.build_solids(buildings, RoofConfig(step=(0.6, 0.6)))
+    ss, kept, got = built.solids, built.kept, built.types
     assert list(got) == kinds
     render(ss, path, (1000, 330), elevation=25, azimuth=-35, zoom=2.3)
 
@@ -83,9 +84,10 @@ def block_picture(path):
     kinds = roofs.draw_roof_types([len(f) for f in fps], np.full(n, 1900), np.full(n, 4.0),
                                   rng.random(n))
     kinds[-2] = "gable"
-    ss, kept, got, _ = solids.build_solids(solids.Buildings(
+    built = solids.build_solids(solids.Buildings(
         fps, np.zeros(n), rng.uniform(7, 12, n), rng.uniform(3, 5, n), kinds, rng.random((n, 3)),
         street=[0] * n))
+    ss, kept, got = built.solids, built.kept, built.types
     render(ss, path, (900, 380), elevation=35, azimuth=-25, zoom=1.75)
 
 

@@ -14,7 +14,7 @@ skeleton), in batches of at most :data:`BATCH_BYTES` of arrays.
 """
 
 import itertools
-from typing import NamedTuple
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -36,7 +36,8 @@ def batch_rows(n, has_top=False):
     return max(1, BATCH_BYTES // (16 * 8 * P * (C + 2 + n)))
 
 
-class Envelope(NamedTuple):
+@dataclass(frozen=True)
+class Envelope:
     """Envelope roofs of B convex footprints with the same number of vertices n."""
 
     #: (B, n, 2) the footprints (local coordinates, counter-clockwise)

@@ -1,21 +1,19 @@
 """The types roofs travel in: their parameters, one roof, and roofs in bulk.
 
-The types here and in the other files of the stage are NamedTuples, not
-dataclasses: a dataclass costs about 2 ms to define (its methods are
-compiled at import), which ``v.histo.lod2`` would pay at every run.
-
 Roofs are relative to the eaves (z = 0 along the footprint) in the local
 coordinates of their footprint (a counter-clockwise ring). Faces are rings
 of roof vertex indices oriented outwards (seen from outside,
 counter-clockwise); the first ``n`` roof vertices are the footprint's.
 """
 
-from typing import NamedTuple, Optional
+from dataclasses import dataclass
+from typing import Optional
 
 import numpy as np
 
 
-class RoofConfig(NamedTuple):
+@dataclass(frozen=True)
+class RoofConfig:
     """The roof parameters that are the same for every building."""
 
     #: minimum pitch of the hip ends (degrees)
@@ -28,7 +26,8 @@ class RoofConfig(NamedTuple):
     thickness: float = 0.5
 
 
-class Roof(NamedTuple):
+@dataclass(frozen=True)
+class Roof:
     """One roof: ``vertices`` (m, 3), the footprint's first, and ``faces``."""
 
     vertices: np.ndarray
@@ -44,7 +43,8 @@ class Roof(NamedTuple):
     chains: Optional[list] = None
 
 
-class RoofGroup(NamedTuple):
+@dataclass(frozen=True)
+class RoofGroup:
     """Roofs of footprints with the same number of vertices, as arrays.
 
     ``kind`` names the solver family that made them ("flat", "envelope",

@@ -29,8 +29,10 @@ them in batch, as one :class:`~reconstruction.lod2.roofs.model.Roof` each
 otherwise.
 """
 
+import dataclasses
 import math
-from typing import NamedTuple, Optional
+from dataclasses import dataclass
+from typing import Optional
 
 import numpy as np
 import shapely
@@ -106,7 +108,8 @@ def weighted_pick(weights, uniforms):
 # Planning: which family builds each roof, with which slopes
 # ---------------------------------------------------------------------------
 
-class EnvelopeJob(NamedTuple):
+@dataclass(frozen=True)
+class EnvelopeJob:
     """A roof of a convex footprint for :func:`~reconstruction.lod2.roofs.envelope.envelope_arrays`."""
 
     #: footprint index
@@ -121,7 +124,8 @@ class EnvelopeJob(NamedTuple):
     body: bool = False
 
 
-class SkeletonJob(NamedTuple):
+@dataclass(frozen=True)
+class SkeletonJob:
     """A roof of a concave footprint for :func:`~reconstruction.lod2.roofs.skeleton.cgal_roofs`."""
 
     index: int
@@ -132,7 +136,8 @@ class SkeletonJob(NamedTuple):
     top: Optional[float]
 
 
-class Facade(NamedTuple):
+@dataclass(frozen=True)
+class Facade:
     """The crow-stepped facade of a stepped roof."""
 
     #: the footprint edge it stands on
@@ -141,7 +146,8 @@ class Facade(NamedTuple):
     step: float
 
 
-class RoofPlan(NamedTuple):
+@dataclass(frozen=True)
+class RoofPlan:
     """Which solver family builds each roof, and its parameters."""
 
     #: the roof type each footprint gets (a stepped roof on a concave or
@@ -324,7 +330,8 @@ def _convex_slopes(kind, n, h, end, opp, end_length, u, pitch_min):
 # Solving the plan: one function per family
 # ---------------------------------------------------------------------------
 
-class RoofSet(NamedTuple):
+@dataclass(frozen=True)
+class RoofSet:
     """The roofs of a set of footprints (see :func:`make_roofs`)."""
 
     #: the roof type each footprint really got
@@ -384,7 +391,7 @@ def _envelope_roofs(plan, footprints, attic, thickness):
             for group in stepped_arrays(np.stack([footprints[i] for i in owner]),
                                         [f.end for f in facades], env.take(bodies),
                                         [f.step for f in facades], thickness):
-                groups.append(group._replace(index=owner[group.index]))
+                groups.append(dataclasses.replace(group, index=owner[group.index]))
         plain = np.array([k for k, j in enumerate(jobs) if not j.body], dtype=int)
         plain = plain[env.ok[plain]]
         if len(plain):
@@ -435,5 +442,5 @@ def scale_roof(roof, height):
         return None
     v = roof.vertices.copy()
     v[:, 2] *= height / roof.zmax
-    return roof._replace(vertices=v, zmax=height)
+    return dataclasses.replace(roof, vertices=v, zmax=height)
 

@@ -14,12 +14,12 @@ its simplified outline (:mod:`~reconstruction.lod2.solids.vertex_budget`).
 
 import multiprocessing
 import threading
-from typing import NamedTuple
+from dataclasses import dataclass
 
 import numpy as np
 
 from ...core.work_limits import check_crow_steps
-from ...geom.solidset import concat, from_parts, shell_parts, take
+from ...geom.solidset import SolidSet, concat, from_parts, shell_parts, take
 from ..outlines import outline_facts
 from ..roofs.model import RoofConfig
 from ..roofs.plan import make_roofs
@@ -75,7 +75,8 @@ class Buildings:
                          None if self.shared is None else pick(self.shared))
 
 
-class Fallback(NamedTuple):
+@dataclass(frozen=True, order=True)
+class Fallback:
     """A roof that failed validation and fell back to the next type of :data:`FALLBACK`."""
 
     #: index of the building
@@ -86,11 +87,12 @@ class Fallback(NamedTuple):
     reason: str
 
 
-class BuiltSolids(NamedTuple):
+@dataclass(frozen=True)
+class BuiltSolids:
     """What :func:`build_solids` returns."""
 
     #: the valid solids, one per kept building, in building order
-    solids: object
+    solids: SolidSet
     #: the buildings kept (indices)
     kept: np.ndarray
     #: the roof type each kept building got after any fallback
@@ -275,18 +277,19 @@ def _merge(parts):
     ``[(building indices, result), ...]``: solids in building order, the log
     by building."""
     sets, kept, types, log = [], [], [], []
-    for idx, (ss, k, t, lg) in parts:
+    for idx, built in parts:
+        ss, k, t, lg = built.solids, built.kept, built.types, built.log
         sets.append(ss)
         kept.append(idx[k])
         types.append(t)
-        log.extend(Fallback(int(idx[i]), kind, why) for i, kind, why in lg)
+        log.extend(Fallback(int(idx[f.index]), f.kind, f.reason) for f in lg)
     kept = np.concatenate(kept)
     types = np.concatenate(types)
     perm = np.argsort(kept, kind="stable")
     merged = concat(sets)
     if np.any(perm != np.arange(len(perm))):
         merged, kept, types = take(merged, perm), kept[perm], types[perm]
-    return BuiltSolids(merged, kept, types, sorted(log, key=lambda entry: entry[0]))
+    return BuiltSolids(merged, kept, types, sorted(log, key=lambda entry: entry.index))
 
 
 def _build(buildings, config):

@@ -104,7 +104,8 @@ def validate(ss, tol=PLANARITY_TOL):
     flag(np.nonzero(nf < 4)[0], "fewer than 4 faces")
     if F == 0:
         return reasons
-    p, nxt, entry_face, normal, centroid, sizes = face_geometry(ss)
+    faces = face_geometry(ss)
+    p, nxt, entry_face, normal, centroid, sizes = faces.points, faces.next, faces.entry_face, faces.normal, faces.centroid, faces.sizes
     ss.face_normal = normal
     face_solid = ss.face_solid
     area2 = np.linalg.norm(normal, axis=1)

@@ -14,7 +14,8 @@ vertex. No footprint of the thesis's three footprint sets has more than 83
 vertices.
 """
 
-from typing import NamedTuple
+
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -26,7 +27,8 @@ MAX_ROOF_VERTICES = 100
 _STEPS = 40
 
 
-class Simplified(NamedTuple):
+@dataclass(frozen=True)
+class Simplified:
     """Rings simplified to a vertex budget (see :func:`simplify_rings`)."""
 
     #: per ring, the simplified ring (counter-clockwise, millimetre grid), or

@@ -22,8 +22,9 @@ def model_of(kinds, crs=28992):
     for i in range(n):
         xy = np.array([[0, 0], [12, 0], [12, 6], [0, 6]], dtype=float) + [i * 12.0, 0]
         fps.append(outlines.clean_ring(xy + ORIGIN)[0])
-    ss, kept, got, log = solids.build_solids(solids.Buildings(fps, np.full(n, 1.5), np.full(n, 9.0),
-                                             np.full(n, 3.0), kinds, np.full((n, 3), 0.3)))
+    built = solids.build_solids(solids.Buildings(fps, np.full(n, 1.5), np.full(n, 9.0),
+                                np.full(n, 3.0), kinds, np.full((n, 3), 0.3)))
+    ss, kept, got, log = built.solids, built.kept, built.types, built.log
     attrs = {"roof_type": list(got), "eaves_height": np.full(n, 9.0),
              "roof_height": np.full(n, 3.0), "ground_height": np.full(n, 1.5),
              "map_year": [1924] * n, "plot": [7] * n, "source": ["2pm"] * n,

@@ -47,8 +47,9 @@ def generated(polygons, first_id=1, crs=28992):
     """The CityJSON text of gable-roofed buildings on ``polygons``, as v.histo.lod2 makes it."""
     n = len(polygons)
     if n == 0:  # build_model refuses to build nothing; the solids of no footprint
-        ss, _, _, _ = solids.build_solids(solids.Buildings(
-            [], np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0, dtype=object), np.zeros((0, 3))))
+        built = solids.build_solids(solids.Buildings(
+      [], np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0, dtype=object), np.zeros((0, 3))))
+        ss = built.solids
         sem = semantics(ss)
         return ss, sem, [], {}, cityjson.citymodel_text(ss, sem, [], {}, crs, title="test")
     result = lod2.build_model(

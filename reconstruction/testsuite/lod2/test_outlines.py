@@ -46,13 +46,14 @@ def test_footprint_polygons_parts_holes_and_empties():
     geoms = [box(0, 0, 1, 1), None, MultiPolygon([box(0, 0, 1, 1), box(2, 0, 3, 1)]),
              Polygon(), courtyard, MultiPolygon([box(5, 5, 6, 6)]),
              GeometryCollection([box(0, 0, 1, 1)]), box(7, 7, 8, 8)]
-    polys, src, part, holes, empty = outlines.footprint_polygons(geoms, skip=[0, 0, 0, 0, 0, 0, 0, 1])
+    fp = outlines.footprint_polygons(geoms, skip=[0, 0, 0, 0, 0, 0, 0, 1])
+    polys, src, part, holes, empty = fp.polygons, fp.source, fp.part, fp.holes, fp.empty
     assert list(src) == [0, 2, 2, 4, 5]
     assert list(part) == [-1, 0, 1, -1, -1]
     assert polys[2].equals(box(2, 0, 3, 1)) and polys[3].equals(courtyard)
     assert holes == 1 and empty == 2
     none = outlines.footprint_polygons([])
-    assert len(none[0]) == 0 and none[3:] == (0, 0)
+    assert len(none.polygons) == 0 and (none.holes, none.empty) == (0, 0)
 
 
 def test_helpers():

@@ -169,7 +169,7 @@ def _thesis_rings(shared_data, folder):
         pytest.skip("ogr2ogr (GDAL) is needed to read the shapefiles")
     geoms, _ = read_shapefile(os.path.join(shared_data, folder, "thesis_output",
                                            "final_all_footprints.shp"))
-    polygons, _, _, _, _ = outlines.footprint_polygons(geoms)
+    polygons = outlines.footprint_polygons(geoms).polygons
     rings, _ = outlines.clean_rings(polygons)
     return [r for r in rings if r is not None]
 

@@ -1,5 +1,6 @@
 """Roofs: types drawn with the thesis's probabilities, and the geometry of each roof."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -30,8 +31,8 @@ def one(xy, kind, attic=3.0, u=0.5, street=None, **config):
     if roof is not None:
         used = sorted({k for f in roof.faces for k in f})
         remap = {k: i for i, k in enumerate(used)}
-        roof = roof._replace(vertices=roof.vertices[used],
-                             faces=[[remap[k] for k in f] for f in roof.faces])
+        roof = dataclasses.replace(roof, vertices=roof.vertices[used],
+                                   faces=[[remap[k] for k in f] for f in roof.faces])
     return roof, kinds[0]
 
 

@@ -48,7 +48,8 @@ def ground_vertices(ss, s):
        kind=st.sampled_from(roofs.ROOF_TYPES), attic=st.floats(0.5, 12.0))
 def test_many_vertex_footprints_give_valid_solids_within_the_budget(shape, n, seed, kind, attic):
     xy = ring(shape, n, seed)
-    ss, kept, got, log = build([xy], kind, attic)
+    built = build([xy], kind, attic)
+    ss, kept, got, log = built.solids, built.kept, built.types, built.log
     assert list(kept) == [0], log
     assert validation.validate(ss) == [None]
     if got[0] == "flat":
@@ -63,7 +64,8 @@ def test_many_vertex_footprints_give_valid_solids_within_the_budget(shape, n, se
 def test_convex_footprints_either_side_of_the_envelope_limit(n, a, b, turn, kind, attic):
     t = np.linspace(0, 2 * np.pi, n, endpoint=False) + turn
     xy, _ = outlines.clean_ring(np.column_stack([a * np.cos(t), b * np.sin(t)]) + ORIGIN)
-    ss, kept, got, log = build([xy], kind, attic)
+    built = build([xy], kind, attic)
+    ss, kept, got, log = built.solids, built.kept, built.types, built.log
     assert list(kept) == [0], log
     assert validation.validate(ss) == [None]
 
@@ -127,7 +129,8 @@ def test_unsimplifiable_outline_falls_back_to_flat(monkeypatch):
     monkeypatch.setattr(solids, "simplify_rings",
                         lambda rings: vertex_budget.Simplified([None] * len(rings),
                                                                np.full(len(rings), np.nan)))
-    ss, kept, got, log = build([ring("wavy", 400)], "hip")
+    built = build([ring("wavy", 400)], "hip")
+    ss, kept, got, log = built.solids, built.kept, built.types, built.log
     assert list(got) == ["flat"] and "cannot be simplified" in log[0].reason
     assert ground_vertices(ss, 0) == len(ring("wavy", 400))
 

@@ -29,7 +29,8 @@ def build(xy, kind, ground=1.0, eaves=8.0, attic=3.0, u=0.5, **kw):
 
 @pytest.mark.parametrize("kind", roofs.ROOF_TYPES)
 def test_every_roof_type_on_a_rectangle(kind):
-    ss, kept, got, log = build(RECT, kind)
+    built = build(RECT, kind)
+    ss, kept, got, log = built.solids, built.kept, built.types, built.log
     assert list(kept) == [0] and got[0] == kind and not log
     assert validation.validate(ss) == [None]
     sem = solidset.semantics(ss)
@@ -48,12 +49,12 @@ def test_every_roof_type_on_a_rectangle(kind):
 
 
 def test_gable_volume_is_exact():
-    ss, *_ = build(RECT, "gable", eaves=5.0, attic=3.0)
+    ss = build(RECT, "gable", eaves=5.0, attic=3.0).solids
     assert solidset.volumes(ss)[0] == pytest.approx(12 * 6 * 5 + 0.5 * 6 * 3 * 12, rel=1e-6)
 
 
 def test_walls_and_ground_semantics_and_orientation():
-    ss, *_ = build(RECT, "hip")
+    ss = build(RECT, "hip").solids
     v, faces = ss.solid(0)
     sem = solidset.semantics(ss)
     assert list(sem).count(solidset.WALL) == 4
@@ -83,8 +84,9 @@ def assert_all_valid(footprints, kind, eaves, attic, u=0.5):
     if not fps:
         return
     B = len(fps)
-    ss, kept, got, log = solids.build_solids(solids.Buildings(fps, np.zeros(B), np.full(B, eaves),
-                                             np.full(B, attic), [kind] * B, np.full((B, 3), u)))
+    built = solids.build_solids(solids.Buildings(fps, np.zeros(B), np.full(B, eaves),
+                                np.full(B, attic), [kind] * B, np.full((B, 3), u)))
+    ss, kept, got, log = built.solids, built.kept, built.types, built.log
     assert len(kept) == B, log
     assert validation.validate(ss) == [None] * B
     assert np.all(solidset.volumes(ss) > 0)
@@ -143,8 +145,9 @@ def test_many_roofs_in_bulk_keep_each_building():
         xy = np.array([[0, 0], [d, rng.uniform(-1, 1)], [d, w], [0, w]]) + [i * 25, 0]
         fps.append(outlines.clean_ring(xy + ORIGIN)[0])
     kinds_ = rng.choice(roofs.ROOF_TYPES, 300)
-    ss, kept, got, log = solids.build_solids(solids.Buildings(fps, np.zeros(300), np.full(300, 9.0),
-                                             np.full(300, 3.5), kinds_, rng.random((300, 3))))
+    built = solids.build_solids(solids.Buildings(fps, np.zeros(300), np.full(300, 9.0),
+                                np.full(300, 3.5), kinds_, rng.random((300, 3))))
+    ss, kept, got, log = built.solids, built.kept, built.types, built.log
     assert len(kept) == 300
     assert validation.validate(ss) == [None] * 300
     # each solid sits on its own footprint
@@ -166,19 +169,20 @@ def test_parallel_build_gives_the_same_solids():
     args = (fps, np.zeros(B), np.full(B, 9.0), np.full(B, 3.5), kinds_, u)
     a = solids.build_solids(solids.Buildings(*args))
     b = solids.build_solids(solids.Buildings(*args), nprocs=2)
-    assert np.array_equal(a[1], b[1]) and list(a[2]) == list(b[2])
+    assert np.array_equal(a.kept, b.kept) and list(a.types) == list(b.types)
     c = solids.build_solids(solids.Buildings(*args), nprocs=3)
-    assert np.array_equal(a[1], c[1]) and list(a[2]) == list(c[2]) and sorted(a[3]) == sorted(c[3])
-    assert np.array_equal(solidset.semantics(a[0]), solidset.semantics(c[0]))
+    assert np.array_equal(a.kept, c.kept) and list(a.types) == list(c.types)
+    assert sorted(a.log) == sorted(c.log)
+    assert np.array_equal(solidset.semantics(a.solids), solidset.semantics(c.solids))
     # the same model is written (vertices are stored in a global order)
     from reconstruction.cityjson import model as cityjson
 
-    models = [cityjson.citymodel(r[0], solidset.semantics(r[0]), list(r[1]), {"t": list(r[2])})
+    models = [cityjson.citymodel(r.solids, solidset.semantics(r.solids), list(r.kept), {"t": list(r.types)})
               for r in (a, b)]
     assert models[0] == models[1]
     for s in (0, 1549, 1550, 2066, 2067, 3099):
-        va, fa = a[0].solid(s)
-        vb, fb = b[0].solid(s)
+        va, fa = a.solids.solid(s)
+        vb, fb = b.solids.solid(s)
         assert len(fa) == len(fb)
         assert np.array_equal(np.unique(va, axis=0), np.unique(vb, axis=0))
 
@@ -198,8 +202,9 @@ def test_stepped_solids_in_bulk_are_valid_with_pentagon_walls():
     B = len(fps)
     u = rng.random((B, 3))
     h = rng.uniform(1.5, 6, B)
-    ss, kept, types, log = solids.build_solids(solids.Buildings(fps, np.ones(B), np.full(B, 7.0), h,
-                                               ["stepped"] * B, u))
+    built = solids.build_solids(solids.Buildings(fps, np.ones(B), np.full(B, 7.0), h,
+                                ["stepped"] * B, u))
+    ss, kept, types, log = built.solids, built.kept, built.types, built.log
     assert len(kept) == B and all(r is None for r in validation.validate(ss))
     assert np.mean(types == "stepped") > 0.9
     assert solidset.volumes(ss).min() > 0
@@ -235,12 +240,12 @@ def test_concave_roofs_built_beside_give_the_same_model():
     args = (fps, np.zeros(B), np.full(B, 9.0), rng.uniform(0.5, 5, B), kinds_, rng.random((B, 3)))
     a = solids.build_solids(solids.Buildings(*args))
     b = solids._build(solids.Buildings(*args), RoofConfig())
-    assert np.array_equal(a[1], b[1]) and list(a[2]) == list(b[2])
-    assert sorted(a[3]) == sorted(b[3])
-    texts = [cityjson.citymodel_text(r[0], solidset.semantics(r[0]), list(r[1]), {"t": list(r[2])})
+    assert np.array_equal(a.kept, b.kept) and list(a.types) == list(b.types)
+    assert sorted(a.log) == sorted(b.log)
+    texts = [cityjson.citymodel_text(r.solids, solidset.semantics(r.solids), list(r.kept), {"t": list(r.types)})
              for r in (a, b)]
     assert texts[0] == texts[1]
-    assert all(r is None for r in validation.validate(a[0]))
+    assert all(r is None for r in validation.validate(a.solids))
 
 
 def test_semantics_from_the_normals_kept_since_validation():
@@ -250,9 +255,10 @@ def test_semantics_from_the_normals_kept_since_validation():
     fps = [outlines.clean_ring(np.array([[0, 0], [w, 0], [w, d], [0, d]]) + ORIGIN + [20.0 * i, 0])[0]
            for i, (w, d) in enumerate(zip(rng.uniform(5, 9, 30), rng.uniform(10, 18, 30)))]
     B = len(fps)
-    ss, kept, types, log = solids.build_solids(solids.Buildings(fps, np.zeros(B), np.full(B, 7.0),
-                                               rng.uniform(0.5, 5, B),
-                                               rng.choice(roofs.ROOF_TYPES, B), rng.random((B, 3))))
+    built = solids.build_solids(solids.Buildings(fps, np.zeros(B), np.full(B, 7.0),
+                                rng.uniform(0.5, 5, B),
+                                rng.choice(roofs.ROOF_TYPES, B), rng.random((B, 3))))
+    ss, kept, types, log = built.solids, built.kept, built.types, built.log
     assert ss.face_normal is not None and len(ss.face_normal) == len(ss.face_start) - 1
     fresh = solidset.SolidSet(ss.vertices, ss.rings, ss.face_start, ss.solid_start)
     assert np.array_equal(solidset.semantics(ss), solidset.semantics(fresh))
@@ -274,7 +280,8 @@ def test_a_mansard_keeps_its_inset_beside_millimetre_edges(xy):
     shortest edge: a 5 mm edge made the lower faces walls above the eaves,
     on every edge."""
     attic, inset = 3.0, 1.5
-    ss, kept, got, log = build(xy, "mansard", eaves=8.0, attic=attic, inset=(inset, inset))
+    built = build(xy, "mansard", eaves=8.0, attic=attic, inset=(inset, inset))
+    ss, kept, got, log = built.solids, built.kept, built.types, built.log
     assert list(got) == ["mansard"] and not log
     assert validation.validate(ss) == [None]
     sem = solidset.semantics(ss)
@@ -299,6 +306,7 @@ JOGGED = np.array([[0.0, 0.0], [4.812, 2.934], [4.833, 2.9], [8.174, 4.938], [8.
 def test_skeleton_roofs_of_jogged_outlines_are_valid_without_fallback(kind):
     if not roof_skeleton.cgal_available():
         pytest.skip("pySVCGAL not installed")
-    ss, kept, got, log = build(JOGGED, kind, eaves=8.0, attic=4.0, u=0.5)
+    built = build(JOGGED, kind, eaves=8.0, attic=4.0, u=0.5)
+    ss, kept, got, log = built.solids, built.kept, built.types, built.log
     assert list(got) == [kind] and not log, log
     assert validation.validate(ss) == [None]

@@ -57,8 +57,9 @@ def shapes(seed, attic, eaves):
             fps.append(c)
     B = len(fps)
     kinds = [roofs.ROOF_TYPES[k % len(roofs.ROOF_TYPES)] for k in range(B)]
-    ss, kept, got, log = solids.build_solids(solids.Buildings(
+    built = solids.build_solids(solids.Buildings(
         fps, np.zeros(B), np.full(B, eaves), np.full(B, attic), kinds, rng.random((B, 3))))
+    ss, kept, got, log = built.solids, built.kept, built.types, built.log
     return B, ss, kept, log
 
 
