@@ -390,7 +390,7 @@ def main(options, flags):
     # GRASS exports the footprints while the inputs are checked
     reading = grassio.start_read_areas(options["input"], layer=options["layer"])
     grassio.prefetch_checks()
-    from reconstruction.cityjson import model as cityjson
+    from reconstruction.core import crs as crs_codes
     from reconstruction.grassio import points as grassinputs
     from reconstruction.lod2 import stage as lod2
     from reconstruction.lod2 import inputs as lod2_inputs
@@ -424,7 +424,7 @@ def main(options, flags):
                      "file has no reference system"))
     else:
         try:
-            crs = cityjson.crs_url(crs)
+            crs = crs_codes.crs_url(crs)
         except ValueError:
             raise InputError("Option crs= must be an EPSG code (e.g. 7415, EPSG:7415) or an OGC "
                              "URL, not <{}>".format(options["crs"])) from None
