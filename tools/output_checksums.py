@@ -55,10 +55,11 @@ tests (synthetic footprints, bad inputs) and the checks of the acceptance
 tests themselves (val3dity, schemas, figures): only their outputs are hashed.
 
 The tool itself uses Python's standard library only; it talks to GRASS by
-running its modules. Three inputs of the v.histo.lod2 acceptance tests are
-made, as the tests make them, with numpy, shapely or the checkout's
-reconstruction library: these few lines (INPUT_HELPERS) run in a child
-python3, the venv's.
+running its modules. The inputs that the v.histo.lod2 acceptance tests make
+with numpy, shapely or the library come from the tests' own functions
+(``footprint_sets``, ``tower_district``, imported from their modules) or,
+for the cross-validation folds, the test's few lines of numpy, run in a
+child python3, the venv's (INPUT_HELPERS).
 
 WORKDIR/summary.txt gets each set's wall time and its number of outputs.
 """
@@ -479,7 +480,7 @@ def hash_location(ctx, set_name, location, folder, dumps):
 # ---------------------------------------------------------------------------
 
 #: the inputs some tests make with numpy, shapely or the library: run by a child
-#: python3 (the venv's), the tests' own code with their own numbers
+#: python3 (the venv's), with the tests' own functions where they have them
 INPUT_HELPERS = {
     # test_v_histo_lod2_existing.py: the fixture `aligned` (map fp), and the
     # footprints of test_copied_footprints_are_not_built_even_all_of_them
@@ -488,69 +489,23 @@ INPUT_HELPERS = {
     "bag": r'''
 import json, os, sys
 root, sample, out = sys.argv[1:4]
-sys.path.insert(0, root)
-import shapely
+sys.path[:0] = [root, os.path.join(root, "testsuite"), os.path.join(root, "v.histo.lod2", "testsuite")]
 from shapely.geometry import mapping
-try:                                  # the library's packages (issue 27)
-    from reconstruction.cityjson import existing
-except ImportError:                   # a checkout from before them
-    from reconstruction import existing
+from test_v_histo_lod2_existing import footprint_sets
 
-BAG = ("NL.IMBAG.Pand.0503100000028341", "NL.IMBAG.Pand.0503100000031927")
-BOXES = [shapely.box(84970, 446530, 84985, 446545), shapely.box(85030, 446540, 85040, 446560),
-         shapely.box(84990, 446570, 85000, 446580)]
-
-def sample_footprints():
-    model = existing.read_model(os.path.join(sample, "3dbag_b2.city.json"))
-    fps = existing.footprints(model)
-    return [fps.geometry(model.buildings.index(b)) for b in BAG]
-
-def write(name, polygons, props):
+for name, (polygons, props) in footprint_sets(sample).items():
     feats = [{"type": "Feature", "properties": p, "geometry": mapping(g)}
              for g, p in zip(polygons, props)]
     with open(os.path.join(out, name + ".geojson"), "w") as f:
         json.dump({"type": "FeatureCollection", "features": feats}, f)
-
-polygons = sample_footprints() + BOXES
-props = []
-for k, _ in enumerate(polygons):
-    props.append({"h_building": 6.0 + k, "h_attic": 3.0, "plot": 10 + k,
-                  "source": "aligned" if k in (0, 1, 4) else "2pm",
-                  "pand_id": BAG[k].rsplit(".", 1)[1] if k < 2 else "",
-                  "wrong_id": "12345{}".format(k)})
-write("fp", polygons, props)
-write("only", sample_footprints(),
-      [{"h_building": 6.0, "h_attic": 3.0, "source": "aligned"}] * 2)
-polygons = sample_footprints() + BOXES
-write("fp_noh", polygons, [{"source": "aligned" if k < 2 else "2pm"}
-                           for k in range(len(polygons))])
 ''',
     # test_v_histo_lod2_heights_acceptance.py: tower_district(), written as
     # histo_testing.import_features writes features
     "tower": r'''
 import json, os, sys
-import numpy as np
-out = sys.argv[1]
-
-def tower_district():
-    rng = np.random.default_rng(0)
-    feats, aligned = [], []
-    for b, (x0, y0) in enumerate([(0.0, 0.0), (0.0, 30.0), (80.0, 0.0)]):
-        for i in range(10):
-            x, y = 85000.0 + x0 + 6.0 * i, 446000.0 + y0
-            ring = [[x, y], [x + 6, y], [x + 6, y + 12], [x, y + 12], [x, y]]
-            geom = {"type": "Polygon", "coordinates": [ring]}
-            feats.append({"type": "Feature", "properties": {"plot": b + 1}, "geometry": geom})
-            if b == 0 and i == 4:
-                top, eaves = 30.0, 25.0
-            elif (b == 0 and i == 7) or (b > 0 and i % 2 == 0):
-                top = rng.uniform(9.0, 12.0)
-                eaves = top - 3.0
-            else:
-                continue
-            aligned.append({"type": "Feature", "geometry": geom, "properties": {
-                "ground-0.2": 1.0, "roof-0.25": 1.0 + eaves, "roof-0.99": 1.0 + top}})
-    return feats, aligned
+out, root = sys.argv[1:3]
+sys.path[:0] = [root, os.path.join(root, "testsuite"), os.path.join(root, "v.histo.lod2", "testsuite")]
+from test_v_histo_lod2_heights_acceptance import tower_district
 
 feats, aligned = tower_district()
 for name, features in (("district", feats), ("district_al", aligned)):
@@ -791,7 +746,7 @@ class Lod2Runs:
 
     def all(self):
         helper("bag", ROOT, self.bag, self.inputs)
-        helper("tower", self.inputs)
+        helper("tower", self.inputs, ROOT)
         for step, run in LOD2_CASES:
             start = time.time()
             run(self)

@@ -49,6 +49,22 @@ def sample_footprints(sample):
     return [fps.geometry(model.buildings.index(b)) for b in BAG]
 
 
+def footprint_sets(sample):
+    """The footprints of the acceptance tests, {map name: (polygons, attributes)}:
+    ``fp`` (the :func:`aligned` fixture's), ``only`` (the two BAG buildings
+    alone) and ``fp_noh`` (``fp`` without height columns). tools/output_checksums.py
+    writes the same."""
+    polygons = sample_footprints(sample) + BOXES
+    props = [{"h_building": 6.0 + k, "h_attic": 3.0, "plot": 10 + k,
+              "source": "aligned" if k in (0, 1, 4) else "2pm",
+              "pand_id": BAG[k].rsplit(".", 1)[1] if k < 2 else "",
+              "wrong_id": "12345{}".format(k)} for k in range(len(polygons))]
+    return {"fp": (polygons, props),
+            "only": (polygons[:2], [{"h_building": 6.0, "h_attic": 3.0, "source": "aligned"}] * 2),
+            "fp_noh": (polygons, [{"source": "aligned" if k < 2 else "2pm"}
+                                  for k in range(len(polygons))])}
+
+
 def import_footprints(name, tmp_path, polygons, props):
     import grass.script as gs
 
@@ -65,14 +81,7 @@ def import_footprints(name, tmp_path, polygons, props):
 def aligned(mapset, sample, tmp_path):
     """Vector map ``fp``: the two BAG footprints (aligned, with their pand_id),
     two generated boxes (2pm) and one aligned box that matches nothing."""
-    polygons = sample_footprints(sample) + BOXES
-    props = []
-    for k, _ in enumerate(polygons):
-        props.append({"h_building": 6.0 + k, "h_attic": 3.0, "plot": 10 + k,
-                      "source": "aligned" if k in (0, 1, 4) else "2pm",
-                      "pand_id": BAG[k].rsplit(".", 1)[1] if k < 2 else "",
-                      "wrong_id": "12345{}".format(k)})
-    return import_footprints("fp", tmp_path, polygons, props)
+    return import_footprints("fp", tmp_path, *footprint_sets(sample)["fp"])
 
 
 def load(path):
@@ -313,8 +322,7 @@ def test_bad_inputs_fail_cleanly(aligned, sample, tmp_path, case, message):
 
 @pytest.mark.acceptance
 def test_copied_footprints_are_not_built_even_all_of_them(mapset, sample, schemas, tmp_path):
-    props = [{"h_building": 6.0, "h_attic": 3.0, "source": "aligned"}] * 2
-    name = import_footprints("only", tmp_path, sample_footprints(sample), props)
+    name = import_footprints("only", tmp_path, *footprint_sets(sample)["only"])
     out = str(tmp_path / "only.city.json")
     rc, stdout, err = run(flags="v", input=name, output=out,
                           existing=os.path.join(sample, FORMS[1]))
@@ -331,9 +339,7 @@ def test_copied_buildings_give_measured_heights_to_the_generated(mapset, sample,
     # neighbourhood analysis, which gives the generated footprints theirs
     from reconstruction.lod2 import heights
 
-    polygons = sample_footprints(sample) + BOXES
-    props = [{"source": "aligned" if k < 2 else "2pm"} for k in range(len(polygons))]
-    name = import_footprints("fp_noh", tmp_path, polygons, props)
+    name = import_footprints("fp_noh", tmp_path, *footprint_sets(sample)["fp_noh"])
     out = str(tmp_path / "h.city.json")
     rc, _, err = run(input=name, output=out, existing=os.path.join(sample, FORMS[0]),
                      roof="flat")
