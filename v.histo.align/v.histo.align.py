@@ -136,93 +136,6 @@ def find_core():
             return
 
 
-FALLBACK_YEAR_COLUMN = "oorspronkelijkbouwjaar"
-
-
-def no_areas(grassio, name, key, what):
-    """The InputError for a map that holds no areas."""
-    from reconstruction.core.errors import InputError
-
-    counts = grassio.vector_counts(name)
-    return InputError("Vector map <{}> given as {}= has no areas (it holds {}): {} must be "
-                      "areas".format(name, key, ", ".join(
-                          "{} {}".format(counts.get(k, 0), k)
-                          for k in ("points", "lines", "boundaries", "areas")), what))
-
-
-def year_column(columns, wanted, given, name):
-    """The footprints' year column: ``wanted`` (any case), or the 3D BAG's name for the default."""
-    from reconstruction.core.errors import InputError
-
-    names = {c.lower(): c for c in columns if c != "cat"}
-    for candidate in [wanted] + ([] if given else [FALLBACK_YEAR_COLUMN]):
-        if candidate.lower() in names:
-            return names[candidate.lower()]
-    raise InputError("Footprints <{}> have no year column <{}>{}; columns: {}".format(
-        name, wanted, "" if given else " (nor <{}>)".format(FALLBACK_YEAR_COLUMN),
-        ", ".join(sorted(names.values())) or "none (no attribute table)"))
-
-
-def parse_config(options, flags):
-    """The AlignmentConfig of the options (InputError on bad ones)."""
-    from reconstruction.align import stage as alignment
-    from reconstruction.core import options as opts
-
-    if options["resolution"]:
-        buffer = alignment.buffer_from_resolution(
-            opts.parse_list(options["resolution"], float), opts.parse_number(options["k"], "k"))
-    else:
-        buffer = opts.parse_number(options["buffer"] or 10, "buffer")
-    return alignment.AlignmentConfig(
-        year=opts.parse_number(options["year"], "year", cast=int), buffer=buffer,
-        overlap=opts.parse_number(options["overlap"], "overlap"), include_year=flags["i"],
-        shift=opts.parse_number(options["shift"] or 0, "shift"),
-        shift_window=opts.parse_number(options["shift_window"], "shift_window", minimum=0))
-
-
-def read_footprints(grassio, name, wanted_column, config):
-    """The footprints' table, year column, years and geometries (None where not a candidate:
-    only the candidates' geometry is read)."""
-    import numpy as np
-
-    from reconstruction.align import stage as alignment
-
-    reading = grassio.doing("reading the footprints <{}>".format(name))
-    with reading:
-        columns = grassio.read_table(name)
-    grassio.require_projected()      # its answer came meanwhile
-    column = year_column(columns, wanted_column, wanted_column != "bouwjaar", name)
-    cats = columns["cat"]
-    years = alignment.construction_years(columns[column], column, ids=cats)
-    candidate = alignment.candidate_mask(years, config)[0]
-    footprints = [None] * len(cats)
-    with reading:
-        if candidate.any():
-            geoms, found = grassio.read_areas(
-                name, cats=[cats[i] for i in np.flatnonzero(candidate)], table=False)
-            row = {c: i for i, c in enumerate(cats)}
-            for geom, cat in zip(geoms, found["cat"]):
-                footprints[row[cat]] = geom
-        if not any(g is not None for g in footprints) and \
-                grassio.vector_counts(name).get("areas", 0) == 0:
-            raise no_areas(grassio, name, "footprints", "footprints")
-    return columns, column, years, footprints
-
-
-def write_footprints(grassio, output, footprints, columns, indices, extra, title):
-    """Footprints ``indices`` with their own categories and columns, plus ``extra`` columns."""
-    from reconstruction.core import contract
-
-    own = {contract.PLOT.lower(), contract.SIMILARITY.lower(), "cat"} | {k.lower() for k in extra}
-    table = {k: [values[i] for i in indices] for k, values in columns.items()
-             if k.lower() not in own}
-    table.update(extra)
-    with grassio.doing("writing <{}>".format(output)):
-        grassio.write_areas(output, [footprints[i] for i in indices], table,
-                            cats=[columns["cat"][i] for i in indices], title=title,
-                            history=True)
-
-
 def main(options, flags):
     from reconstruction import grassio
 
@@ -231,64 +144,40 @@ def main(options, flags):
     # the plots (their categories only) are exported while we go on
     plots_job = grassio.start_read_areas(options["input"], table=False)
     grassio.prefetch_checks()
-    import numpy as np
-
-    from reconstruction.align import stage as alignment
-    from reconstruction.core import contract
+    from reconstruction import align
     from reconstruction.core import safefile
 
     grassio.check_outputs(options, vectors=("output", "unmatched"), files=("report",))
-    config = parse_config(options, flags)
-    name = options["footprints"]
-    columns, column, years, footprints = read_footprints(
-        grassio, name, options["year_column"], config)
-    with grassio.doing("reading the plots <{}>".format(options["input"])):
-        plots, plot_columns = grassio.finish_read_areas(plots_job)
-    if not plots:
-        raise no_areas(grassio, options["input"], "input", "plots")
-    read = time.perf_counter()
-    result = alignment.align(plots, plot_columns["cat"], footprints, years, config)
-    report = result.report
-    matched = time.perf_counter()
+    config = align.read_config(options, flags)
+    reading = grassio.doing("reading the footprints <{}>".format(config.footprints))
+    with reading:
+        table = grassio.read_table(config.footprints)
+    grassio.require_projected()      # its answer came meanwhile
 
-    if report.without_year:
-        gs.warning(_("{} of {} footprints have no year in <{}> (NULL, empty or a placeholder "
-                     "such as 9999) and were left out").format(
-                         report.without_year, report.footprints, column))
-    if not report.candidates:
-        gs.warning(_("No footprint of <{}> was built before {}").format(name, options["year"]))
-    if report.repaired:
-        gs.warning(_("{} invalid geometries repaired").format(report.repaired))
-    extra = {contract.PLOT: result.plot.tolist(),
-             contract.SIMILARITY: np.round(result.similarity, 4).tolist()}
-    if result.shifts is not None:
-        row = {c: i for i, c in enumerate(plot_columns["cat"])}
-        rows = [row[c] for c in result.plot.tolist()]
-        extra["dx"] = np.round(result.shifts.dx[rows], 2).tolist()
-        extra["dy"] = np.round(result.shifts.dy[rows], 2).tolist()
-    write_footprints(grassio, options["output"], footprints, columns, result.aligned.tolist(),
-                     extra, "Footprints of <{}> standing on <{}> in {} (v.histo.align)".format(
-                         name, options["input"], options["year"]))
-    if options["unmatched"]:
-        write_footprints(grassio, options["unmatched"], footprints, columns,
-                         result.unmatched.tolist(),
-                         {contract.SIMILARITY: np.round(result.best_similarity, 4).tolist()},
-                         "Candidate footprints of <{}> matching no plot".format(name))
-    if options["report"]:
-        with safefile.replacing(options["report"]) as f:
-            json.dump(alignment.report_json(result, config, plot_columns["cat"]), f, indent=2)
+    def read_footprints(cats):
+        """Only the candidates' geometries are read."""
+        with reading:
+            geoms, found = grassio.read_areas(config.footprints, cats=cats, table=False)
+        return geoms, found["cat"]
 
-    gs.verbose(_("Timing (s): read {:.2f}, align {:.2f}, write {:.2f}").format(
-        read - start, matched - read, time.perf_counter() - matched))
-    gs.message(_("{} of {} candidate footprints (built before {}) aligned with {} of {} plots "
-                 "into <{}>{}").format(
-                     report.aligned, report.candidates, options["year"], report.plots_matched,
-                     report.plots, options["output"],
-                     "; {} plots matched at a shifted place".format(report.shifted_plots)
-                     if result.shifts is not None else ""))
-    if flags["g"]:
-        for key, value in report.counts().items():
-            print("{}={}".format(key, value))
+    def read_plots():
+        with grassio.doing("reading the plots <{}>".format(config.plots)):
+            plots, columns = grassio.finish_read_areas(plots_job)
+        return plots, columns["cat"]
+
+    result = align.run(align.AlignmentInputs(table, read_footprints, read_plots,
+                                             grassio.vector_counts), config)
+    for out in (result.output, result.unmatched):
+        if out is not None:
+            with grassio.doing("writing <{}>".format(out.name)):
+                grassio.write_areas(out.name, out.geometries, out.table, cats=out.cats,
+                                    title=out.title, history=True)
+    if config.report_file:
+        with safefile.replacing(config.report_file) as f:
+            json.dump(result.report_json, f, indent=2)
+    grassio.say(align.report(result, config, start, time.perf_counter()))
+    if config.shell:
+        print("\n".join(align.shell_counts(result)))
     return 0
 
 

@@ -100,132 +100,40 @@ def find_core():
             return
 
 
-def _aligned_columns(columns, indices, own):
-    """The aligned footprints' own columns, one value per output footprint (NULL for 2PM)."""
-    out = {}
-    for name, values in columns.items():
-        if name.lower() not in own:
-            out[name] = [values[i] if i >= 0 else None for i in indices]
-    return out
-
-
-def read_plots(grassio, name):
-    """The plots with a category, and their categories."""
-    plots, columns = grassio.read_features(name, "area")
-    keep = [i for i, (g, c) in enumerate(zip(plots, columns["cat"]))
-            if g is not None and c is not None]
-    return [plots[i] for i in keep], [int(columns["cat"][i]) for i in keep]
-
-
-def read_aligned(grassio, name, plot_column):
-    """Aligned footprints, the plot of each (None without a plot column) and their columns."""
-    aligned, columns = grassio.read_features(name, "area")
-    names = {k.lower(): k for k in columns}
-    if plot_column not in names:
-        gs.message(_("Aligned map <{}> has no {} column: each aligned footprint goes to the plot "
-                     "it overlaps most").format(name, plot_column))
-        return aligned, None, columns
-    from reconstruction.core.options import integer_column
-
-    return aligned, integer_column(columns[names[plot_column]], plot_column, name), columns
-
-
-def report(rep, aligned, calibrating):
-    """Warnings and messages about what the subdivision repaired, clipped and measured."""
-    if rep.plots.repaired:
-        gs.warning(_("{} invalid plots repaired (make_valid)").format(rep.plots.repaired))
-    if rep.plots.skipped:
-        gs.warning(_("{} plots without area skipped").format(rep.plots.skipped))
-    if rep.plots.overlapping_pairs:
-        gs.warning(_("{} pairs of overlapping plots: the shared area ({:.2f} square map units) "
-                     "went to the larger plot of each pair").format(
-                         rep.plots.overlapping_pairs, rep.plots.overlap_area))
-    if not aligned:
-        return
-    if rep.aligned.repaired:
-        gs.warning(_("{} invalid aligned footprints repaired").format(rep.aligned.repaired))
-    if rep.aligned.clipped:
-        gs.warning(_("{} aligned footprints overlapping earlier ones were clipped").format(
-            rep.aligned.clipped))
-    if rep.aligned_without_plot:
-        gs.warning(_("{} aligned footprints without a plot left out").format(
-            rep.aligned_without_plot))
-    if rep.generated_dropped or rep.generated_clipped:
-        gs.message(_("Generated footprints overlapping aligned ones: {} clipped, "
-                     "{} dropped").format(rep.generated_clipped, rep.generated_dropped))
-    if calibrating and rep.calibrated:
-        gs.message(_("Calibrated from {} aligned footprints: length={:.2f},{:.2f} "
-                     "depth={:.2f},{:.2f}").format(rep.calibration_samples,
-                                                  *(rep.length + rep.depth)))
-    elif calibrating:
-        gs.warning(_("Too few aligned footprints on a street ({}) to calibrate: length= and depth= "
-                     "kept").format(rep.calibration_samples))
-
-
 def main(options, flags):
-    from reconstruction.core import contract
-    from reconstruction import grassio
-    from reconstruction.subdivide import stage as subdivision
+    from reconstruction import grassio, subdivide
     from reconstruction.core.errors import InputError
-    from reconstruction.core.options import parse_number, parse_range
 
     grassio.register_cleanup()
     grassio.check_outputs(options, vectors=("output",))
-    plots_name, output, aligned_name = options["input"], options["output"], options["aligned"]
-    length = parse_range(options["length"], "length", positive=True, allow_zero=False)
-    depth = parse_range(options["depth"], "depth", positive=True, allow_zero=False)
-    area_threshold = None
-    if options["area_threshold"]:
-        area_threshold = parse_number(options["area_threshold"], "area_threshold", minimum=0)
-    seed = int(options["seed"] or 1)
+    config = subdivide.read_config(options, flags)
     grassio.require_projected()
-    for name, what in ((plots_name, "plots"), (aligned_name, "aligned footprints")):
+    for name, what in ((config.plots, "plots"), (config.aligned, "aligned footprints")):
         if name:
             grassio.require_vector(name)
             if grassio.vector_counts(name).get("areas", 0) == 0:
-                raise InputError(_("Vector map <{}> has no areas: {} must be areas").format(
+                raise InputError("Vector map <{}> has no areas: {} must be areas".format(
                     name, what))
 
     start = time.perf_counter()
-    with grassio.doing("reading the plots <{}>".format(plots_name)):
-        plots, cats = read_plots(grassio, plots_name)
-    if not plots:
-        raise InputError(_("Vector map <{}> has no areas with a category").format(plots_name))
-    aligned, aligned_plots, aligned_columns = None, None, {}
-    if aligned_name:
-        with grassio.doing("reading the aligned footprints <{}>".format(aligned_name)):
-            aligned, aligned_plots, aligned_columns = read_aligned(grassio, aligned_name,
-                                                                   contract.PLOT)
-    read = time.perf_counter()
-    gs.message(_("Subdividing {} plots...").format(len(plots)))
-    result = subdivision.subdivide(
-        plots, cats, length=length, depth=depth, area_threshold=area_threshold, seed=seed,
-        decompose=not flags["c"], aligned=aligned, aligned_plots=aligned_plots,
-        calibrate_ranges=flags["a"])
-    core = time.perf_counter()
-    report(result.report, bool(aligned_name), flags["a"])
+    with grassio.doing("reading the plots <{}>".format(config.plots)):
+        plots, cats = subdivide.plots_with_category(
+            *grassio.read_features(config.plots, "area"), config.plots)
+    aligned, aligned_columns = None, {}
+    if config.aligned:
+        with grassio.doing("reading the aligned footprints <{}>".format(config.aligned)):
+            aligned, aligned_columns = grassio.read_features(config.aligned, "area")
+    inputs = subdivide.read_inputs(plots, cats, aligned, aligned_columns, config)
+    grassio.say(subdivide.announce(inputs, config))
+    result = subdivide.run(inputs, config)
     if not result.geometries:
-        raise InputError(_("No footprints: every plot was skipped"))
-
-    columns = {
-        contract.PLOT: result.plot,
-        contract.CASE: result.case,
-        contract.SOURCE: result.source,
-        contract.AREA: [round(a, 3) for a in result.area],
-    }
-    own = {"cat"} | set(columns)
-    columns.update(_aligned_columns(aligned_columns, result.aligned, own))
-    with grassio.doing("writing the footprints <{}>".format(output)):
-        grassio.write_areas(output, result.geometries, columns,
-                            title="Footprints of <{}> (v.histo.subdivide)".format(plots_name))
-        gs.vector_history(output)
-    gs.verbose(_("Timing (s): read {:.2f}, subdivide {:.2f}, write {:.2f}").format(
-        read - start, core - read, time.perf_counter() - core))
-    counts = {c: result.case.count(c) for c in sorted(set(result.case))}
-    gs.message(_("{} footprints written to <{}> ({} generated, {} aligned); by case: {}").format(
-        len(result.geometries), output, result.report.generated,
-        len(result.geometries) - result.report.generated,
-        ", ".join("{}: {}".format(c, n) for c, n in counts.items())))
+        grassio.say(subdivide.report(result, config))
+        raise InputError("No footprints: every plot was skipped")
+    with grassio.doing("writing the footprints <{}>".format(config.output)):
+        grassio.write_areas(config.output, result.geometries, result.table,
+                            title="Footprints of <{}> (v.histo.subdivide)".format(config.plots))
+        gs.vector_history(config.output)
+    grassio.say(subdivide.report(result, config, start, time.perf_counter()))
     return 0
 
 

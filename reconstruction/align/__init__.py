@@ -5,10 +5,25 @@ The thesis's Section 3.3.1: today's footprints built before the map's year
 in, optionally after correcting the map's offset; each kept footprint gets
 its ``plot`` and ``similarity``.
 
-- ``stage``: the stage's entry point (:func:`align`) and its records.
+The module's sequence, in three calls: :func:`read_config` (g.parser's
+options -> :class:`AlignmentConfig`), :func:`run` (:class:`AlignmentInputs`
+-> :class:`AlignmentResult`: the maps to write, the JSON report) and
+:func:`report` (the messages; :func:`shell_counts`: the -g lines).
+
+- ``config``: :class:`AlignmentConfig` and :func:`read_config`;
+- ``pipeline``: :func:`run`, its inputs and result (the year column, the
+  candidates read, the output tables);
+- ``stage``: the matching itself (:func:`align`, the offset correction) and
+  its records;
+- ``report``: :func:`report`, the messages of a run.
 """
 
-from . import stage
-from .stage import Alignment, AlignmentConfig, align
+from . import config, pipeline, stage
+from .config import AlignmentConfig, read_config
+from .pipeline import AlignmentInputs, AlignmentResult, FootprintMap, run
+from .report import report, shell_counts
+from .stage import Alignment, align
 
-__all__ = ["Alignment", "AlignmentConfig", "align", "stage"]
+__all__ = ["Alignment", "AlignmentConfig", "AlignmentInputs", "AlignmentResult", "FootprintMap",
+           "align", "config", "pipeline", "read_config", "report", "run", "shell_counts",
+           "stage"]

@@ -32,12 +32,15 @@ are in map units (metres).
 import datetime
 import math
 from dataclasses import asdict, dataclass
+from typing import Optional
 
 import numpy as np
 import shapely
 
 from ..core.errors import InputError
 from ..core.work_limits import check_alignment
+# AlignmentConfig and buffer_from_resolution: importable from here as before config.py
+from .config import AlignmentConfig, buffer_from_resolution, matching_options  # noqa: F401
 
 #: the BAG register writes 9999 for "construction year unknown"; any year
 #: after the current one is a placeholder too
@@ -52,62 +55,6 @@ PEAK_TOLERANCE = 0.02
 AGREEMENT = 1.5
 #: a plot's shift needs this many neighbours' estimates (or all there are)
 MIN_AGREEING = 3
-
-
-@dataclass(frozen=True)
-class AlignmentConfig:
-    """How current footprints are matched with plots (lengths in map units).
-
-    ``year``: the map's year; footprints built strictly before it are
-    candidates (also those built in it with ``include_year``, as the thesis
-    did). ``buffer``: distance each plot grows by before matching.
-    ``overlap``: the similarity threshold, in (0, 1]. ``shift``: largest
-    offset the local offset correction searches (0: off); ``shift_window``:
-    margin around a plot whose plots and footprints estimate its offset;
-    ``shift_cell``: raster cell of that estimate; ``min_gain``: share by
-    which the overlap must grow for a shift to be applied.
-    """
-
-    year: float
-    buffer: float = 10.0
-    overlap: float = 0.6
-    include_year: bool = False
-    shift: float = 0.0
-    shift_window: float = 150.0
-    shift_cell: float = 1.0
-    min_gain: float = 0.02
-
-    def __post_init__(self):
-        if not math.isfinite(self.year):
-            raise InputError("The map's year must be a number, not {}".format(self.year))
-        if not (math.isfinite(self.buffer) and self.buffer > 0):
-            raise InputError("The buffer must be positive (map units), not {:g}".format(
-                self.buffer))
-        if not (0 < self.overlap <= 1):
-            raise InputError("The overlap threshold must be in (0, 1], not {:g}".format(
-                self.overlap))
-        if not (math.isfinite(self.shift) and self.shift >= 0):
-            raise InputError("The shift search radius must be zero (off) or positive, "
-                             "not {:g}".format(self.shift))
-        if self.shift_window < 0 or self.shift_cell <= 0:
-            raise InputError("The shift window must be >= 0 and its cell > 0")
-
-
-def buffer_from_resolution(resolution, k):
-    """Ying et al.'s (2011) buffer ``k * sqrt(SR_a**2 + SR_b**2)``.
-
-    ``resolution`` holds the two maps' pixel sizes (map units; one value
-    is used for both), ``k`` the factor.
-    """
-    values = [float(v) for v in resolution]
-    if len(values) == 1:
-        values = values * 2
-    if len(values) != 2 or not all(math.isfinite(v) and v > 0 for v in values):
-        raise InputError("The resolutions must be two positive pixel sizes, not {}".format(
-            ",".join("{:g}".format(v) for v in values)))
-    if not (math.isfinite(k) and k > 0):
-        raise InputError("The factor k must be positive, not {:g}".format(k))
-    return k * math.hypot(*values)
 
 
 def construction_years(values, column="year", ids=None, today=None):
@@ -138,7 +85,7 @@ def construction_years(values, column="year", ids=None, today=None):
     return years
 
 
-@dataclass
+@dataclass(frozen=True)
 class AlignmentReport:
     """What :func:`align` did, in counts (``counts()`` gives the key=value set of -g)."""
 
@@ -158,7 +105,7 @@ class AlignmentReport:
         return asdict(self)
 
 
-@dataclass
+@dataclass(frozen=True)
 class PlotShifts:
     """Offset of the map against the footprints, per plot (same order as the plots).
 
@@ -175,7 +122,7 @@ class PlotShifts:
     applied: np.ndarray
 
 
-@dataclass
+@dataclass(frozen=True)
 class Alignment:
     """The result of :func:`align`; indices refer to the footprints given."""
 
@@ -184,7 +131,7 @@ class Alignment:
     similarity: np.ndarray       # its similarity with that plot
     unmatched: np.ndarray        # indices of the candidates that matched no plot
     best_similarity: np.ndarray  # highest similarity each unmatched one reached (0: none)
-    shifts: PlotShifts           # None without the offset correction
+    shifts: Optional[PlotShifts]  # None without the offset correction
     report: AlignmentReport
 
 
@@ -367,7 +314,8 @@ def estimate_shifts(plots, footprints, radius, window=150.0, cell=1.0, min_gain=
     footprints = footprints[~shapely.is_missing(footprints)]
     if radius <= 0 or not plot_ok.any() or len(footprints) == 0:
         return shifts
-    dx, dy, shifts.gain, valid = _local_shifts(plots, footprints, radius, window, cell, min_gain)
+    dx, dy, gain, valid = _local_shifts(plots, footprints, radius, window, cell, min_gain)
+    shifts = PlotShifts(shifts.dx, shifts.dy, gain, shifts.applied)
     counted = np.flatnonzero(valid)
     if not len(counted):
         return shifts
@@ -401,7 +349,7 @@ def candidate_mask(years, config):
     return before, ~known
 
 
-@dataclass
+@dataclass(frozen=True)
 class _Pairs:
     """Plot-footprint pairs whose buffered plot and footprint intersect."""
 
@@ -453,8 +401,8 @@ def _shift_plots(pairs, plots, grown, candidates, tree, config):
         moved_grown[trial] = _translate(grown[trial], -shifts.dx[trial], -shifts.dy[trial])
         moved[trial] = _translate(plots[trial], -shifts.dx[trial], -shifts.dy[trial])
     shifted = _pairs(moved_grown, moved, trial, candidates, tree)
-    shifts.applied &= (_match_counts(shifted, config.overlap, len(plots)) >
-                       _match_counts(pairs, config.overlap, len(plots)))
+    shifts.applied[:] &= (_match_counts(shifted, config.overlap, len(plots)) >
+                          _match_counts(pairs, config.overlap, len(plots)))
     shifts.dx[~shifts.applied] = 0.0
     shifts.dy[~shifts.applied] = 0.0
     pairs = pairs.take(~shifts.applied[pairs.plot]).join(
@@ -477,22 +425,22 @@ def align(plots, cats, footprints, years, config):
     footprints match there than at the plot's own place; else at its own
     place (a shift that only fits a flat correlation better is noise).
     """
-    report = AlignmentReport()
+    counts = {}      # the AlignmentReport's, as they are known
     plots, repaired_plots = _polygonal(plots)
     footprints, repaired_footprints = _polygonal(footprints)
-    report.repaired = repaired_plots + repaired_footprints
+    counts["repaired"] = repaired_plots + repaired_footprints
     cats = np.asarray(cats)
     years = np.asarray(years, dtype=float)
     if len(years) != len(footprints) or len(cats) != len(plots):
         raise ValueError("one year per footprint and one category per plot")
-    report.footprints = len(footprints)
+    counts["footprints"] = len(footprints)
     candidate, no_year = candidate_mask(years, config)
     candidate &= ~shapely.is_missing(footprints)
-    report.without_year = int(no_year.sum())
-    report.after_year = int((~candidate & ~no_year).sum())
-    report.candidates = int(candidate.sum())
+    counts["without_year"] = int(no_year.sum())
+    counts["after_year"] = int((~candidate & ~no_year).sum())
+    counts["candidates"] = int(candidate.sum())
     plot_ok = np.flatnonzero(~shapely.is_missing(plots))
-    report.plots = len(plot_ok)
+    counts["plots"] = len(plot_ok)
 
     index = np.flatnonzero(candidate)
     cand = footprints[index]
@@ -506,7 +454,7 @@ def align(plots, cats, footprints, years, config):
     shifts = None
     if config.shift > 0:
         pairs, shifts = _shift_plots(pairs, plots, grown, cand, tree, config)
-        report.shifted_plots = int(shifts.applied.sum())
+        counts["shifted_plots"] = int(shifts.applied.sum())
 
     best = np.zeros(len(index))
     np.maximum.at(best, pairs.footprint, pairs.similarity)
@@ -519,17 +467,18 @@ def align(plots, cats, footprints, years, config):
     first[1:] = match.footprint[order][1:] != match.footprint[order][:-1]
     chosen = order[first]
     per_footprint = np.bincount(match.footprint, minlength=len(index))
-    report.contested = int(np.sum(per_footprint[match.footprint[chosen]] > 1))
+    counts["contested"] = int(np.sum(per_footprint[match.footprint[chosen]] > 1))
 
     aligned_local = match.footprint[chosen]
     unmatched_local = np.setdiff1d(np.arange(len(index)), aligned_local)
-    report.aligned = len(aligned_local)
-    report.unmatched = len(unmatched_local)
-    report.plots_matched = len(np.unique(match.plot[chosen]))
+    counts["aligned"] = len(aligned_local)
+    counts["unmatched"] = len(unmatched_local)
+    counts["plots_matched"] = len(np.unique(match.plot[chosen]))
     return Alignment(
         aligned=index[aligned_local], plot=cats[match.plot[chosen]],
         similarity=match.similarity[chosen], unmatched=index[unmatched_local],
-        best_similarity=best[unmatched_local], shifts=shifts, report=report)
+        best_similarity=best[unmatched_local], shifts=shifts,
+        report=AlignmentReport(**counts))
 
 
 def report_json(result, config, cats):
@@ -549,4 +498,5 @@ def report_json(result, config, cats):
                        gain=round(gain, 4) if math.isfinite(gain) else None,
                        shifted=bool(result.shifts.applied[i]))
         plots.append(row)
-    return {"options": asdict(config), "counts": result.report.counts(), "plots": plots}
+    return {"options": matching_options(config), "counts": result.report.counts(),
+            "plots": plots}

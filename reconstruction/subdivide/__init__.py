@@ -6,7 +6,16 @@ place, and the rest is cut into buildings along the street by five cases
 (rows of facades, corner buildings, courtyards, convex parts of concave
 plots); the footprints share vertices and never overlap.
 
-- ``stage``: the stage's entry point (:func:`subdivide`);
+The module's sequence, in three calls: :func:`read_config` (g.parser's
+options -> :class:`SubdivisionConfig`), :func:`run` (:class:`SubdivisionInputs`,
+made by :func:`read_inputs` from the maps read -> :class:`SubdivisionResult`:
+the footprints and their table) and :func:`report` (the messages;
+:func:`announce`: those before the work).
+
+- ``config``: :class:`SubdivisionConfig` and :func:`read_config`;
+- ``pipeline``: :func:`run`, its inputs and result;
+- ``report``: :func:`report` and :func:`announce`, the messages of a run;
+- ``stage``: the subdivision itself (:func:`subdivide`);
 - ``plots``: plots repaired and disjoint, their street edges;
 - ``cases``: the five cases on one plot; ``decomposition``: convex parts;
 - ``aligned_footprints``: aligned footprints placed in their plots;
@@ -14,10 +23,17 @@ plots); the footprints share vertices and never overlap.
 - ``invariants``: the guarantees of the footprints, as a check.
 """
 
-from . import aligned_footprints, cases, convex_rings, decomposition, invariants, noding, plots
-from . import stage
+from . import aligned_footprints, cases, config, convex_rings, decomposition, invariants, noding
+from . import pipeline, plots, stage
+from .config import SubdivisionConfig, read_config
 from .invariants import invariant_violations
+from .pipeline import (SubdivisionInputs, SubdivisionResult, plots_with_category, read_inputs,
+                       run)
+from .report import announce, report
 from .stage import Subdivision, subdivide
 
-__all__ = ["Subdivision", "aligned_footprints", "cases", "convex_rings", "decomposition",
-           "invariant_violations", "invariants", "noding", "plots", "stage", "subdivide"]
+__all__ = ["Subdivision", "SubdivisionConfig", "SubdivisionInputs", "SubdivisionResult",
+           "aligned_footprints", "announce", "cases", "config", "convex_rings", "decomposition",
+           "invariant_violations", "invariants", "noding", "pipeline", "plots",
+           "plots_with_category", "read_config", "read_inputs", "report", "run", "stage",
+           "subdivide"]

@@ -58,7 +58,7 @@ overlapping plots, street edges), :mod:`~reconstruction.subdivide.cases`
 (shared vertices) and :mod:`~reconstruction.subdivide.invariants`.
 """
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Optional
 
 import numpy as np
@@ -122,7 +122,7 @@ class SubdivisionReport:
     generated: int = 0
 
 
-@dataclass
+@dataclass(frozen=True)
 class Subdivision:
     """The footprints of a set of plots and what happened on the way.
 
@@ -240,11 +240,10 @@ def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_thre
     pieces, clipped, dropped = clip_generated(result, aligned_geoms, exterior_of, seam_of)
     if pieces:
         result = result.replaced(pieces)
-    result.geometries = node_footprints(result.geometries)
-    result.report = SubdivisionReport(
+    noded = node_footprints(result.geometries)
+    return replace(result, geometries=noded, report=SubdivisionReport(
         plots=plot_repairs, aligned=aligned_repairs, length=length, depth=depth,
         area_threshold=float(area_threshold), aligned_without_plot=without_plot,
         calibrated=calibrated, calibration_samples=samples, generated_clipped=clipped,
-        generated_dropped=dropped, footprints=len(result.geometries),
-        generated=sum(s == SOURCE_PROCEDURAL for s in result.source))
-    return result
+        generated_dropped=dropped, footprints=len(noded),
+        generated=sum(s == SOURCE_PROCEDURAL for s in result.source)))

@@ -1,0 +1,53 @@
+"""v.histo.subdivide's options as one record: :class:`SubdivisionConfig` and :func:`read_config`."""
+
+from dataclasses import dataclass
+from typing import Optional, Tuple
+
+from ..core.errors import InputError
+from ..core.options import parse_number, parse_range
+
+
+@dataclass(frozen=True)
+class SubdivisionConfig:
+    """How plots are cut into footprints (lengths in map units).
+
+    ``plots``: the plots map (input=); ``aligned``: the aligned footprints
+    map (empty: none); ``output``: the footprints map. ``length``,
+    ``depth``: (min, max) ranges of the facade length and the building
+    depth; ``area_threshold``: plots smaller than it are one footprint
+    (None: the mean area of the aligned footprints, else 100); ``seed``;
+    ``decompose``: concave plots cut into convex parts (no -c);
+    ``calibrate``: length and depth learnt from the aligned footprints (-a).
+    """
+
+    plots: str
+    output: str
+    aligned: str = ""
+    length: Tuple[float, float] = (5.0, 8.0)
+    depth: Tuple[float, float] = (12.0, 16.0)
+    area_threshold: Optional[float] = None
+    seed: int = 1
+    decompose: bool = True
+    calibrate: bool = False
+
+
+def _range(text, key):
+    """A (min, max) pair of positive numbers (InputError naming ``key``)."""
+    pair = parse_range(text, key, positive=True, allow_zero=False)
+    if pair is None:
+        raise InputError("Option {}= must be two numbers min,max".format(key))
+    return pair
+
+
+def read_config(options, flags):
+    """The :class:`SubdivisionConfig` of g.parser's ``options`` and ``flags``
+    (:class:`~reconstruction.core.errors.InputError` naming a bad one)."""
+    area_threshold = None
+    if options["area_threshold"]:
+        area_threshold = parse_number(options["area_threshold"], "area_threshold", minimum=0)
+    return SubdivisionConfig(
+        plots=options["input"], output=options["output"], aligned=options["aligned"] or "",
+        length=_range(options["length"], "length"), depth=_range(options["depth"], "depth"),
+        area_threshold=area_threshold,
+        seed=parse_number(options["seed"] or 1, "seed", cast=int),
+        decompose=not flags["c"], calibrate=flags["a"])
