@@ -87,7 +87,8 @@ def test_synthetic_plots_one_per_plot_with_metrics_and_scores(synthetic, mapset,
     with open(report) as f:
         rep = json.load(f)
     xy = synthetic.smap.gt_points
-    p, r, fscore = assessment.point_detection_scores(geoms, xy)
+    scores = assessment.point_detection_scores(geoms, xy)
+    p, r, fscore = scores.precision, scores.recall, scores.f_score
     assert float(figures["precision"]) == pytest.approx(p)
     assert float(figures["recall"]) == pytest.approx(r)
     assert rep["f_score"] == pytest.approx(fscore)

@@ -6,7 +6,7 @@ from shapely.geometry import box
 
 from reconstruction.align import stage as alignment
 from reconstruction.classify import config as classify
-from reconstruction.generalize import stage as generalize
+from reconstruction import generalize
 from reconstruction.lod2.solids import build as solids
 from reconstruction.subdivide import stage as subdivision
 from reconstruction.core import work_limits
