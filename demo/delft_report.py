@@ -52,7 +52,7 @@ def plot_scores(plots, gt_points, gt_polygons):
 
     from reconstruction.generalize import assessment
     from reconstruction.generalize import operators as generalization
-    from reconstruction.generalize import stage as generalize
+    from reconstruction.generalize import config as generalize
     from reconstruction.generalize import shape_metrics
 
     points = assessment.point_detection_scores(plots, gt_points)

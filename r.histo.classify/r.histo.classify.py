@@ -173,7 +173,6 @@
 # % description: Print the tuning table (threshold, minsize, VW, Moran's I, normalised criteria, F) and the chosen pair
 # %end
 
-import contextlib
 import os
 import signal
 import sys
@@ -195,109 +194,43 @@ def find_core():
             return
 
 
-def _classify_sheet(inputs, windows, tiles, side, grid, training, config, flags, keep_segments):
-    """A large map: tuned on a sample of windows, segmented and classified in tiles."""
-    import numpy as np
-
-    from reconstruction.classify import segments
-    from reconstruction.classify import stage as classify
-    from reconstruction.classify import tiled as classify_tiled
-    from reconstruction import grassio
-    from reconstruction.grassio import tiles as grasstiles
-
-    start = time.perf_counter()
-    gs.message(_("Tuning {} parameter pairs on {} windows of {} cells...").format(
-        len(config.pairs), len(windows), windows[0].cells))
-    criteria = grasstiles.window_criteria(
-        inputs, windows, grid, config, classify.segmentation_chains(config.pairs, flags["e"]),
-        segments.segmentation_criteria)
-    tuning, _mean = classify_tiled.tune_on_windows(criteria, [w.cells for w in windows],
-                                                   config.alpha)
-    pair = config.pairs[tuning.best]
-    gs.message(_("Chosen segmentation: threshold={} minsize={} (F={:.3f}); segmenting {} tiles "
-                 "of up to {}x{} cells...").format(pair[0], pair[1], tuning.f[tuning.best],
-                                                   len(tiles), side, side))
-    timing = [("tuning", time.perf_counter() - start)]
-    # the tiles are classified as their segmentations finish (the training points' tiles
-    # first), so the classification works while the next tiles are segmented
-    tiles = classify_tiled.training_first(tiles, training)
-    segmented = grasstiles.segment_tiles(inputs, pair, tiles, grid, config)
-    names = {}
-
-    def read_bands(tile):
-        env = grasstiles.window_env(grid, tile)
-        return [grassio.read_raster(name, np.float64, env) for name in inputs]
-
-    def read_segments(tile):
-        while tile not in names:
-            k, name = next(segmented)
-            names[tiles[k]] = name
-        return grassio.read_raster(names[tile], np.int32, grasstiles.window_env(grid, tile))
-
-    gs.message(_("Segmenting, classifying and cleaning {} tiles...").format(len(tiles)))
-    with contextlib.closing(segmented):
-        result = classify_tiled.classify_tiles(
-            tiles, read_bands, read_segments, training, config, grid, config.pairs, tuning,
-            side, keep_segments=keep_segments, message=gs.message,
-            percent=lambda d, t: gs.percent(d, t, 1))
-    result.timing = timing + result.timing
-    return result
-
-
 def main(options, flags):
     import numpy as np
 
-    from reconstruction.classify import stage as classify
-    from reconstruction import grassio
-    from reconstruction.grassio import tiles as grasstiles
-    from reconstruction.classify import tiling
+    from reconstruction import classify, grassio
     from reconstruction.core.errors import InputError
-    from reconstruction.core.options import parse_list
 
     grassio.register_cleanup()
     grassio.check_outputs(options, rasters=("output", "segments"))
     grassio.require_projected()
-    inputs = parse_list(options["input"])
-    if len(inputs) != 3:
-        raise InputError("Option input= needs three raster maps (red,green,blue), got {}".format(
-            len(inputs)))
-    for name in inputs:
+    config = classify.read_config(options, flags)
+    bands = config.bands
+    for name in bands:
         grassio.require_raster(name)
-    if not grassio.raster_region_matches(inputs):
+    if not grassio.raster_region_matches(bands):
         raise InputError("Input maps <{}> do not share the same extent and resolution".format(
-            ",".join(inputs)))
+            ",".join(bands)))
     grassio.require_vector(options["training"])
-    config = classify.read_config(options)
-    grid = classify.Grid.from_region(None, gs.region())
+    grid = classify.stage.Grid.from_region(None, gs.region())
     xy, columns = grassio.read_points(options["training"])
     grassio.require_columns(options, columns, ("class_column",), options["training"])
-    training = classify.read_training(xy, columns, options["label_column"],
-                                      options["class_column"], config, grid, options["training"])
 
-    windows = tiling.tuning_windows(grid.rows, grid.cols)
-    side = tiling.tile_side(config.memory)
-    if config.window:
-        tiling.check_tiles(side, config.window)
-    given_cells = int(np.ceil((config.min_area or 0) / (grid.nsres * grid.ewres)))
-    tiles = tiling.plan_tiles(grid.rows, grid.cols, side,
-                              tiling.tile_overlap(config.window or 3, given_cells))
-    if len(windows) == 1 and len(tiles) == 1:
-        bands = [grassio.read_raster(name) for name in inputs]
-        gs.message(_("Segmenting with {} parameter pairs...").format(len(config.pairs)))
-        runs = grasstiles.run_segmentations(
-            inputs, config, classify.segmentation_chains(config.pairs, flags["e"]))
-        with contextlib.closing(runs):
-            result = classify.classify_map(
-                bands, runs, lambda name: grassio.read_raster(name, dtype=np.int32), training,
-                config, grid, message=gs.message, verbose=gs.verbose)
-        del bands
-    else:
-        result = _classify_sheet(inputs, windows, tiles, side, grid, training, config, flags,
-                                 bool(options["segments"]))
-    if result.rule:
-        gs.message(classify.rule_message(result.rule, config, grid))
-    if flags["p"]:
-        print("\n".join(classify.tuning_table(result)))
+    def env(tile):
+        return None if tile is None else grassio.window_env(grid, tile)
+
+    inputs = classify.ClassifyInputs(
+        grid=grid, training_xy=xy, training_columns=columns, training_map=options["training"],
+        read_bands=lambda tile: [grassio.read_raster(name, np.float64, env(tile))
+                                 for name in bands],
+        read_segments=lambda name, tile: grassio.read_raster(name, np.int32, env(tile)),
+        segment=lambda chains: grassio.run_segmentations(bands, config, chains),
+        window_criteria=lambda windows, chains, criterion: grassio.window_criteria(
+            bands, windows, grid, config, chains, criterion),
+        segment_tiles=lambda pair, tiles: grassio.segment_tiles(bands, pair, tiles, grid, config),
+        say=grassio.say, percent=lambda done, total: gs.percent(done, total, 1))
+    result = classify.run(inputs, config)
+    if config.print_table:
+        print("\n".join(classify.stage.tuning_table(result)))
 
     start = time.perf_counter()
     # written whole under a temporary name, renamed when complete
@@ -306,13 +239,14 @@ def main(options, flags):
         with grassio.doing("writing the categories, colours and history of <{}>".format(
                 options["output"])):
             gs.write_command("r.category", map=output, rules="-", separator=":", quiet=True,
-                             stdin=classify.category_rules(result.present, training.names) + "\n")
+                             stdin=classify.stage.category_rules(result.present, result.names)
+                             + "\n")
             gs.write_command("r.colors", map=output, rules="-", quiet=True,
-                             stdin=classify.colour_rules(result.present, training.names)
+                             stdin=classify.stage.colour_rules(result.present, result.names)
                              + "\nnv 255:255:255\n")
             gs.run_command("r.support", map=output,
                            source1="training points <{}>, inputs <{}>".format(
-                               options["training"], ",".join(inputs)),
+                               options["training"], ",".join(bands)),
                            description="i.segment threshold={} minsize={}".format(
                                *result.best_pair))
             gs.raster_history(output, overwrite=True)
@@ -324,8 +258,7 @@ def main(options, flags):
                            quiet=True)
             grassio.forget_temp_map("raster", result.chosen)
             gs.raster_history(options["segments"], overwrite=True)
-    timing = result.timing + [("output", time.perf_counter() - start)]
-    gs.verbose(_("Timing (s): {}").format(", ".join("{} {:.1f}".format(k, v) for k, v in timing)))
+    grassio.say(classify.report(result.timed("output", time.perf_counter() - start), config))
     return 0
 
 

@@ -194,9 +194,7 @@ def _raster_plots(raster, category):
 
 
 def main(options, flags):
-    from reconstruction.generalize import stage as generalize
-    from reconstruction import grassio
-    from reconstruction.core.options import parse_number
+    from reconstruction import generalize, grassio
 
     grassio.register_cleanup()
     grassio.require_projected()
@@ -210,43 +208,33 @@ def main(options, flags):
         source_map = options["input"]
         grassio.require_features(source_map, "areas", "input")
     else:
-        source_map = _raster_plots(options["raster"], parse_number(options["class"], "class", int))
+        source_map = _raster_plots(options["raster"], config.category)
 
     geoms, columns = grassio.read_features(source_map, "area")
-    raw = generalize.raw_plots(geoms, config.min_area, source_map,
-                               cats=columns["cat"] if options["input"] else None)
-    if raw.dropped:
-        gs.verbose(_("{} raw areas smaller than {} dropped").format(raw.dropped, config.min_area))
-    gt_points = grassio.read_points(options["gt_points"])[0] if options["gt_points"] else None
-    gt_polygons = None
-    if options["gt_polygons"]:
-        gt_polygons = grassio.read_features(options["gt_polygons"], "area")[0]
-
-    methods = ", ".join(config.methods)
-    gs.message(_("Generalising {} plots ({})...").format(len(raw.polygons), methods))
-    result = generalize.generalize_map(raw, config, gt_points, gt_polygons)
-    report = result.report
-    for step, count in report.fallbacks.items():
-        gs.warning(_("Step {}: {} plots needed a fallback method (see column '{}')").format(
-            step, count, generalize.METHOD))
+    inputs = generalize.GeneralizeInputs(
+        geometries=geoms, source_map=source_map,
+        cats=columns["cat"] if options["input"] else None,
+        gt_points=grassio.read_points(options["gt_points"])[0] if options["gt_points"] else None,
+        gt_polygons=(grassio.read_features(options["gt_polygons"], "area")[0]
+                     if options["gt_polygons"] else None),
+        say=grassio.say)
+    result = generalize.run(inputs, config)
 
     grassio.write_features(options["output"], result.plots, result.columns,
-                           title="Generalised building plots ({})".format(methods))
+                           title="Generalised building plots ({})".format(
+                               ", ".join(config.methods)))
     with grassio.doing("writing the history of <{}>".format(options["output"])):
         gs.vector_history(options["output"])
     if options["metrics"]:
         with grassio.doing("writing the metrics file"):
-            report.write_metrics_csv(options["metrics"])
+            result.report.write_metrics_csv(options["metrics"])
     if options["report"]:
         with grassio.doing("writing the report file"):
-            report.write_json(options["report"])
-    scalars = report.scalars()
-    if flags["g"]:
-        for key, value in scalars.items():
-            print("{}={}".format(key, "" if value is None else value))
-    else:
-        gs.message(", ".join("{} {}".format(k, round(v, 4) if isinstance(v, float) else v)
-                             for k, v in scalars.items()))
+            result.report.write_json(options["report"])
+    if config.shell:
+        for line in generalize.shell_figures(result):
+            print(line)
+    grassio.say(generalize.report(result, config))
     return 0
 
 

@@ -111,7 +111,8 @@ def test_synthetic_map_buildings_found_one_area_per_plot(syn):
     assert gs.raster_info("segs")["max"] > 100
 
     areas = _building_areas("cls")
-    precision, recall, f_score = point_detection_scores(areas, syn.smap.gt_points)
+    scores = point_detection_scores(areas, syn.smap.gt_points)
+    precision, recall, f_score = scores.precision, scores.recall, scores.f_score
     print("synthetic: P {:.3f} R {:.3f} F {:.3f}, {} areas for {} plots".format(
         precision, recall, f_score, len(areas), len(syn.smap.plots)))
     assert f_score >= 0.97
@@ -126,7 +127,8 @@ def test_synthetic_map_out_of_the_box(syn):
 
     _run(syn, remove="2,6", nprocs=2)
     areas = _building_areas("cls")
-    precision, recall, f_score = point_detection_scores(areas, syn.smap.gt_points)
+    scores = point_detection_scores(areas, syn.smap.gt_points)
+    precision, recall, f_score = scores.precision, scores.recall, scores.f_score
     print("synthetic, defaults and remove=2,6: P {:.3f} R {:.3f} F {:.3f}, {} areas for {} plots"
           .format(precision, recall, f_score, len(areas), len(syn.smap.plots)))
     assert f_score >= 0.97
@@ -314,7 +316,8 @@ def _delft_scores(inputs, gt, training="training_points_delft_1961", **options):
     gs.run_command(MODULE, input=inputs, training=training, output="cls", nprocs=2, seed=1,
                    quiet=True, overwrite=True, **options)
     areas = _building_areas("cls")
-    return point_detection_scores(areas, gt), len(areas)
+    scores = point_detection_scores(areas, gt)
+    return (scores.precision, scores.recall, scores.f_score), len(areas)
 
 
 def two_thirds_of_each_class(labels, seed):

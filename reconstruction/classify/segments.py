@@ -20,7 +20,7 @@ Arrays are (rows, cols); a segment array holds integer ids with ``0`` (or any
 value <= 0) for no data. Nothing here imports GRASS.
 """
 
-from collections import namedtuple
+from dataclasses import dataclass
 
 import numpy as np
 from scipy import ndimage
@@ -32,7 +32,18 @@ CLASSIFIERS = ("rf", "knn", "svm")
 #: Feature groups a classification can use: band statistics, size, shape indices.
 FEATURE_GROUPS = ("spectral", "size", "shape")
 
-TuningResult = namedtuple("TuningResult", "vw moran vw_norm moran_norm f best")
+
+@dataclass(frozen=True)
+class TuningResult:
+    """The tried pairs' criteria (arrays, one value per pair): VW, Moran's I,
+    both normalised, the F-function; ``best`` the index of the chosen pair."""
+
+    vw: np.ndarray
+    moran: np.ndarray
+    vw_norm: np.ndarray
+    moran_norm: np.ndarray
+    f: np.ndarray
+    best: int
 
 
 # ---------------------------------------------------------------------------

@@ -1,7 +1,9 @@
 """The r.histo.classify stage as one entry point: from map bands and training
 points to a classified raster.
 
-- :func:`read_config`: the module's options as a :class:`ClassifyConfig`;
+- the options are read by :func:`reconstruction.classify.config.read_config`
+  (a :class:`~reconstruction.classify.config.ClassifyConfig`), the whole
+  sequence run by :func:`reconstruction.classify.pipeline.run`;
 - :func:`read_training`: the training points checked and located on the
   grid (:class:`Training`);
 - :func:`classify_map`: chooses the segmentation among the tried parameter
@@ -10,22 +12,21 @@ points to a classified raster.
   themselves come from the caller (the module runs i.segment), so that this
   stays pure: an iterable of finished runs and a function that reads one;
 - :func:`category_rules`, :func:`colour_rules`, :func:`tuning_table`: the
-  texts the module writes and prints.
+  texts the module writes and prints (its messages:
+  :mod:`reconstruction.classify.report`).
 
 Bad input raises :class:`~reconstruction.core.errors.InputError` with the message
 a user should read.
 """
 
 import time
-from dataclasses import dataclass, field
-from typing import Optional
+from dataclasses import dataclass, field, replace
+from typing import Optional, Union
 
 import numpy as np
 
 from ..core.errors import InputError
-from ..core.options import parse_list, parse_number, parse_range, processes
-from ..core.work_limits import check_segmentations
-from ..geom.grid import Grid  # noqa: F401 (the grid of the stage: Grid.from_region(None, region))
+from ..geom.grid import Grid
 from . import segments as cl
 
 # Colours of the classes: by class name where it is a usual one, otherwise
@@ -38,37 +39,6 @@ NAMED_COLOURS = {
 }
 PALETTE = ("230:80:80", "40:40:40", "60:120:220", "235:235:225", "240:160:40", "150:60:170",
            "90:170:80", "200:200:60", "120:200:220", "170:110:70")
-
-
-@dataclass(frozen=True)
-class ClassifyConfig:
-    """What r.histo.classify does: parameter pairs to try, classifiers, removal.
-
-    Sizes: ``min_area`` in square map units, ``min_width`` in map units,
-    ``window`` in cells (odd). None for ``window``, ``min_area`` or
-    ``min_width``: derived from the data when something is removed
-    (:func:`removal_rule`).
-    """
-
-    thresholds: tuple
-    minsizes: tuple
-    alpha: float = 1.0
-    classifiers: tuple = cl.CLASSIFIERS
-    features: tuple = ("spectral", "size")
-    remove: tuple = ()
-    window: Optional[int] = None
-    iterations: Optional[int] = None
-    min_area: Optional[float] = None
-    min_width: Optional[float] = None
-    separate: tuple = ()
-    seed: int = 1
-    nprocs: int = 1
-    memory: int = 300
-
-    @property
-    def pairs(self):
-        """The (threshold, minsize) pairs to try, thresholds first."""
-        return [(t, m) for t in self.thresholds for m in self.minsizes]
 
 
 @dataclass(frozen=True)
@@ -86,81 +56,42 @@ class Training:
         return sorted(set(self.labels.tolist()))
 
 
-@dataclass
+@dataclass(frozen=True)
 class ClassifyResult:
     """Result of :func:`classify_map`.
 
     classes: the class raster (labels of the training points, 0 = no data);
     pairs, criteria: the tried (threshold, minsize) pairs and their (VW, Moran's I);
     tuning: the :class:`~reconstruction.classify.segments.TuningResult` of the pairs;
-    chosen: the caller's id of the chosen segmentation (the others are the caller's to drop);
-    segments: the number of segments of the chosen one; window: the refill window
-    used (None when nothing was removed); present: the labels kept; rule: the
-    :class:`RemovalRule` applied (None when nothing was cleaned);
-    timing: (step, seconds) pairs.
+    chosen: the chosen segmentation: the caller's id of it (the others are the
+    caller's to drop), or its segment array of the whole map (tiled), or None
+    (tiled, segments not kept); segments: the number of segments of the chosen
+    one; window: the refill window used (None when nothing was removed);
+    present: the labels kept; rule: the :class:`RemovalRule` applied (None when
+    nothing was cleaned); timing: (step, seconds) pairs; names: the class names
+    of the training points by label; grid: the grid classified.
     """
 
     classes: np.ndarray
     pairs: list
-    criteria: list
+    criteria: Optional[list]
     tuning: cl.TuningResult
-    chosen: object
+    chosen: Union[str, np.ndarray, None]
     segments: int
     window: Optional[int]
     present: list
     rule: Optional["RemovalRule"] = None
     timing: list = field(default_factory=list)
+    names: dict = field(default_factory=dict)
+    grid: Optional[Grid] = None
 
     @property
     def best_pair(self):
         return self.pairs[self.tuning.best]
 
-
-def read_config(options):
-    """The options of r.histo.classify (a dict of option texts) as a :class:`ClassifyConfig`."""
-    low_t, high_t = parse_range(options["threshold"], "threshold", float)
-    low_m, high_m = parse_range(options["minsize"], "minsize", int)
-    t_step = parse_number(options["threshold_step"], "threshold_step", float, minimum=0,
-                          allow_minimum=False)
-    m_step = parse_number(options["minsize_step"], "minsize_step", int, minimum=0,
-                          allow_minimum=False)
-    if not (0 < low_t and high_t < 1):
-        raise InputError("Thresholds must lie between 0 and 1, got {}-{}".format(low_t, high_t))
-    if low_m < 1:
-        raise InputError("Minimum sizes must be at least 1 cell, got {}".format(low_m))
-    check_segmentations((low_t, high_t), t_step, (low_m, high_m), m_step)
-    thresholds = cl.parameter_values(low_t, high_t, t_step)
-    minsizes = [int(v) for v in cl.parameter_values(low_m, high_m, m_step, 0)]
-    classifiers = parse_list(options["classifiers"])
-    if len(set(classifiers)) != len(classifiers):
-        raise InputError("Option classifiers= lists a classifier twice")
-    window = None
-    if options["window"]:
-        window = parse_number(options["window"], "window", int)
-        if window < 1 or window % 2 == 0:
-            raise InputError("Option window= must be a positive odd number, got {}".format(window))
-    iterations = None
-    if options["iterations"]:
-        iterations = parse_number(options["iterations"], "iterations", int, minimum=1)
-    return ClassifyConfig(
-        thresholds=tuple(thresholds), minsizes=tuple(minsizes),
-        alpha=parse_number(options["alpha"], "alpha"),
-        classifiers=tuple(classifiers), features=tuple(parse_list(options["features"])),
-        remove=tuple(parse_list(options["remove"], int, key="remove")),
-        window=window, iterations=iterations,
-        min_area=_optional_number(options["min_area"], "min_area"),
-        min_width=_optional_number(options["min_width"], "min_width"),
-        separate=tuple(parse_list(options["separate"], int, key="separate")),
-        seed=parse_number(options["seed"], "seed", int),
-        nprocs=processes(options["nprocs"]),
-        memory=parse_number(options.get("memory") or 300, "memory", int, minimum=1))
-
-
-def _optional_number(text, key):
-    """A non-negative number, or None when the option is not given."""
-    if text in (None, ""):
-        return None
-    return parse_number(text, key, minimum=0)
+    def timed(self, step, seconds):
+        """This result with ``(step, seconds)`` added to its timing."""
+        return replace(self, timing=self.timing + [(step, seconds)])
 
 
 def segmentation_chains(pairs, exhaustive=False):
@@ -290,7 +221,8 @@ def classify_map(bands, segmentations, read_segments, training, config, grid,
     return ClassifyResult(
         classes=classes, pairs=pairs, criteria=criteria, tuning=tuning, chosen=ids[best],
         segments=n_segments, window=rule.window if rule else None, rule=rule,
-        present=[c for c in training.classes if c not in config.remove], timing=timing)
+        present=[c for c in training.classes if c not in config.remove], timing=timing,
+        names=training.names, grid=grid)
 
 
 #: Width (cells) below which parts of a class are refilled by default: the mixed
@@ -365,28 +297,6 @@ def _remove(classes, config, grid):
     out, _window = cl.remove_classes(classes, config.remove, rule.window, config.iterations,
                                      rule.min_cells, rule.width_cells, config.separate)
     return out, rule
-
-
-def rule_message(rule, config, grid):
-    """What the cleaning did, in map units, for the module's message."""
-    if rule is None:
-        return None
-    cell_area = grid.nsres * grid.ewres
-    resolution = min(grid.nsres, grid.ewres)
-
-    def how(name):
-        return " (derived)" if name in rule.derived else ""
-
-    parts = []
-    if config.remove:
-        parts.append("removed classes {} with a {}x{} moving window{}".format(
-            ",".join(map(str, config.remove)), rule.window, rule.window, how("window")))
-    parts.append("minimum mapping unit {:g} square map units{}".format(
-        round(rule.min_cells * cell_area, 2), how("min_area")))
-    parts.append("minimum width {:g} map units{}".format(
-        round(rule.width_cells * resolution, 2), how("min_width")))
-    text = "; ".join(parts)
-    return text[0].upper() + text[1:]
 
 
 def tuning_table(result):

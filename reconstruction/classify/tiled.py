@@ -148,4 +148,5 @@ def classify_tiles(tiles, read_bands, read_segments, training, config, grid, pai
     return ClassifyResult(
         classes=classes, pairs=pairs, criteria=None, tuning=tuning, chosen=segment_ids,
         segments=n_segments, window=rule.window if rule else None, rule=rule,
-        present=[c for c in training.classes if c not in config.remove], timing=timing)
+        present=[c for c in training.classes if c not in config.remove], timing=timing,
+        names=training.names, grid=grid)

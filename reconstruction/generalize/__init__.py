@@ -6,13 +6,28 @@ fitted along their edges and joined at right angles (buffered lines,
 Commandeur 2012); their shape metrics are measured after each step and
 their accuracy against ground truth points and polygons.
 
-- ``stage``: the stage's entry point (:func:`generalize_map`);
+The module script reads its options with :func:`read_config` (a
+:class:`GeneralizeConfig`), puts the maps it read into
+:class:`GeneralizeInputs`, calls :func:`run` (a :class:`GeneralizedPlots`),
+writes the plots and files and prints :func:`report`.
+
+- ``config``: the options as a :class:`GeneralizeConfig`;
+- ``pipeline``: the whole sequence (:func:`run`);
+- ``stage``: raw plots (:func:`raw_plots`), their generalisation, metrics
+  and scores (:func:`generalize_map`) and its records;
 - ``operators``: alpha shapes, buffered lines, simplification, overlaps;
 - ``shape_metrics``: shape metrics and turning-function distances;
-- ``assessment``: precision, recall and F-score against ground truth.
+- ``assessment``: precision, recall and F-score against ground truth;
+- ``report``: the messages after the run (:func:`report`, :func:`shell_figures`).
 """
 
-from . import assessment, operators, shape_metrics, stage
-from .stage import generalize_map
+from . import assessment, config, operators, pipeline, shape_metrics, stage
+from .config import GeneralizeConfig, read_config
+from .pipeline import GeneralizeInputs, run
+from .report import report, shell_figures
+from .stage import GeneralizedPlots, GeneralizeReport, RawPlots, generalize_map, raw_plots
 
-__all__ = ["assessment", "generalize_map", "operators", "shape_metrics", "stage"]
+__all__ = ["GeneralizeConfig", "GeneralizeInputs", "GeneralizeReport", "GeneralizedPlots",
+           "RawPlots", "assessment", "config", "generalize_map", "operators", "pipeline",
+           "raw_plots", "read_config", "report", "run", "shape_metrics", "shell_figures",
+           "stage"]

@@ -4,13 +4,19 @@ Pure functions over shapely geometries and numpy arrays, shared by the
 modules that report quality figures (r.histo.classify, v.histo.generalize).
 """
 
-from collections import namedtuple
+from dataclasses import dataclass
 
 import numpy as np
 import shapely
 
-DetectionScores = namedtuple("DetectionScores", "precision recall f_score")
-DetectionScores.__doc__ = """Point-based detection scores (each in [0, 1])."""
+
+@dataclass(frozen=True)
+class DetectionScores:
+    """Point-based detection scores (each in [0, 1])."""
+
+    precision: float
+    recall: float
+    f_score: float
 
 
 def _points_array(points):
@@ -60,7 +66,7 @@ def point_detection_scores(polygons, points):
 
     ``polygons`` is a sequence of shapely (Multi)Polygons; ``points`` a
     sequence of shapely Points or an (n, 2) array of coordinates. Returns a
-    :class:`DetectionScores` ``(precision, recall, f_score)``; precision is 0
+    :class:`DetectionScores` (``precision``, ``recall``, ``f_score``); precision is 0
     without polygons, recall 0 without points.
     """
     hits = point_hits(polygons, points)

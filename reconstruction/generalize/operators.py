@@ -36,7 +36,7 @@ coverage: plots may share boundaries, never overlap.
 """
 
 import math
-from collections import namedtuple
+from dataclasses import dataclass
 
 import numpy as np
 import shapely
@@ -59,15 +59,22 @@ CLEAN = 0.05
 METHODS = ("alpha", "lines", "simplify", "douglas")
 SAMPLINGS = ("regular", "hexagonal", "stratified", "random")
 
-Generalization = namedtuple("Generalization", "plots methods steps fallbacks")
-Generalization.__doc__ = """Result of :func:`generalize_plots`.
 
-plots: list of shapely Polygons, one per input plot, in input order;
-methods: per plot, the methods used joined by ``+`` (e.g. ``alpha/regular+lines``);
-steps: list of ``(step name, list of polygons)`` after each method step
-(the first is ``("raw", inputs)``), for the per-step metrics;
-fallbacks: dict step -> number of plots that needed a fallback there.
-"""
+@dataclass(frozen=True)
+class Generalization:
+    """Result of :func:`generalize_plots`.
+
+    plots: list of shapely Polygons, one per input plot, in input order;
+    methods: per plot, the methods used joined by ``+`` (e.g. ``alpha/regular+lines``);
+    steps: list of ``(step name, list of polygons)`` after each method step
+    (the first is ``("raw", inputs)``), for the per-step metrics;
+    fallbacks: dict step -> number of plots that needed a fallback there.
+    """
+
+    plots: list
+    methods: list
+    steps: list
+    fallbacks: dict
 
 
 # ---------------------------------------------------------------------------

@@ -1,7 +1,9 @@
 """The v.histo.generalize stage as one entry point: from raw plot areas to
 generalised plots, their attribute columns and the assessment report.
 
-- :func:`read_config`: the module's options as a :class:`GeneralizeConfig`;
+- the options are read by :func:`reconstruction.generalize.config.read_config`
+  (a :class:`~reconstruction.generalize.config.GeneralizeConfig`), the whole
+  sequence run by :func:`reconstruction.generalize.pipeline.run`;
 - :func:`raw_plots`: the raw areas as single polygons, small ones dropped
   (:class:`RawPlots`);
 - :func:`generalize_map`: generalises them (:mod:`reconstruction.generalize.operators`),
@@ -21,7 +23,6 @@ from typing import Optional
 
 from ..core import safefile
 from ..core.errors import InputError
-from ..core.options import parse_list, parse_number
 from ..core.work_limits import check_alpha
 from . import assessment
 from . import operators as generalization
@@ -33,35 +34,6 @@ from . import shape_metrics
 RAW_CATEGORY = "source"
 #: column of the output plots: the methods used, joined by "+"
 METHOD = "method"
-
-
-@dataclass(frozen=True)
-class GeneralizeConfig:
-    """The steps of v.histo.generalize and their parameters (map units, degrees)."""
-
-    methods: tuple = ("alpha", "lines")
-    alpha: float = 12.0
-    distance: float = 5.0
-    angle: float = 180.0
-    orthogonal: bool = False
-    tolerance: float = 1.0
-    min_area: float = 20.0
-    gt_buffer: float = 2.0
-    seed: int = 1
-
-
-def read_config(options, flags):
-    """The options and flags of v.histo.generalize (dicts of texts) as a :class:`GeneralizeConfig`."""
-    def positive(key, allow_zero=False):
-        return parse_number(options[key], key, minimum=0, allow_minimum=allow_zero)
-
-    return GeneralizeConfig(
-        methods=tuple(parse_list(options["method"])),
-        alpha=positive("alpha"), distance=positive("distance"),
-        angle=parse_number(options["angle"], "angle", minimum=0, maximum=180),
-        orthogonal=bool(flags["r"]), tolerance=positive("tolerance"),
-        min_area=positive("min_area", allow_zero=True), gt_buffer=positive("gt_buffer"),
-        seed=parse_number(options["seed"], "seed", int))
 
 
 @dataclass(frozen=True)

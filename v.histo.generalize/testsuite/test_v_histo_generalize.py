@@ -87,7 +87,8 @@ def test_synthetic_plots_one_per_plot_with_metrics_and_scores(synthetic, mapset,
     with open(report) as f:
         rep = json.load(f)
     xy = synthetic.smap.gt_points
-    p, r, fscore = assessment.point_detection_scores(geoms, xy)
+    scores = assessment.point_detection_scores(geoms, xy)
+    p, r, fscore = scores.precision, scores.recall, scores.f_score
     assert float(figures["precision"]) == pytest.approx(p)
     assert float(figures["recall"]) == pytest.approx(r)
     assert rep["f_score"] == pytest.approx(fscore)
@@ -393,5 +394,6 @@ def test_acceptance_delft_1961_after_r_histo_classify(mapset, shared_data, tmp_p
     assert float(figures["precision"]) == pytest.approx(scores.precision)
     assert float(figures["recall"]) == pytest.approx(scores.recall)
     assert float(figures["f_score"]) == pytest.approx(scores.f_score)
-    print("after r.histo.classify: precision {:.3f}, recall {:.3f}, F {:.3f}".format(*scores))
+    print("after r.histo.classify: precision {:.3f}, recall {:.3f}, F {:.3f}".format(
+        scores.precision, scores.recall, scores.f_score))
     assert scores.f_score >= 0.95

@@ -1,68 +1,24 @@
-"""The r.histo.classify stage (reconstruction.classify.stage): options, training, the
-whole classification on small arrays (no GRASS needed)."""
+"""The r.histo.classify stage (reconstruction.classify.stage, .pipeline): training, the
+whole classification on small arrays (no GRASS needed). Its options: test_config.py."""
 
 import numpy as np
 import pytest
 
+from reconstruction.classify import pipeline
 from reconstruction.classify import stage as classify
+from reconstruction.classify.config import read_config
+from reconstruction.classify.report import rule_message
 from reconstruction.core.errors import InputError
 
 #: the module's option texts with their defaults (as g.parser gives them)
-DEFAULTS = {"threshold": "0.07,0.10", "threshold_step": "0.01", "minsize": "7,10",
-            "minsize_step": "1", "alpha": "1", "classifiers": "rf,knn,svm",
+DEFAULTS = {"input": "r,g,b", "threshold": "0.07,0.10", "threshold_step": "0.01",
+            "minsize": "7,10", "minsize_step": "1", "alpha": "1", "classifiers": "rf,knn,svm",
             "features": "spectral,size", "remove": "", "window": "", "iterations": "",
             "min_area": "", "min_width": "", "separate": "", "seed": "1", "nprocs": "1"}
 
 
 def options(**changes):
     return dict(DEFAULTS, **changes)
-
-
-def test_default_options_give_the_module_defaults():
-    config = classify.read_config(options())
-    assert config.thresholds == (0.07, 0.08, 0.09, 0.1)
-    assert config.minsizes == (7, 8, 9, 10)
-    assert len(config.pairs) == 16 and config.pairs[:2] == [(0.07, 7), (0.07, 8)]
-    assert config.classifiers == ("rf", "knn", "svm")
-    assert config.features == ("spectral", "size")
-    assert config.remove == () and config.window is None and config.iterations is None
-    assert config.nprocs == 1 and config.seed == 1
-
-
-def test_nprocs_has_the_grass_meaning():
-    import os
-
-    cores = os.cpu_count() or 1
-    assert classify.read_config(options(nprocs="2")).nprocs == 2
-    assert classify.read_config(options(nprocs="0")).nprocs == cores
-    assert classify.read_config(options(nprocs="-1")).nprocs == max(1, cores - 1)
-
-
-def test_options_read_into_the_config():
-    config = classify.read_config(options(threshold="0.05", minsize="5,9", minsize_step="2",
-                                          remove="2, 6", separate="1", window="5",
-                                          iterations="3", min_area="200", min_width="1.5"))
-    assert config.pairs == [(0.05, 5), (0.05, 7), (0.05, 9)]
-    assert config.remove == (2, 6) and config.separate == (1,)
-    assert (config.window, config.iterations, config.min_area, config.min_width) == (5, 3, 200, 1.5)
-
-
-@pytest.mark.parametrize("changes,message", [
-    ({"threshold": "0.1,0.05"}, "above the maximum"),
-    ({"threshold": "0,0.5"}, "between 0 and 1"),
-    ({"minsize": "0,3"}, "at least 1 cell"),
-    ({"minsize": "a,3"}, "minsize="),
-    ({"threshold_step": "0"}, "threshold_step="),
-    ({"classifiers": "rf,rf"}, "twice"),
-    ({"window": "4"}, "positive odd number"),
-    ({"iterations": "0"}, "iterations="),
-    ({"min_area": "-1"}, "min_area="),
-    ({"min_width": "-1"}, "min_width="),
-    ({"remove": "2,x"}, "remove="),
-])
-def test_bad_options_are_refused_with_the_option_named(changes, message):
-    with pytest.raises(InputError, match=message):
-        classify.read_config(options(**changes))
 
 
 GRID = classify.Grid(None, north=10.0, west=0.0, nsres=1.0, ewres=1.0, size=(10, 10))
@@ -77,13 +33,13 @@ def _points(*labels):
 
 def test_training_points_located_with_their_class_names():
     xy, columns = _points(1, 2, 2.0)
-    training = classify.read_training(xy, columns, "label", "class", classify.read_config(options()),
+    training = classify.read_training(xy, columns, "label", "class", read_config(options()),
                                       GRID)
     assert training.labels.tolist() == [1, 2, 2] and training.classes == [1, 2]
     assert training.names == {1: "building", 2: "street"}
     assert training.rows.tolist() == [0, 1, 2] and training.cols.tolist() == [0, 1, 2]
     # no class column: no names
-    assert classify.read_training(xy, columns, "label", "", classify.read_config(options()),
+    assert classify.read_training(xy, columns, "label", "", read_config(options()),
                                   GRID).names == {}
 
 
@@ -101,14 +57,14 @@ def test_bad_training_points_are_refused(labels, column, changes, message):
     xy, columns = _points(*labels)
     with pytest.raises(InputError) as error:
         classify.read_training(xy, columns, column, "class",
-                               classify.read_config(options(**changes)), GRID, "train")
+                               read_config(options(**changes)), GRID, "train")
     assert message in str(error.value)
 
 
 def test_training_points_outside_the_grid_and_no_points_are_refused():
     xy, columns = _points(1, 2)
     xy[1] = [50, 50]
-    config = classify.read_config(options())
+    config = read_config(options())
     with pytest.raises(InputError, match="1 of 2 training points lie outside"):
         classify.read_training(xy, columns, "label", "class", config, GRID)
     with pytest.raises(InputError, match="has no points"):
@@ -132,7 +88,7 @@ def _map():
 
 def test_classify_map_chooses_the_segmentation_classifies_and_removes():
     bands, segmentations, xy, columns = _map()
-    config = classify.read_config(options(threshold="0.1,0.2", threshold_step="0.1",
+    config = read_config(options(threshold="0.1,0.2", threshold_step="0.1",
                                           minsize="1,1", remove="3", classifiers="rf,knn"))
     training = classify.read_training(xy, columns, "label", "class", config, GRID)
     said, detail = [], []
@@ -157,7 +113,7 @@ def test_classify_map_refuses_training_points_on_no_data():
     bands, segmentations, xy, columns = _map()
     bands[1] = bands[1].copy()
     bands[1][3, 3] = np.nan  # under the building point
-    config = classify.read_config(options(threshold="0.1", minsize="1"))
+    config = read_config(options(threshold="0.1", minsize="1"))
     training = classify.read_training(xy, columns, "label", "class", config, GRID)
     with pytest.raises(InputError, match="no-data cells"):
         classify.classify_map(bands, [(0, "good")], segmentations.get, training, config, GRID)
@@ -172,27 +128,64 @@ def test_category_and_colour_rules():
 
 def test_removal_rule_derives_what_is_not_given_from_the_removed_objects():
     grid = classify.Grid(None, 100.0, 0.0, 0.5, 0.5, (10, 10))
-    rule = classify.removal_rule(15.0, classify.read_config(options(remove="2")), grid)
+    rule = classify.removal_rule(15.0, read_config(options(remove="2")), grid)
     # window thickness / 2 + 1, odd; a 15 x 15 cells minimum mapping unit; 3-cell fringes
     assert (rule.window, rule.min_cells, rule.width_cells) == (9, 225, 3)
     assert rule.derived == ("window", "min_area", "min_width")
-    assert classify.rule_message(rule, classify.read_config(options(remove="2")), grid) == (
+    assert rule_message(rule, read_config(options(remove="2")), grid) == (
         "Removed classes 2 with a 9x9 moving window (derived); minimum mapping unit 56.25 "
         "square map units (derived); minimum width 1.5 map units (derived)")
     # explicit values win, 0 turns a rule off
-    config = classify.read_config(options(remove="2", window="5", min_area="10", min_width="0"))
+    config = read_config(options(remove="2", window="5", min_area="10", min_width="0"))
     rule = classify.removal_rule(15.0, config, grid)
     assert (rule.window, rule.min_cells, rule.width_cells, rule.derived) == (5, 40, 0, ())
     # nothing removed: only what is given applies
-    rule = classify.removal_rule(0.0, classify.read_config(options()), grid)
+    rule = classify.removal_rule(0.0, read_config(options()), grid)
     assert (rule.min_cells, rule.width_cells) == (0, 0) and not rule.active(())
-    rule = classify.removal_rule(0.0, classify.read_config(options(min_area="1")), grid)
+    rule = classify.removal_rule(0.0, read_config(options(min_area="1")), grid)
     assert rule.min_cells == 4 and rule.active(())
 
 
 def test_segmentation_chains_grow_once_per_threshold():
-    pairs = classify.read_config(options(threshold="0.1,0.2", threshold_step="0.1",
+    pairs = read_config(options(threshold="0.1,0.2", threshold_step="0.1",
                                          minsize="3,5", minsize_step="2")).pairs
     assert pairs == [(0.1, 3), (0.1, 5), (0.2, 3), (0.2, 5)]
     assert classify.segmentation_chains(pairs) == [[(0, None), (1, 0)], [(2, None), (3, 2)]]
     assert classify.segmentation_chains(pairs, exhaustive=True) == [[(i, None)] for i in range(4)]
+
+
+def _inputs(bands, segmentations, xy, columns, said):
+    return pipeline.ClassifyInputs(
+        grid=GRID, training_xy=xy, training_columns=columns, training_map="train",
+        read_bands=lambda tile: bands if tile is None else None,
+        read_segments=lambda name, tile: segmentations[name] if tile is None else None,
+        segment=lambda chains: (run for run in [(1, "bad"), (0, "good")]),
+        window_criteria=None, segment_tiles=None, say=said.extend)
+
+
+def test_run_classifies_a_map_of_one_tile_whole_and_says_what_it_does():
+    bands, segmentations, xy, columns = _map()
+    config = read_config(options(threshold="0.1,0.2", threshold_step="0.1", minsize="1,1",
+                                 remove="3", classifiers="rf,knn"))
+    said = []
+    result = pipeline.run(_inputs(bands, segmentations, xy, columns, said), config)
+    direct = classify.classify_map(bands, [(1, "bad"), (0, "good")], segmentations.get,
+                                   classify.read_training(xy, columns, "label", "class", config,
+                                                          GRID),
+                                   config, GRID)
+    assert result.chosen == "good" and result.classes.tolist() == direct.classes.tolist()
+    assert result.names == {1: "building", 2: "street", 3: "text"} and result.grid == GRID
+    assert [(m.level, m.text[:22]) for m in said] == [
+        ("message", "Segmenting with 2 para"), ("verbose", "threshold=0.2 minsize="),
+        ("verbose", "threshold=0.1 minsize="), ("message", "Chosen segmentation: t"),
+        ("message", "Classifying 3 segments")]
+    assert said[0].text == "Segmenting with 2 parameter pairs..."
+    assert [step for step, _ in result.timed("output", 1.0).timing] == [
+        "segmentation", "classification", "removal", "output"]
+
+
+def test_run_checks_the_training_points_first():
+    bands, segmentations, xy, columns = _map()
+    with pytest.raises(InputError, match="has no column <code>"):
+        pipeline.run(_inputs(bands, segmentations, xy, columns, []),
+                     read_config(dict(options(), label_column="code")))

@@ -5,8 +5,8 @@ import pytest
 from shapely.geometry import box
 
 from reconstruction.align import stage as alignment
-from reconstruction.classify import stage as classify
-from reconstruction.generalize import stage as generalize
+from reconstruction.classify import config as classify
+from reconstruction import generalize
 from reconstruction.lod2.solids import build as solids
 from reconstruction.subdivide import stage as subdivision
 from reconstruction.core import work_limits
@@ -62,7 +62,8 @@ def classify_options(**changes):
     base = {"threshold": "0.07,0.10", "threshold_step": "0.01", "minsize": "7,10",
             "minsize_step": "1", "alpha": "1", "classifiers": "rf,knn,svm",
             "features": "spectral,size", "remove": "", "window": "", "iterations": "",
-            "min_area": "0", "min_width": "0", "separate": "", "seed": "1", "nprocs": "1"}
+            "min_area": "0", "min_width": "0", "separate": "", "seed": "1", "nprocs": "1",
+            "input": "r,g,b"}
     base.update(changes)
     return base
 

@@ -6,14 +6,15 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from shapely.geometry import MultiPolygon, Point, Polygon, box
 
-from reconstruction.generalize.assessment import point_detection_scores, point_hits
+from reconstruction.generalize.assessment import DetectionScores, point_detection_scores, point_hits
 
 
 def test_scores_count_polygons_with_points_and_points_in_polygons():
     polygons = [box(0, 0, 10, 10), box(20, 0, 30, 10), box(40, 0, 50, 10), box(60, 0, 70, 10)]
     # two points in the first plot, one in the second, one outside everything
     points = [(1, 1), (9, 9), (25, 5), (100, 100)]
-    p, r, f = point_detection_scores(polygons, points)
+    scores = point_detection_scores(polygons, points)
+    p, r, f = scores.precision, scores.recall, scores.f_score
     assert p == pytest.approx(2 / 4)
     assert r == pytest.approx(3 / 4)
     assert f == pytest.approx(2 * 0.5 * 0.75 / 1.25)
@@ -34,9 +35,9 @@ def test_holes_and_multipolygons():
 
 
 def test_empty_inputs_score_zero():
-    assert point_detection_scores([], [(0, 0)]) == (0.0, 0.0, 0.0)
-    assert point_detection_scores([box(0, 0, 1, 1)], []) == (0.0, 0.0, 0.0)
-    assert point_detection_scores([None, Polygon()], np.empty((0, 2))) == (0.0, 0.0, 0.0)
+    assert point_detection_scores([], [(0, 0)]) == DetectionScores(0.0, 0.0, 0.0)
+    assert point_detection_scores([box(0, 0, 1, 1)], []) == DetectionScores(0.0, 0.0, 0.0)
+    assert point_detection_scores([None, Polygon()], np.empty((0, 2))) == DetectionScores(0.0, 0.0, 0.0)
 
 
 @settings(max_examples=40, deadline=None)
@@ -44,7 +45,8 @@ def test_empty_inputs_score_zero():
        st.lists(st.tuples(st.floats(-5, 105), st.floats(-5, 105)), min_size=1, max_size=20))
 def test_scores_within_bounds_and_f_between(corners, points):
     polygons = [box(5 * i, 5 * j, 5 * i + 4, 5 * j + 4) for i, j in corners]
-    p, r, f = point_detection_scores(polygons, points)
+    scores = point_detection_scores(polygons, points)
+    p, r, f = scores.precision, scores.recall, scores.f_score
     assert 0 <= p <= 1 and 0 <= r <= 1
     assert min(p, r) - 1e-12 <= f <= max(p, r) + 1e-12
     # a point in every polygon gives precision 1

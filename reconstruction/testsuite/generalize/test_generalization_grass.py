@@ -178,7 +178,7 @@ def test_round_trip_property_every_plot_valid_after_v_out_ogr(mapset, tmp_path, 
     main()) reads back valid through v.out.ogr and through grassio."""
     import grass.script as gs
 
-    from reconstruction.generalize import stage as generalize
+    from reconstruction import generalize
     from reconstruction import grassio
 
     assert all(p.is_valid for p in scene)

@@ -1,5 +1,5 @@
-"""The v.histo.generalize stage (reconstruction.generalize.stage): options, raw plots,
-columns and report (no GRASS needed)."""
+"""The v.histo.generalize stage (reconstruction.generalize.stage, .pipeline): raw plots,
+columns and report figures (no GRASS needed). Its options: test_config.py."""
 
 import csv
 import json
@@ -8,31 +8,9 @@ import numpy as np
 import pytest
 from shapely.geometry import MultiPolygon, Point, box
 
-from reconstruction.generalize import stage as generalize
+from reconstruction import generalize
 from reconstruction.generalize import shape_metrics
 from reconstruction.core.errors import InputError
-
-DEFAULTS = {"method": "alpha,lines", "alpha": "12", "distance": "5", "angle": "180",
-            "tolerance": "1", "min_area": "20", "gt_buffer": "2", "seed": "1"}
-
-
-def options(**changes):
-    return dict(DEFAULTS, **changes)
-
-
-def test_default_options_give_the_default_config():
-    assert generalize.read_config(options(), {"r": False}) == generalize.GeneralizeConfig()
-    config = generalize.read_config(options(method="douglas", min_area="0"), {"r": True})
-    assert config.methods == ("douglas",) and config.min_area == 0 and config.orthogonal
-
-
-@pytest.mark.parametrize("key,value", [("alpha", "0"), ("distance", "-1"), ("tolerance", "0"),
-                                       ("min_area", "-1"), ("gt_buffer", "0"), ("angle", "200"),
-                                       ("angle", "-1"), ("alpha", "x")])
-def test_bad_options_are_refused_with_the_option_named(key, value):
-    with pytest.raises(InputError, match="{}=".format(key)):
-        generalize.read_config(options(**{key: value}), {"r": False})
-
 
 def test_raw_plots_one_per_part_small_ones_dropped():
     geoms = [MultiPolygon([box(0, 0, 10, 10), box(20, 0, 21, 1)]), None, box(0, 20, 10, 30)]
@@ -86,3 +64,28 @@ def test_report_without_ground_truth_has_no_scores():
     assert result.report.points is None and result.report.shapes is None
     assert list(result.report.scalars()) == ["plots", "raw_areas", "dropped_small"]
     assert Point(10, 10).within(result.plots[0])
+
+
+def test_run_drops_small_areas_says_what_it_does_and_generalises():
+    said = []
+    geoms = [box(0, 0, 20, 20), box(30, 0, 31, 1), box(0, 40, 12, 52)]
+    inputs = generalize.GeneralizeInputs(geometries=geoms, source_map="raw", cats=[7, 8, 9],
+                                         gt_points=np.array([[10, 10]]), say=said.extend)
+    config = generalize.GeneralizeConfig(methods=("douglas", "simplify"))
+    result = generalize.run(inputs, config)
+    assert [(m.level, m.text) for m in said] == [
+        ("verbose", "1 raw areas smaller than 20.0 dropped"),
+        ("message", "Generalising 2 plots (douglas, simplify)...")]
+    assert result.columns["source"] == [7, 9] and result.report.points.recall == 1.0
+    direct = generalize.generalize_map(generalize.raw_plots(geoms, 20.0, "raw", cats=[7, 8, 9]),
+                                       config, np.array([[10, 10]]))
+    assert [p.wkb for p in result.plots] == [p.wkb for p in direct.plots]
+
+
+def test_run_says_nothing_dropped_when_nothing_is_and_refuses_no_areas():
+    said = []
+    generalize.run(generalize.GeneralizeInputs([box(0, 0, 20, 20)], "raw", say=said.extend),
+                   generalize.GeneralizeConfig(methods=("douglas",)))
+    assert [m.text for m in said] == ["Generalising 1 plots (douglas)..."]
+    with pytest.raises(InputError, match="No area with a category in <empty>"):
+        generalize.run(generalize.GeneralizeInputs([None], "empty"), generalize.GeneralizeConfig())

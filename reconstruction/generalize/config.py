@@ -1,0 +1,51 @@
+"""v.histo.generalize's options as one record: :class:`GeneralizeConfig`, read
+by :func:`read_config` from the texts g.parser gives (no GRASS needed).
+
+Every option text becomes a value here, through
+:mod:`reconstruction.core.options`; a bad one raises
+:class:`~reconstruction.core.errors.InputError` naming the option.
+"""
+
+from dataclasses import dataclass
+from typing import Optional
+
+from ..core.options import parse_list, parse_number
+
+
+@dataclass(frozen=True)
+class GeneralizeConfig:
+    """The steps of v.histo.generalize and their parameters (map units, degrees).
+
+    ``category``: the building class of raster= (class=; None for input=);
+    ``shell``: flag -g, the figures printed as key=value.
+    """
+
+    methods: tuple = ("alpha", "lines")
+    alpha: float = 12.0
+    distance: float = 5.0
+    angle: float = 180.0
+    orthogonal: bool = False
+    tolerance: float = 1.0
+    min_area: float = 20.0
+    gt_buffer: float = 2.0
+    seed: int = 1
+    category: Optional[int] = None
+    shell: bool = False
+
+
+def read_config(options, flags):
+    """The options and flags of v.histo.generalize (dicts of texts and
+    booleans, as g.parser gives them) as a :class:`GeneralizeConfig`."""
+    def positive(key, allow_zero=False):
+        return parse_number(options[key], key, minimum=0, allow_minimum=allow_zero)
+
+    return GeneralizeConfig(
+        methods=tuple(parse_list(options["method"])),
+        alpha=positive("alpha"), distance=positive("distance"),
+        angle=parse_number(options["angle"], "angle", minimum=0, maximum=180),
+        orthogonal=bool(flags["r"]), tolerance=positive("tolerance"),
+        min_area=positive("min_area", allow_zero=True), gt_buffer=positive("gt_buffer"),
+        seed=parse_number(options["seed"], "seed", int),
+        category=(parse_number(options["class"], "class", int) if options.get("raster")
+                  else None),
+        shell=bool(flags.get("g")))

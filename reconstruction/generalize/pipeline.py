@@ -1,0 +1,54 @@
+"""v.histo.generalize's whole sequence: :func:`run` (``reconstruction.generalize.run``).
+
+The raw areas the module read become single polygons, the small ones
+dropped (:func:`~reconstruction.generalize.stage.raw_plots`); they are
+generalised, measured and scored against the ground truth
+(:func:`~reconstruction.generalize.stage.generalize_map`). The lines printed
+before the work (the areas dropped, the plots about to be generalised) go
+out through ``say`` as they happen; the rest is :func:`~reconstruction.generalize.report.report`'s.
+"""
+
+from dataclasses import dataclass
+from typing import Callable, Optional
+
+import numpy as np
+
+from ..core.messages import note, verbose
+from .config import GeneralizeConfig
+from .stage import GeneralizedPlots, generalize_map, raw_plots
+
+
+def _silent(messages):
+    pass
+
+
+@dataclass(frozen=True)
+class GeneralizeInputs:
+    """What v.histo.generalize read from GRASS.
+
+    ``geometries``: the raw areas of map ``source_map`` (vectorised from
+    raster= or given as input=); ``cats``: their categories (input= only,
+    None for areas vectorised from a raster); ``gt_points``: (n, 2)
+    coordinates of the ground-truth points, ``gt_polygons``: the reference
+    plots (None when not given); ``say(messages)``: prints progress
+    :class:`~reconstruction.core.messages.Message` s as they happen.
+    """
+
+    geometries: list
+    source_map: str
+    cats: Optional[list] = None
+    gt_points: Optional[np.ndarray] = None
+    gt_polygons: Optional[list] = None
+    say: Callable[[list], None] = _silent
+
+
+def run(inputs, config: GeneralizeConfig) -> GeneralizedPlots:
+    """Generalise the raw areas of ``inputs`` as ``config`` says: a
+    :class:`~reconstruction.generalize.stage.GeneralizedPlots`."""
+    raw = raw_plots(inputs.geometries, config.min_area, inputs.source_map, cats=inputs.cats)
+    if raw.dropped:
+        inputs.say([verbose("{} raw areas smaller than {} dropped".format(raw.dropped,
+                                                                          config.min_area))])
+    inputs.say([note("Generalising {} plots ({})...".format(len(raw.polygons),
+                                                            ", ".join(config.methods)))])
+    return generalize_map(raw, config, inputs.gt_points, inputs.gt_polygons)
