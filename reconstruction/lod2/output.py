@@ -30,7 +30,6 @@ from typing import Optional
 import numpy as np
 
 from ..cityjson import existing
-from ..cityjson import geometry as citygeometry
 from ..cityjson import copied as citycopy
 from ..cityjson import merge as citymerge
 from ..cityjson import model as cityjson
@@ -41,9 +40,9 @@ from ..core.errors import InputError
 from ..geom.solidset import semantics, take
 from . import render
 from . import stage as lod2
+from .config import FORMATS, ExistingRequest, OutputRequest  # noqa: F401 (also read here)
 from .heights import height_columns
 from .inputs import AlignedFootprints
-from .config import FORMATS, ExistingRequest, OutputRequest
 from .solids.build import Buildings, build_solids
 
 @dataclass(frozen=True)
