@@ -16,7 +16,8 @@ def model(geoms, types, eaves=9.0, attic=4.0):
     n = len(geoms)
     heights = lod2.Heights(np.full(n, eaves), np.full(n, attic), 0.0, ground_default=0.0)
     requests = lod2.RoofRequests(np.array([types] * n, dtype=object), np.full(n, np.nan))
-    result = lod2.build_model(lod2.Footprints(geoms), heights, requests, lod2.Lod2Config(seed=1))
+    config = lod2.Lod2Config(seed=1)
+    result = lod2.build(lod2.prepare(lod2.Footprints(geoms), heights, requests, config), config)
     return json.loads(lod2.citymodel_text(result, 28992))
 
 

@@ -7,8 +7,21 @@ map's date, and a closed, valid solid built in bulk in numpy; the buildings
 that still stand are copied from a current 3D model; the model is written
 as CityJSON or CityJSONSeq, and drawn.
 
-- ``stage``: the stage's entry point (:func:`build_model`, or
-  :func:`prepare` and :func:`build`);
+The module script's three calls:
+
+- :func:`read_config` (``config``): the options as one frozen
+  :class:`Lod2Config` (roof parameters, height, street and output
+  sub-configs, the existing model to copy from);
+- :func:`run` (``pipeline``): the whole stage on :class:`Lod2Inputs` (the
+  script's readers of GRASS maps), returning a :class:`Lod2Run`;
+- :func:`report` (``report``): the messages of the finished run (each
+  step's messages are printed as it is done), and :func:`validity_lines`
+  the -v report's lines.
+
+The parts:
+
+- ``stage``: :func:`prepare` and :func:`build`, the buildings of footprints
+  with :class:`Heights` and :class:`RoofRequests` (a :class:`Lod2Result`);
 - ``inputs``: reference heights and street edges added to the footprints;
   ``heights``, ``neighbourhood``, ``street_edges``: how they are found;
 - ``outlines``: the rings buildings stand on, and what roofs know of them;
@@ -17,10 +30,16 @@ as CityJSON or CityJSONSeq, and drawn.
   ``render``: its picture.
 """
 
-from . import (groupstats, heights, inputs, neighbourhood, outlines, output, render, roofs,
-               solids, stage, street_edges)
-from .stage import Lod2Config, Lod2Result, build, build_model, prepare
+from . import (config, groupstats, heights, inputs, neighbourhood, outlines, output, pipeline,
+               render, report, roofs, solids, stage, street_edges)
+from .config import (ExistingRequest, HeightConfig, Lod2Config, OutputRequest, StreetConfig,
+                     read_config)
+from .pipeline import Lod2Inputs, Lod2Run, run
+from .report import report, validity_lines
+from .stage import Footprints, Heights, Lod2Result, RoofRequests, Uniform, build, prepare
 
-__all__ = ["Lod2Config", "Lod2Result", "build", "build_model", "groupstats", "heights",
-           "inputs", "neighbourhood", "outlines", "output", "prepare", "render", "roofs",
-           "solids", "stage", "street_edges"]
+__all__ = ["ExistingRequest", "Footprints", "HeightConfig", "Heights", "Lod2Config",
+           "Lod2Inputs", "Lod2Result", "Lod2Run", "OutputRequest", "RoofRequests",
+           "StreetConfig", "Uniform", "build", "config", "groupstats", "heights", "inputs",
+           "neighbourhood", "outlines", "output", "pipeline", "prepare", "read_config", "render",
+           "report", "roofs", "run", "solids", "stage", "street_edges", "validity_lines"]

@@ -22,14 +22,15 @@ Two typed entry points for v.histo.lod2 (pure: the GRASS readers are in
   standing on it) and ``street_case`` (0-5, see :mod:`street_edges`).
 """
 
-from dataclasses import dataclass, field
-from typing import Optional
+from dataclasses import dataclass, field, replace
+from typing import Optional, Union
 
 import numpy as np
 
 from ..core.contract import (HEIGHT_SOURCE, HEIGHTS_COLUMN, HEIGHTS_MEASURED, HEIGHTS_POINTS,
                        HEIGHTS_RANGE)
 from ..core.errors import InputError
+from ..geom.grid import Grid
 from . import heights as hts
 from . import neighbourhood as nb
 from . import stage as lod2
@@ -65,7 +66,7 @@ class HeightOptions:
     attic_range: Optional[tuple] = None
     #: (N, 3) ground points, or a DTM :class:`~reconstruction.geom.grid.Grid`
     ground_points: Optional[np.ndarray] = None
-    elevation: object = None
+    elevation: Optional[Grid] = None
     ground_percentile: float = 20.0
     aligned: Optional[AlignedFootprints] = None
     #: (N, 3) building points (the shortened version)
@@ -271,7 +272,7 @@ class StreetOptions:
     labels, or street polygons, or None (the four cases alone); ``depth``
     the strip (m) looked at in front of each edge."""
 
-    streets: object = None
+    streets: Union[Grid, list, None] = None
     classes: Optional[tuple] = None
     depth: float = 3.0
     tol: float = 0.1
@@ -291,14 +292,14 @@ def with_street_edges(prepared, options=None):
     street = [int(e) if e >= 0 else None for e in res.edge]
     buildings = lod2.Buildings(b.footprints, b.ground, b.eaves, b.attic, b.roof_types,
                                b.uniforms, street=street, shared=shared)
-    prepared = with_attributes(prepared._replace(buildings=buildings),
+    prepared = with_attributes(replace(prepared, buildings=buildings),
                                street_edge=res.edge.astype(int), street_case=res.case.astype(int))
     return prepared, res
 
 
 def with_attributes(prepared, **per_ring):
     """``prepared`` with more attributes written per building (values per ring)."""
-    return prepared._replace(extra=tuple(prepared.extra) + tuple(
+    return replace(prepared, extra=tuple(prepared.extra) + tuple(
         (name, np.asarray(values).tolist()) for name, values in per_ring.items()))
 
 
@@ -306,23 +307,3 @@ def with_height_source(prepared, source):
     """``prepared`` with the ``height_source`` attribute (values per footprint)."""
     source = np.asarray(source, dtype=object)
     return with_attributes(prepared, **{HEIGHT_SOURCE: source[prepared.source]})
-
-
-def parse_classes(text, categories=None):
-    """Street and water classes from ``street_classes=`` text: integers or
-    category labels of the raster (``categories``: label -> value)."""
-    out = []
-    labels = {str(k).strip().lower(): v for k, v in (categories or {}).items()}
-    for item in [t.strip() for t in str(text or "").split(",") if t.strip()]:
-        try:
-            out.append(int(item))
-        except ValueError:
-            if item.lower() not in labels:
-                raise InputError("Street class <{}> is neither a number nor a category label "
-                                 "of the streets raster (labels: {})".format(
-                                     item, ", ".join(sorted(labels)) or "none")) from None
-            out.append(int(labels[item.lower()]))
-    if not out:
-        raise InputError("Give street_classes=, the street and water classes of the streets "
-                         "raster")
-    return tuple(out)

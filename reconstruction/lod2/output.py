@@ -24,13 +24,12 @@ The sequence, after the buildings are built (:func:`reconstruction.lod2.stage.bu
 """
 
 import json
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Optional
 
 import numpy as np
 
 from ..cityjson import existing
-from ..cityjson import geometry as citygeometry
 from ..cityjson import copied as citycopy
 from ..cityjson import merge as citymerge
 from ..cityjson import model as cityjson
@@ -38,48 +37,15 @@ from ..cityjson import seq as cityjsonseq
 from ..core import safefile
 from ..core.contract import PLOT, SOURCE, SOURCE_ALIGNED
 from ..core.errors import InputError
-from ..core.options import parse_number
 from ..geom.solidset import semantics, take
 from . import render
 from . import stage as lod2
+from .config import FORMATS, ExistingRequest, OutputRequest  # noqa: F401 (also read here)
 from .heights import height_columns
 from .inputs import AlignedFootprints
-from .render import parse_view
 from .solids.build import Buildings, build_solids
 
-FORMATS = ("cityjson", "cityjsonseq")
-
-
-@dataclass
-class ExistingRequest:
-    """What to copy from an existing model: ``path``; ``prefix`` put before
-    a footprint's id to make an object id (None: the automatic rule of
-    :mod:`reconstruction.cityjson.existing`); ``min_overlap``: least intersection over
-    union of a match by geometry; ``lods``: None (each building's highest),
-    "all" or a list of LoD strings."""
-    path: str
-    prefix: Optional[str] = None
-    min_overlap: float = 0.5
-    lods: object = None
-
-
-@dataclass
-class OutputRequest:
-    """Where and how the model is written: ``path``, ``format`` (one of
-    :data:`FORMATS`), ``reference_system`` (EPSG code or URL, or None),
-    ``title``; ``render``: path of a PNG picture (None: none), its ``view``
-    (:class:`~reconstruction.lod2.render.View`) and ``map_image``
-    (:class:`~reconstruction.geom.grid.MapImage` or None)."""
-    path: str
-    format: str = "cityjson"
-    reference_system: object = None
-    title: Optional[str] = None
-    render: Optional[str] = None
-    view: object = None
-    map_image: object = None
-
-
-@dataclass
+@dataclass(frozen=True)
 class ExistingMatch:
     """The existing model and the building matched with every footprint.
 
@@ -111,7 +77,7 @@ class ExistingMatch:
         return self._building[key]
 
 
-@dataclass
+@dataclass(frozen=True)
 class OutputReport:
     """What was written: ``generated`` and ``copied`` buildings (top-level
     objects), generated buildings left out because their footprint was
@@ -125,51 +91,7 @@ class OutputReport:
     match: Optional[existing.MatchReport] = None
     rendered: Optional[str] = None
     candidates: int = 0
-    notes: list = field(default_factory=list)
-
-
-def parse_lods(text):
-    """The ``existing_lod=`` option: None (empty: each building's highest), "all",
-    or a list of LoD strings ("1.2", "2.2")."""
-    if text is None or not str(text).strip():
-        return None
-    values = [v.strip() for v in str(text).split(",") if v.strip()]
-    if [v.lower() for v in values] == ["all"]:
-        return "all"
-    bad = [v for v in values if citygeometry.lod_value(v) < 0]
-    if bad:
-        raise InputError("Option existing_lod= must be LoDs such as 2.2 or 1.2,2.2, or all, "
-                         "not <{}>".format(text))
-    return values
-
-
-def parse_format(text):
-    """The ``format=`` option (default cityjson)."""
-    value = (text or FORMATS[0]).strip().lower()
-    if value not in FORMATS:
-        raise InputError("Option format= must be one of {}, not <{}>".format(
-            ", ".join(FORMATS), text))
-    return value
-
-
-def requests_from_options(options, reference_system=None, title=None):
-    """The :class:`OutputRequest` and :class:`ExistingRequest` (None without
-    ``existing=``) of v.histo.lod2's options (a dict of their texts)."""
-    request = OutputRequest(path=options["output"], format=parse_format(options.get("format")),
-                            reference_system=reference_system, title=title,
-                            render=options.get("render") or None,
-                            view=parse_view(options.get("view")))
-    if not options.get("existing"):
-        for key in ("id_column", "id_prefix", "existing_lod"):
-            if options.get(key):
-                raise InputError("Option {}= needs existing= (the model to copy buildings "
-                                 "from)".format(key))
-        return request, None
-    overlap = parse_number(options.get("overlap") or "0.5", "overlap", minimum=0,
-                           allow_minimum=False, maximum=1)
-    return request, ExistingRequest(path=options["existing"],
-                                    prefix=options.get("id_prefix") or None,
-                                    min_overlap=overlap, lods=parse_lods(options.get("existing_lod")))
+    notes: tuple = ()
 
 
 def footprint_ids(columns, name):
@@ -261,12 +183,10 @@ def without_copied(prepared, match):
     if len(keep) == len(prepared.source):
         return prepared
     b = prepared.buildings
-    parts = {name: _subset(getattr(b, name), keep) for name in Buildings.__slots__}
-    return prepared._replace(buildings=Buildings(**parts), source=prepared.source[keep],
-                             part=prepared.part[keep],
-                             extra=tuple((name, _subset(values, keep))
-                                         for name, values in prepared.extra),
-                             report=prepared.report._replace(rings=len(keep)))
+    return replace(prepared, buildings=b.subset(keep), source=prepared.source[keep],
+                   part=prepared.part[keep],
+                   extra=tuple((name, _subset(values, keep)) for name, values in prepared.extra),
+                   report=replace(prepared.report, rings=len(keep)))
 
 
 def _subset(values, keep):
@@ -284,8 +204,7 @@ def build(prepared, config, match=None):
     when written, see :func:`write_model`.)"""
     if len(prepared.buildings) or match is None or not len(match.matches.matched):
         return lod2.build(prepared, config)
-    built = build_solids(Buildings([], [], [], [], [], np.zeros((0, 3))))
-    ss = built.solids
+    ss = build_solids(Buildings([], [], [], [], [], np.zeros((0, 3)))).solids
     return lod2.Lod2Result(ss, semantics(ss), [], np.zeros(0, dtype=object),
                            np.zeros(0, dtype=np.int64), {}, prepared.report)
 
@@ -299,9 +218,9 @@ def without_footprints(result, footprints):
     keep = np.nonzero(~drop)[0]
     ss = take(result.solids, keep)
     attributes = {k: _pick(v, keep) for k, v in result.attributes.items()}
-    return result._replace(solids=ss, semantics=semantics(ss), ids=[result.ids[i] for i in keep],
-                           roof_types=np.asarray(result.roof_types)[keep],
-                           footprint=np.asarray(result.footprint)[keep], attributes=attributes)
+    return replace(result, solids=ss, semantics=semantics(ss), ids=[result.ids[i] for i in keep],
+                   roof_types=np.asarray(result.roof_types)[keep],
+                   footprint=np.asarray(result.footprint)[keep], attributes=attributes)
 
 
 def _pick(values, keep):
@@ -339,7 +258,7 @@ def write_model(result, footprints, request, match=None):
     """Write the model of a :class:`~reconstruction.lod2.stage.Lod2Result` (and the
     buildings ``match`` copies, an :class:`ExistingMatch` or None) as
     ``request`` (:class:`OutputRequest`) says; returns an :class:`OutputReport`."""
-    fmt = parse_format(request.format)
+    fmt = request.format
     copied, report = None, OutputReport(generated=len(result.ids))
     if match is not None:
         count = len(footprints.geometries)
@@ -363,7 +282,7 @@ def write_model(result, footprints, request, match=None):
         document = json.loads(cityjson.joined_text(
             pieces if pieces is not None else _single_text(result, copied, request)))
         render_model(document, request, copied.ids if copied is not None else ())
-        report.rendered = request.render
+        report = replace(report, rendered=request.render)
     return report
 
 

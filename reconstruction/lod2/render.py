@@ -20,7 +20,6 @@ import numpy as np
 
 from ..cityjson import geometry as citygeometry
 from ..core.errors import InputError
-from ..core.options import parse_list
 
 #: colours (RGB 0-255) by surface kind: ground, wall, roof, other
 COLOURS = np.array([[150, 150, 150], [245, 245, 245], [200, 30, 25], [190, 190, 190]],
@@ -31,7 +30,7 @@ BACKGROUND = (214, 224, 235)
 KIND = {"GroundSurface": 0, "WallSurface": 1, "RoofSurface": 2, "ClosureSurface": 3}
 
 
-@dataclass
+@dataclass(frozen=True)
 class View:
     """Where the camera looks from: azimuth (degrees clockwise from north)
     and elevation (degrees above the horizon)."""
@@ -39,19 +38,7 @@ class View:
     elevation: float = 35.0
 
 
-def parse_view(text):
-    """A ``view=azimuth,elevation`` option as a :class:`View` (empty: the default)."""
-
-    if text is None or not str(text).strip():
-        return View()
-    values = parse_list(str(text), float)
-    if len(values) != 2 or not 0 <= values[1] <= 90:
-        raise InputError("Option view= must be azimuth,elevation in degrees (elevation 0-90), "
-                         "not <{}>".format(text))
-    return View(values[0] % 360.0, values[1])
-
-
-@dataclass
+@dataclass(frozen=True)
 class Surfaces:
     """The faces to draw: ``points`` (n, 3) relative to ``origin``; ``rings``
     and ``ring_start`` (exterior rings, indices into points); ``kind`` per

@@ -1,7 +1,8 @@
-"""The LoD2 stage: footprints with heights -> valid LoD2 buildings -> CityJSON.
+"""The LoD2 buildings of footprints with heights: :func:`prepare`, then :func:`build`.
 
-One entry point, :func:`build_model` (or its two halves, :func:`prepare`
-and :func:`build`, for a caller that reports between them):
+The core of the stage, which :func:`reconstruction.lod2.run` runs (with the
+heights, street edges and existing model around it); a caller with its own
+footprints, heights and roof requests calls ``build(prepare(...), config)``:
 
 1. per footprint, its heights (:class:`Heights`: values, e.g. from columns,
    or ranges drawn at random) and its requested roof type
@@ -21,29 +22,29 @@ type, roof shape, heights) before any footprint is left out, so that a
 footprint's building does not depend on the others.
 """
 
-from typing import NamedTuple, Optional
+from dataclasses import dataclass, field, replace
+from typing import Optional, Union
 
 import numpy as np
 
 from ..cityjson import model as cityjson
 from ..core.contract import PLOT, SOURCE
 from ..core.errors import InputError
-from ..geom.solidset import semantics
+from ..geom.solidset import SolidSet, semantics
+from .config import AUTO, Lod2Config
 from .outlines import clean_rings, footprint_polygons, rings_are_simple
-from .roofs.model import RoofConfig
 from .roofs.plan import ROOF_TYPES, draw_roof_types
 from .solids.build import Buildings, build_solids
 from .solids.vertex_budget import needs_budget
 
-#: what a roof column or ``roof=`` may ask for besides a roof type
-AUTO = "auto"
 
 
 # ---------------------------------------------------------------------------
 # Inputs
 # ---------------------------------------------------------------------------
 
-class Uniform(NamedTuple):
+@dataclass(frozen=True)
+class Uniform:
     """Heights drawn at random per footprint, uniformly in [low, high]."""
 
     low: float
@@ -54,20 +55,22 @@ class Uniform(NamedTuple):
         return self.low + (self.high - self.low) * uniforms
 
 
-class Heights(NamedTuple):
+@dataclass(frozen=True)
+class Heights:
     """The heights of every footprint (m): per footprint values (nan = unknown)
     or a :class:`Uniform` range."""
 
     #: wall height above the ground; unknown, zero or negative: the footprint is left out
-    eaves: object
+    eaves: Union[np.ndarray, Uniform, float]
     #: roof height above the eaves; unknown or negative: a flat roof
-    attic: object
+    attic: Union[np.ndarray, Uniform, float]
     #: terrain elevation, one value or per footprint; unknown: ``ground_default``
-    ground: object = 0.0
+    ground: Union[np.ndarray, float] = 0.0
     ground_default: float = 0.0
 
 
-class RoofRequests(NamedTuple):
+@dataclass(frozen=True)
+class RoofRequests:
     """What each footprint asks of its roof."""
 
     #: per footprint, a roof type of :data:`~reconstruction.lod2.roofs.plan.ROOF_TYPES`
@@ -78,7 +81,8 @@ class RoofRequests(NamedTuple):
     years: np.ndarray
 
 
-class Footprints(NamedTuple):
+@dataclass(frozen=True)
+class Footprints:
     """Footprint geometries and what is written of them."""
 
     #: shapely Polygon or MultiPolygon per footprint (None or empty: left out)
@@ -90,34 +94,22 @@ class Footprints(NamedTuple):
     source: Optional[list] = None
 
 
-class Lod2Config(NamedTuple):
-    """Parameters of the stage that are the same for every footprint."""
-
-    roof: RoofConfig = RoofConfig()
-    #: seed of every random draw
-    seed: int = 1
-    #: processes building the solids (the result does not depend on it)
-    nprocs: int = 1
-    #: year of the map, written as attribute ``map_year``
-    map_year: Optional[int] = None
-    #: the roof choice (:class:`~reconstruction.lod2.roofs.rules.RoofRules`); None: the default
-    rules: object = None
-
-
 # ---------------------------------------------------------------------------
 # Outputs
 # ---------------------------------------------------------------------------
 
-class RoofFallback(NamedTuple):
+@dataclass(frozen=True)
+class RoofFallback:
     """A roof that failed validation and fell back to a simpler type."""
 
     #: category of the footprint
-    footprint: object
+    footprint: Union[int, str]
     kind: str
     reason: str
 
 
-class Lod2Report(NamedTuple):
+@dataclass(frozen=True)
+class Lod2Report:
     """What happened to the footprints, in counts."""
 
     #: footprints left out for an unknown, zero or negative eaves height
@@ -141,13 +133,14 @@ class Lod2Report(NamedTuple):
     #: no free street end is a gable; a gable with no free end is a hip)
     by_rule: int = 0
     #: every roof that failed validation (a building may fall back more than once)
-    fallbacks: tuple = ()
+    fallbacks: list = field(default_factory=list)
     #: buildings whose pitched roof stands on their simplified outline (more
     #: than :data:`~reconstruction.lod2.solids.vertex_budget.MAX_ROOF_VERTICES` vertices)
     simplified: int = 0
 
 
-class Prepared(NamedTuple):
+@dataclass(frozen=True)
+class Prepared:
     """The footprints ready to build (see :func:`prepare`)."""
 
     buildings: Buildings
@@ -165,11 +158,12 @@ class Prepared(NamedTuple):
     extra: tuple = ()
 
 
-class Lod2Result(NamedTuple):
-    """The LoD2 buildings of :func:`build_model`."""
+@dataclass(frozen=True)
+class Lod2Result:
+    """The LoD2 buildings of :func:`build`."""
 
     #: the valid solids (:class:`~reconstruction.geom.solidset.SolidSet`), one per building
-    solids: object
+    solids: SolidSet
     #: per face, its semantic surface (GROUND, WALL, ROOF of :mod:`~reconstruction.geom.solidset`)
     semantics: np.ndarray
     #: per building, its CityJSON id and the roof type it got
@@ -264,13 +258,6 @@ def requests_from_columns(columns, count, roof=AUTO, roof_column=None, map_year=
 # ---------------------------------------------------------------------------
 # The stage
 # ---------------------------------------------------------------------------
-
-def build_model(footprints, heights, requests, config=None):
-    """The :class:`Lod2Result` of :class:`Footprints` with their
-    :class:`Heights` and :class:`RoofRequests` (see the module doc)."""
-    config = config or Lod2Config()
-    return build(prepare(footprints, heights, requests, config), config)
-
 
 def prepare(footprints, heights, requests, config=None):
     """The footprints as buildings ready to build (:class:`Prepared`): heights
@@ -374,7 +361,7 @@ def build(prepared, config=None):
     failed = np.zeros(len(buildings), dtype=bool)
     failed[[f.index for f in log]] = True
     changed = got != buildings.roof_types[kept]
-    report = prepared.report._replace(dropped=len(buildings) - len(kept),
+    report = replace(prepared.report, dropped=len(buildings) - len(kept),
                                       fell_back=int(np.sum(changed & failed[kept])),
                                       by_rule=int(np.sum(changed & ~failed[kept])),
                                       simplified=int(needs_budget(

@@ -5,7 +5,7 @@ Every roof type on footprints of 200, 1,000 and 5,000 vertices
 (``testsuite/many_vertex_footprints.py``: a smooth convex curve, a block
 with a digitised curved facade, a digitised L-shaped block, a digitised
 concave rotunda), each built alone by the library's whole stage
-(:func:`reconstruction.lod2.stage.build_model`: cleaning, roofs, walls,
+(:func:`reconstruction.lod2.stage.build` of ``prepare``: cleaning, roofs, walls,
 validation, fallbacks) in a forked process. Prints per footprint the
 vertices after cleaning, the roof type it got, whether its outline was
 simplified for the roof (``vertex_budget``) and to how many vertices, the
@@ -48,9 +48,9 @@ def build_one(shape, n, kind):
 
     geom = shapely.Polygon(footprint(shape, n) + ORIGIN)
     start = time.process_time()
-    result = lod2.build_model(lod2.Footprints([geom]),
-                              lod2.Heights(np.array([9.0]), np.array([4.0]), 0.0),
-                              lod2.RoofRequests(np.array([kind], dtype=object), np.array([np.nan])))
+    result = lod2.build(lod2.prepare(
+        lod2.Footprints([geom]), lod2.Heights(np.array([9.0]), np.array([4.0]), 0.0),
+        lod2.RoofRequests(np.array([kind], dtype=object), np.array([np.nan]))))
     cpu = time.process_time() - start
     prepared = result.report.rings
     cleaned = lod2.prepare(lod2.Footprints([geom]), lod2.Heights(np.array([9.0]), np.array([4.0])),

@@ -46,17 +46,16 @@ def schema_dir(schemas):
 def generated(polygons, first_id=1, crs=28992):
     """The CityJSON text of gable-roofed buildings on ``polygons``, as v.histo.lod2 makes it."""
     n = len(polygons)
-    if n == 0:  # build_model refuses to build nothing; the solids of no footprint
-        built = solids.build_solids(solids.Buildings(
-      [], np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0, dtype=object), np.zeros((0, 3))))
-        ss = built.solids
+    if n == 0:  # build refuses to build nothing; the solids of no footprint
+        ss = solids.build_solids(solids.Buildings(
+            [], np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0, dtype=object), np.zeros((0, 3)))).solids
         sem = semantics(ss)
         return ss, sem, [], {}, cityjson.citymodel_text(ss, sem, [], {}, crs, title="test")
-    result = lod2.build_model(
+    result = lod2.build(lod2.prepare(
         lod2.Footprints(list(polygons), cats=list(range(first_id, first_id + n)),
                         source=["2pm"] * n),
         lod2.Heights(eaves=np.full(n, 6.0), attic=np.full(n, 3.0)),
-        lod2.RoofRequests(types=np.full(n, "gable", dtype=object), years=np.full(n, np.nan)))
+        lod2.RoofRequests(types=np.full(n, "gable", dtype=object), years=np.full(n, np.nan))))
     attributes = {"roof_type": list(result.roof_types), "source": ["2pm"] * len(result.ids)}
     ss, sem = result.solids, result.semantics
     return ss, sem, result.ids, attributes, cityjson.citymodel_text(

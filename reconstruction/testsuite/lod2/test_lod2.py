@@ -35,7 +35,8 @@ def model(geoms, eaves=9.0, attic=4.0, ground=1.0, types="auto", years=np.nan, s
                                  np.full(n, years, dtype=float))
     footprints = lod2.Footprints(geoms, kw.pop("cats", None), kw.pop("plot", None),
                                  kw.pop("source", None))
-    return lod2.build_model(footprints, heights, requests, lod2.Lod2Config(seed=seed, **kw))
+    config = lod2.Lod2Config(seed=seed, **kw)
+    return lod2.build(lod2.prepare(footprints, heights, requests, config), config)
 
 
 def test_bad_eaves_are_left_out_and_counted():
@@ -148,7 +149,7 @@ def test_ranges_are_drawn_per_footprint_within_bounds():
     n = 40
     heights = lod2.Heights(lod2.Uniform(6.7, 17.0), lod2.Uniform(2.6, 6.0), 0.0)
     requests = lod2.RoofRequests(np.full(n, "auto", dtype=object), np.full(n, 1900.0))
-    result = lod2.build_model(lod2.Footprints(row(n)), heights, requests)
+    result = lod2.build(lod2.prepare(lod2.Footprints(row(n)), heights, requests))
     eaves = result.attributes["eaves_height"]
     assert eaves.min() >= 6.7 and eaves.max() <= 17.0 and np.std(eaves) > 1.0
     assert result.attributes["map_year"] == [None] * n

@@ -78,15 +78,6 @@ def test_points_far_away_are_refused_with_both_extents():
                              options=li.HeightOptions(ground_points=pts))
 
 
-def test_street_classes_numbers_or_labels():
-    assert li.parse_classes("3, 4") == (3, 4)
-    assert li.parse_classes("water,street", {"Water": 3, "street": 4}) == (3, 4)
-    with pytest.raises(InputError, match="canal"):
-        li.parse_classes("canal", {"water": 3})
-    with pytest.raises(InputError, match="street_classes"):
-        li.parse_classes("")
-
-
 def _prepared(fps, kind="gable"):
     n = len(fps)
     heights = lod2.Heights(np.full(n, 9.0), np.full(n, 4.0), 0.0)

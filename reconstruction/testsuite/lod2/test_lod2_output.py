@@ -17,41 +17,12 @@ from reconstruction.lod2 import output as lod2_output
 from reconstruction.core.errors import InputError
 from reconstruction.testsuite.cityjson.test_existing import BAG, BOXES, FORMS
 
-OPTIONS = {"output": "out.city.json", "format": "cityjson", "render": "", "view": "210,35",
-           "existing": "", "id_column": "", "id_prefix": "", "overlap": "0.5",
-           "existing_lod": ""}
-
-
 @pytest.fixture(scope="module")
 def sample(bag_sample):
     return bag_sample
 
 
-def test_requests_from_options():
-    request, wanted = lod2_output.requests_from_options(OPTIONS, 28992, "t")
-    assert wanted is None and request.format == "cityjson" and request.render is None
-    assert (request.view.azimuth, request.view.elevation) == (210, 35)
-    request, wanted = lod2_output.requests_from_options(
-        dict(OPTIONS, existing="m.city.json", id_prefix="NL.IMBAG.Pand.", overlap="0.8",
-             existing_lod="1.2,2.2", format="cityjsonseq"))
-    assert request.format == "cityjsonseq"
-    assert wanted == lod2_output.ExistingRequest("m.city.json", "NL.IMBAG.Pand.", 0.8,
-                                                 ["1.2", "2.2"])
-
-
-@pytest.mark.parametrize("change,message", [
-    ({"format": "obj"}, "format="), ({"existing_lod": "2.2"}, "needs existing="),
-    ({"existing": "m", "overlap": "0"}, "overlap="), ({"existing": "m", "overlap": "2"}, "at most 1"),
-    ({"existing": "m", "existing_lod": "high"}, "existing_lod="), ({"view": "1,2,3"}, "view="),
-])
-def test_bad_options(change, message):
-    with pytest.raises(InputError, match=message):
-        lod2_output.requests_from_options(dict(OPTIONS, **change))
-
-
-def test_lods_and_candidates():
-    assert lod2_output.parse_lods("") is None and lod2_output.parse_lods("ALL") == "all"
-    assert lod2_output.parse_lods("1.2, 2.2") == ["1.2", "2.2"]
+def test_candidates():
     assert lod2_output.candidates(["2pm", "aligned", None, " aligned"], 4).tolist() == [1, 3]
     assert lod2_output.candidates(None, 3).tolist() == [0, 1, 2]
     with pytest.raises(InputError, match="id_column"):
@@ -63,9 +34,9 @@ def built(polygons, source):
     n = len(polygons)
     footprints = lod2.Footprints(list(polygons), cats=list(range(1, n + 1)),
                                  plot=list(range(100, 100 + n)), source=source)
-    result = lod2.build_model(
+    result = lod2.build(lod2.prepare(
         footprints, lod2.Heights(eaves=np.full(n, 6.0), attic=np.full(n, 3.0)),
-        lod2.RoofRequests(types=np.full(n, "gable", dtype=object), years=np.full(n, np.nan)))
+        lod2.RoofRequests(types=np.full(n, "gable", dtype=object), years=np.full(n, np.nan))))
     return footprints, result
 
 

@@ -62,15 +62,6 @@ def test_copied_buildings_and_the_map_show_in_their_colours(tmp_path, shared_dat
     assert blue_roof.sum() > 50 and roof_red(p).sum() > 50 and map_green.sum() > 1000
 
 
-def test_view_option():
-    assert render.parse_view("45,30") == render.View(45.0, 30.0)
-    assert render.parse_view("") == render.View()
-    assert render.parse_view("-90,90").azimuth == 270.0
-    for bad in ("45", "45,95", "a,b"):
-        with pytest.raises(InputError):
-            render.parse_view(bad)
-
-
 def test_a_model_without_surfaces_is_an_input_error(tmp_path):
     doc = {"type": "CityJSON", "version": "2.0", "CityObjects": {}, "vertices": []}
     with pytest.raises(InputError, match="no surfaces"):

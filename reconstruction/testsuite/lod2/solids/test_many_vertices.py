@@ -117,10 +117,9 @@ def test_lod2_reports_the_simplified_footprints():
     geoms = [shapely.Polygon(footprint("digitised", 800) + ORIGIN),
              shapely.Polygon(footprint("wavy", 800) + ORIGIN + [100.0, 0.0]),
              shapely.box(*(ORIGIN + [200.0, 0.0]), *(ORIGIN + [210.0, 8.0]))]
-    result = lod2.build_model(lod2.Footprints(geoms),
-                              lod2.Heights(np.full(3, 9.0), np.full(3, 4.0)),
-                              lod2.RoofRequests(np.array(["hip", "flat", "hip"], dtype=object),
-                                                np.full(3, np.nan)))
+    result = lod2.build(lod2.prepare(
+        lod2.Footprints(geoms), lod2.Heights(np.full(3, 9.0), np.full(3, 4.0)),
+        lod2.RoofRequests(np.array(["hip", "flat", "hip"], dtype=object), np.full(3, np.nan))))
     assert result.report.simplified == 1
     assert list(result.roof_types) == ["hip", "flat", "hip"]
 
@@ -201,9 +200,9 @@ def test_many_vertex_models_are_valid_by_val3dity(tmp_path):
             geoms.append(shapely.Polygon(footprint(shape, 1000) + ORIGIN + [60.0 * j, 60.0 * k]))
             kinds.append(kind)
     B = len(geoms)
-    result = lod2.build_model(lod2.Footprints(geoms),
-                              lod2.Heights(np.full(B, 9.0), np.full(B, 4.0)),
-                              lod2.RoofRequests(np.array(kinds, dtype=object), np.full(B, np.nan)))
+    result = lod2.build(lod2.prepare(
+        lod2.Footprints(geoms), lod2.Heights(np.full(B, 9.0), np.full(B, 4.0)),
+        lod2.RoofRequests(np.array(kinds, dtype=object), np.full(B, np.nan))))
     assert len(result.ids) == B
     path = tmp_path / "many.city.json"
     path.write_text(lod2.citymodel_text(result, "https://www.opengis.net/def/crs/EPSG/0/7415"))

@@ -1,0 +1,201 @@
+"""What v.histo.lod2 tells its user, as :class:`~reconstruction.core.messages.Message` lists.
+
+:func:`report` gives the messages of a finished run (the model written, the
+buildings copied, the -v report's fallbacks and invalid solids);
+:func:`validity_lines` the -v report's ``key=value`` lines (standard output).
+The other functions give the messages of each step, which
+:func:`reconstruction.lod2.run` hands to the script's printer as the step is
+done (a progress message before the work it announces), in this order:
+:func:`config_messages`, :func:`existing_messages`,
+:func:`ground_points_messages`, :func:`matched_heights_messages`,
+:func:`plots_messages`, :func:`height_messages`,
+:func:`street_messages`, :func:`street_edge_messages`,
+:func:`footprint_messages`, :func:`build_messages`, :func:`built_messages`.
+"""
+
+import numpy as np
+
+from ..core.messages import note, verbose, warning
+from . import street_edges as se
+from .solids.vertex_budget import MAX_ROOF_VERTICES
+
+#: the largest ground buffer, in the message on footprints without ground
+GROUND_BUFFER = 50.0
+
+
+def config_messages(config):
+    """Warnings about the options (:class:`~reconstruction.lod2.config.Lod2Config`)."""
+    out = []
+    if config.output.reference_system is None:
+        out.append(warning("The location has no EPSG code and crs= is not given: the CityJSON "
+                           "file has no reference system"))
+    if config.map_ignored:
+        out.append(warning("map= is drawn only in the picture of render=: ignored"))
+    return out
+
+
+def existing_messages(request):
+    """Before the existing model (:class:`~reconstruction.lod2.config.ExistingRequest`) is read."""
+    return [note("Reading the existing model '{}'...".format(request.path))]
+
+
+def ground_points_messages(config):
+    """When the ground points are read: elevation= given too is not used."""
+    if config.heights.elevation:
+        return [warning("Both ground_points= and elevation= given: the ground comes from the "
+                        "points")]
+    return []
+
+
+def matched_heights_messages(count):
+    """When ``count`` footprints matched in the existing model give the measured heights."""
+    return [note("The {} footprints matched in the existing model take its measured "
+                 "heights".format(count))]
+
+
+def plots_messages(measured):
+    """When the plots are read: they are used only where heights are
+    ``measured`` (aligned footprints or building points)."""
+    return [] if measured else [warning("plots= is used only with aligned= or building_points=")]
+
+
+def height_messages(report, config):
+    """Where the heights came from (a :class:`~reconstruction.lod2.inputs.HeightReport`),
+    footprints without ground."""
+    h = config.heights
+    out = []
+    if report.ground_from in ("points", "elevation"):
+        what = h.ground_points if report.ground_from == "points" else h.elevation
+        out.append(note("Ground from <{}> (percentile {}): {} footprints with the buffer grown "
+                        "over a hole".format(what, h.percentile_text, report.ground_grown)))
+        if report.ground_missing:
+            out.append(warning("{} footprints have no ground point or cell within {:g} m".format(
+                report.ground_missing, GROUND_BUFFER)))
+    if h.aligned:
+        out.append(note("{} of the footprints are aligned footprints with measured heights; {} "
+                        "aligned footprints measured".format(report.matched,
+                                                             report.aligned_measured)))
+        if report.aligned_unmeasured:
+            out.append(warning("{} aligned footprints have no measured heights (NULL)".format(
+                report.aligned_unmeasured)))
+    if h.building_points:
+        out.append(note("{} footprints have building points".format(report.with_points)))
+    out.append(verbose("Height sources: {}".format(
+        ", ".join("{} {}".format(v, k) for k, v in report.sources.items()))))
+    return out
+
+
+def street_messages(streets):
+    """About the street options (a :class:`~reconstruction.lod2.config.StreetConfig`)."""
+    if streets.classes_ignored:
+        return [warning("street_classes= is used only with streets=")]
+    return []
+
+
+def street_edge_messages(edges):
+    """How the street edges (:class:`~reconstruction.lod2.street_edges.StreetEdges`)
+    were chosen: the count of each case."""
+    n = np.bincount(edges.case, minlength=6)
+    return [note("Street edges: {} one unshared edge, {} from a neighbour, {} by vote, {} "
+                 "shortest, {} facing the streets map; {} enclosed (no street edge)".format(
+                     n[se.ONE_FREE], n[se.FROM_NEIGHBOUR], n[se.VOTE], n[se.SHORTEST],
+                     n[se.STREETS], n[se.ENCLOSED]))]
+
+
+def footprint_messages(report, config):
+    """The footprints left out or changed before building (a
+    :class:`~reconstruction.lod2.stage.Lod2Report` of prepare)."""
+    out = []
+    if report.bad_eaves:
+        out.append(warning("{} footprints with NULL, zero or negative eaves height are left "
+                           "out".format(report.bad_eaves)))
+    if report.bad_attic:
+        out.append(warning("{} footprints with NULL or negative roof height get a flat "
+                           "roof".format(report.bad_attic)))
+    if report.bad_ground:
+        out.append(warning("{} footprints with NULL ground elevation are set on ground={}".format(
+            report.bad_ground, config.heights.ground_text)))
+    if report.holes_filled:
+        out.append(warning("{} holes (inner courtyards) in footprints are filled".format(
+            report.holes_filled)))
+    if report.left_out:
+        reasons = ", ".join("{} {}".format(v, k) for k, v in report.left_out_reasons.items())
+        out.append(warning("{} footprints or parts of footprints are left out (empty or "
+                           "degenerate: {})".format(report.left_out, reasons or "no geometry")))
+    return out
+
+
+def build_messages(rings):
+    """Before ``rings`` solids are built."""
+    return [note("Building {} solids...".format(rings))] if rings else []
+
+
+def built_messages(report):
+    """The buildings left out or simpler than requested (a
+    :class:`~reconstruction.lod2.stage.Lod2Report` of build)."""
+    out = []
+    if report.dropped:
+        out.append(warning("{} footprints gave no valid solid, even flat, and are left "
+                           "out".format(report.dropped)))
+    if report.fell_back:
+        out.append(warning("{} roofs fell back to a simpler type to stay valid".format(
+            report.fell_back)))
+    if report.by_rule:
+        out.append(verbose("{} roofs changed type by the roof rules (no free street end for a "
+                           "stepped facade or a gable)".format(report.by_rule)))
+    if report.simplified:
+        out.append(note("{} footprints of more than {} vertices got their pitched roof on a "
+                        "simplified outline".format(report.simplified, MAX_ROOF_VERTICES)))
+    return out
+
+
+def report(result, config):
+    """The messages of a finished run (a :class:`~reconstruction.lod2.pipeline.Lod2Run`):
+    the buildings written (by roof type), those copied from the existing
+    model, the picture; with -v the roofs that fell back and the invalid solids."""
+    written, counts = result.written, result.model.roof_counts()
+    out = [note("{} buildings written to '{}': {}".format(
+        written.generated + written.copied, config.output.path,
+        ", ".join("{} {}".format(v, k) for k, v in counts.items() if v)))]
+    if written.match is not None:
+        m = written.match
+        out.append(note("{} of {} aligned footprints copied from the existing model ({} matched "
+                        "by id, {} by geometry)".format(written.copied, written.candidates,
+                                                        m.by_id, m.by_geometry)))
+        if m.ids_not_found:
+            out.append(warning("{} building ids matched no object of the existing model (tried "
+                               "by geometry)".format(m.ids_not_found)))
+        if m.unmatched:
+            out.append(warning("{} aligned footprints matched no building of the existing model "
+                               "and are generated".format(m.unmatched)))
+        if written.copy.lod_fallback:
+            out.append(warning("{} copied buildings have none of the LoDs of existing_lod= and "
+                               "are copied at their highest".format(written.copy.lod_fallback)))
+        if written.copy.skipped_geometries:
+            out.append(warning("{} geometries of copied buildings (templates or unknown types) "
+                               "are left out".format(written.copy.skipped_geometries)))
+    if written.rendered:
+        out.append(note("Picture written to '{}'".format(written.rendered)))
+    if result.invalid is not None:
+        for f in result.model.report.fallbacks:
+            out.append(note("Footprint cat {}: {} roof invalid ({}), fell back".format(
+                f.footprint, f.kind, f.reason)))
+        out.extend(note("Invalid solid: {}".format(r)) for r in result.invalid if r is not None)
+    return out
+
+
+def validity_lines(result):
+    """The -v report's lines (standard output): counts and percent valid,
+    fallbacks, dropped and simplified buildings, buildings per roof type;
+    none without -v."""
+    if result.invalid is None:
+        return []
+    model, check = result.model, result.invalid
+    valid = sum(r is None for r in check)
+    total = model.report.rings
+    lines = ["solids={}".format(total), "valid={}".format(valid),
+             "percent_valid={:.2f}".format(100.0 * valid / total if total else 100.0),
+             "fallbacks={}".format(len(model.report.fallbacks)),
+             "dropped={}".format(model.report.dropped),
+             "simplified={}".format(model.report.simplified)]
+    return lines + ["roof_{}={}".format(k, v) for k, v in model.roof_counts().items()]
