@@ -250,7 +250,7 @@ def model_of(doc, path="<model>", offsets=None, sequence=False, types=("Building
 # Footprints and heights
 # ---------------------------------------------------------------------------
 
-@dataclass
+@dataclass(frozen=True)
 class BuildingFootprints:
     """The footprints of a model's buildings, as polygons in bulk.
 
@@ -333,7 +333,7 @@ def footprints(model):
     return BuildingFootprints(polygons, owner, area, sources)
 
 
-@dataclass
+@dataclass(frozen=True)
 class MeasuredHeights:
     """Heights measured in the existing model (the 3D BAG's), one value per
     aligned footprint, nan where the footprint matched nothing or the model
@@ -380,7 +380,7 @@ def _number(value):
 # Matching
 # ---------------------------------------------------------------------------
 
-@dataclass
+@dataclass(frozen=True)
 class MatchReport:
     """Counts of a match: footprints matched by id, by geometry, not at all,
     and footprints whose id matched no building (these were then tried by geometry)."""

@@ -110,7 +110,7 @@ def expand_ranges(starts, stops):
     return starts[owner] + np.arange(int(lengths.sum())) - offset[owner], owner
 
 
-@dataclass
+@dataclass(frozen=True)
 class MapImage:
     """A map to drape on the ground: ``rgb`` (rows, columns, 3) uint8, row 0
     at the north; ``extent``: west, east, south, north (model x, y)."""
