@@ -12,7 +12,7 @@ come from (:class:`HeightConfig`), how street edges are found
 existing model to copy from (:class:`ExistingRequest`).
 """
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Optional, Union
 
 from ..cityjson import geometry as citygeometry
@@ -63,10 +63,12 @@ class OutputRequest:
 
 
 @dataclass(frozen=True)
-class HeightConfig:
-    """Where the heights come from (the options of the Heights section):
-    columns of the footprints, ranges ``(low, high)`` drawn at random, and
-    the names of the maps measuring them (None: not given)."""
+class HeightColumns:
+    """The heights given with the footprints: their columns, ranges ``(low,
+    high)`` drawn at random, a constant ground and the percentile of the
+    ground measured around each footprint. Shared by the options as read
+    (:class:`HeightConfig`) and as used
+    (:class:`~reconstruction.lod2.inputs.HeightOptions`)."""
 
     eaves_column: Optional[str] = "h_building"
     attic_column: Optional[str] = "h_attic"
@@ -74,10 +76,22 @@ class HeightConfig:
     ground: float = 0.0
     eaves_range: Optional[tuple] = None
     attic_range: Optional[tuple] = None
+    ground_percentile: float = 20.0
+
+    def columns(self):
+        """These fields alone, as keywords (to make another record of them)."""
+        return {f.name: getattr(self, f.name) for f in fields(HeightColumns)}
+
+
+@dataclass(frozen=True)
+class HeightConfig(HeightColumns):
+    """Where the heights come from (the options of the Heights section):
+    columns of the footprints, ranges ``(low, high)`` drawn at random, and
+    the names of the maps measuring them (None: not given)."""
+
     #: 3D ground points (vector map) and the DTM (raster)
     ground_points: Optional[str] = None
     elevation: Optional[str] = None
-    ground_percentile: float = 20.0
     #: aligned footprints with measured heights, and which height columns they have
     aligned: Optional[str] = None
     height_columns: str = "auto"
@@ -168,12 +182,15 @@ def read_config(options, flags, location_epsg=None, street_labels=None):
     output, existing = _requests(options, crs, title="LoD2 model from <{}>".format(
         options["input"]))
     heights = HeightConfig(
-        options["eaves_column"], options["attic_column"], options["ground_column"],
-        parse_number(options["ground"], "ground"), height_range, attic_range,
-        options["ground_points"] or None, options["elevation"] or None,
-        parse_number(options["ground_percentile"], "ground_percentile", minimum=0),
-        options["aligned"] or None, options["height_columns"], options["plots"] or None,
-        options["building_points"] or None, HeightRule(method=options["height_rule"]),
+        eaves_column=options["eaves_column"], attic_column=options["attic_column"],
+        ground_column=options["ground_column"], ground=parse_number(options["ground"], "ground"),
+        eaves_range=height_range, attic_range=attic_range,
+        ground_percentile=parse_number(options["ground_percentile"], "ground_percentile",
+                                       minimum=0),
+        ground_points=options["ground_points"] or None, elevation=options["elevation"] or None,
+        aligned=options["aligned"] or None, height_columns=options["height_columns"],
+        plots=options["plots"] or None, building_points=options["building_points"] or None,
+        rule=HeightRule(method=options["height_rule"]),
         ground_text=options["ground"], percentile_text=options["ground_percentile"])
     return Lod2Config(
         roof, seed=seed, nprocs=nprocs, map_year=map_year, rules=rules, input=options["input"],

@@ -31,6 +31,7 @@ from ..core.contract import (HEIGHT_SOURCE, HEIGHTS_COLUMN, HEIGHTS_MEASURED, HE
                        HEIGHTS_RANGE)
 from ..core.errors import InputError
 from ..geom.grid import Grid
+from .config import HeightColumns
 from . import heights as hts
 from . import neighbourhood as nb
 from . import stage as lod2
@@ -55,19 +56,12 @@ class AlignedFootprints:
 
 
 @dataclass(frozen=True)
-class HeightOptions:
-    """Where the heights come from (see the module doc); ranges are ``(low, high)``."""
+class HeightOptions(HeightColumns):
+    """Where the heights come from (see the module doc), the maps read."""
 
-    eaves_column: Optional[str] = "h_building"
-    attic_column: Optional[str] = "h_attic"
-    ground_column: Optional[str] = None
-    ground: float = 0.0
-    eaves_range: Optional[tuple] = None
-    attic_range: Optional[tuple] = None
     #: (N, 3) ground points, or a DTM :class:`~reconstruction.geom.grid.Grid`
     ground_points: Optional[np.ndarray] = None
     elevation: Optional[Grid] = None
-    ground_percentile: float = 20.0
     aligned: Optional[AlignedFootprints] = None
     #: (N, 3) building points (the shortened version)
     building_points: Optional[np.ndarray] = None

@@ -162,8 +162,8 @@ def _height_options(inputs, config, geoms, columns, match=None):
         plots = Plots(p_geoms, p_columns[key])
         say(plots_messages(measured=aligned is not None or building_points is not None))
     return lod2_inputs.HeightOptions(
-        h.eaves_column, h.attic_column, h.ground_column, h.ground, h.eaves_range, h.attic_range,
-        ground_points, elevation, h.ground_percentile, aligned, building_points, plots, h.rule)
+        **h.columns(), ground_points=ground_points, elevation=elevation, aligned=aligned,
+        building_points=building_points, plots=plots, rule=h.rule)
 
 
 def _street_options(inputs, streets, geoms):
