@@ -16,7 +16,7 @@ import numpy as np
 from ..core.errors import InputError
 from ..geom.rings import corners, unique_rows
 from . import geometry as citygeometry
-from ..core.crs import epsg_code, horizontal_epsg, same_place
+from ..core.crs import as_ogc_url, epsg_code, horizontal_epsg, same_place
 from .model import joined_text, shifted_lists
 
 from .copied import _objects_pieces
@@ -29,14 +29,16 @@ from .copied import _objects_pieces
 def output_reference_system(generated, copied):
     """The reference system of the merged model: the copied model's when it
     is the generated one's with heights (7415 for 28992), else the one they
-    share; InputError when they locate points differently."""
+    share; InputError when they locate points differently. An EPSG code
+    spelt otherwise than as an OGC URL (``urn:ogc:def:crs:EPSG::7415``,
+    ``EPSG:7415``) is written as its OGC URL, as CityJSON 2.0 wants it."""
     if copied is None or generated is None:
-        return generated if copied is None else copied
+        return generated if copied is None else as_ogc_url(copied)
     a, b = epsg_code(generated), epsg_code(copied)
     if a == b:
         return generated
     if a is not None and b is not None and same_place(a, b):
-        return generated if horizontal_epsg(b) == b else copied
+        return generated if horizontal_epsg(b) == b else as_ogc_url(copied)
     raise InputError("The reference system of the existing model ({}) does not agree with "
                      "the generated model's ({})".format(copied, generated))
 

@@ -15,6 +15,7 @@ found, a plausibility check stands in: EPSG codes lie between 1024 and
 
 import functools
 import os
+import re
 import sqlite3
 import sys
 
@@ -116,3 +117,19 @@ def same_place(a, b):
     if a is None or b is None:
         return True
     return horizontal_epsg(a) == horizontal_epsg(b)
+
+
+#: what CityJSON 2.0 wants of a ``referenceSystem`` (metadata.schema.json)
+OGC_URL = re.compile(r"^(http|https)://www.opengis.net/def/crs/")
+
+
+def as_ogc_url(reference_system):
+    """A ``referenceSystem`` as CityJSON 2.0 wants it: an EPSG code in any
+    spelling (``urn:ogc:def:crs:EPSG::7415``, ``EPSG:7415``, ``7415``) as its
+    OGC URL; an OGC URL, None or a text that names no EPSG code as it is."""
+    if reference_system is None or OGC_URL.match(str(reference_system).strip()):
+        return reference_system
+    code = epsg_code(reference_system)
+    if code is None:
+        return reference_system
+    return "https://www.opengis.net/def/crs/EPSG/0/{}".format(code)

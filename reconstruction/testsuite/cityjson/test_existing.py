@@ -241,6 +241,25 @@ def test_reference_systems_must_agree(sample):
     assert crs.horizontal_epsg(7415) == 28992 and crs.horizontal_epsg(28992) == 28992
 
 
+
+@pytest.mark.parametrize("spelling", ["urn:ogc:def:crs:EPSG::7415", "EPSG:7415", "7415"])
+def test_an_existing_models_epsg_code_is_written_as_its_ogc_url(sample, tmp_path, spelling):
+    """Issue 33, item 5: a model that names its reference system otherwise
+    than by an OGC URL gives a merged model (one file or CityJSONSeq) whose
+    referenceSystem is that URL, as CityJSON 2.0's schema wants it."""
+    with open(os.path.join(sample, FORMS[0])) as f:
+        doc = json.load(f)
+    doc["metadata"]["referenceSystem"] = spelling
+    path = tmp_path / "urn.city.json"
+    path.write_text(json.dumps(doc))
+    copied = citycopy.copy_buildings(existing.read_model(str(path)), [0])
+    url = "https://www.opengis.net/def/crs/EPSG/0/7415"
+    merged = json.loads(citymerge.merge(generated(BOXES)[4], copied))
+    assert merged["metadata"]["referenceSystem"] == url
+    assert citymerge.output_reference_system(None, spelling) == url
+    assert crs.as_ogc_url(url) == url and crs.as_ogc_url(None) is None
+    assert crs.as_ogc_url("RD New") == "RD New"
+
 def test_a_finer_grid_collapses_to_valid_rings(sample):
     """A model on a 0.1 mm grid: vertices closer than the output's millimetre meet."""
     with open(os.path.join(sample, FORMS[0])) as f:
