@@ -147,7 +147,8 @@ def main(options, flags):
     from reconstruction import align
     from reconstruction.core import safefile
 
-    grassio.check_outputs(options, vectors=("output", "unmatched"), files=("report",))
+    grassio.check_outputs(options, vectors=("output", "unmatched"), files=("report",),
+                          inputs={"vector": ("input", "footprints")})
     config = align.read_config(options, flags)
     reading = grassio.doing("reading the footprints <{}>".format(config.footprints))
     with reading:
@@ -167,14 +168,15 @@ def main(options, flags):
 
     result = align.run(align.AlignmentInputs(table, read_footprints, read_plots,
                                              grassio.vector_counts), config)
-    for out in (result.output, result.unmatched):
-        if out is not None:
-            with grassio.doing("writing <{}>".format(out.name)):
-                grassio.write_areas(out.name, out.geometries, out.table, cats=out.cats,
-                                    title=out.title, history=True)
-    if config.report_file:
-        with safefile.replacing(config.report_file) as f:
-            json.dump(result.report_json, f, indent=2)
+    with safefile.together() as files:      # the report appears with the maps, or not
+        if config.report_file:
+            with files.open(config.report_file) as f:
+                json.dump(result.report_json, f, indent=2)
+        for out in (result.output, result.unmatched):
+            if out is not None:
+                with grassio.doing("writing <{}>".format(out.name)):
+                    grassio.write_areas(out.name, out.geometries, out.table, cats=out.cats,
+                                        title=out.title, history=True)
     grassio.say(align.report(result, config, start, time.perf_counter()))
     if config.shell:
         print("\n".join(align.shell_counts(result)))

@@ -195,11 +195,13 @@ def _raster_plots(raster, category):
 
 def main(options, flags):
     from reconstruction import generalize, grassio
+    from reconstruction.core import safefile
 
     grassio.register_cleanup()
     grassio.require_projected()
     config = generalize.read_config(options, flags)
-    grassio.check_outputs(options, vectors=("output",), files=("metrics", "report"))
+    grassio.check_outputs(options, vectors=("output",), files=("metrics", "report"),
+                          inputs={"vector": ("input", "gt_points", "gt_polygons")})
     if options["gt_points"]:
         grassio.require_features(options["gt_points"], "points", "gt_points")
     if options["gt_polygons"]:
@@ -220,17 +222,14 @@ def main(options, flags):
         say=grassio.say)
     result = generalize.run(inputs, config)
 
-    grassio.write_features(options["output"], result.plots, result.columns,
-                           title="Generalised building plots ({})".format(
-                               ", ".join(config.methods)))
+    with safefile.together() as files:      # the files appear with the map, or none
+        with grassio.doing("writing the metrics and report files"):
+            result.report.write_files(files, options["metrics"], options["report"])
+        grassio.write_features(options["output"], result.plots, result.columns,
+                               title="Generalised building plots ({})".format(
+                                   ", ".join(config.methods)))
     with grassio.doing("writing the history of <{}>".format(options["output"])):
         gs.vector_history(options["output"])
-    if options["metrics"]:
-        with grassio.doing("writing the metrics file"):
-            result.report.write_metrics_csv(options["metrics"])
-    if options["report"]:
-        with grassio.doing("writing the report file"):
-            result.report.write_json(options["report"])
     if config.shell:
         for line in generalize.shell_figures(result):
             print(line)

@@ -392,12 +392,14 @@ def write_text(path, text):
     whole or not at all (a unique temporary file renamed into place; through
     a symbolic link; never over something that is not a regular file:
     :mod:`reconstruction.core.safefile`)."""
-    if isinstance(text, str):
-        safefile.write_text(path, text)
-        return
     with safefile.replacing(path, "wb") as f:
-        for piece in text:
-            f.write(piece.encode() if isinstance(piece, str) else piece)
+        write_pieces(f, [text] if isinstance(text, str) else text)
+
+
+def write_pieces(f, pieces):
+    """Write a document's pieces (texts or UTF-8 bytes) to the binary file ``f``."""
+    for piece in pieces:
+        f.write(piece.encode() if isinstance(piece, str) else piece)
 
 
 def joined_text(pieces):

@@ -7,13 +7,22 @@ leaves the target as it was and no temporary file, and no existing file is
 ever taken for a temporary one. A symbolic link is written through: its
 target gets the new content and the link stays. Something that is not a
 regular file (a directory, a device such as ``/dev/full``, a named pipe) is
-never replaced. Pure Python, no GRASS.
+never replaced.
+
+:func:`together` does the same for the several files of one run (issue 33,
+item 3: a model and its picture): each is written under a temporary name,
+and only when all are complete are they renamed into place, one after the
+other with Ctrl-C and SIGTERM held back until the last rename is done. A
+failure or an interruption at any moment before leaves every target as it
+was. Pure Python, no GRASS.
 """
 
 import contextlib
 import os
+import signal
 import stat
 import tempfile
+import threading
 
 from .errors import InputError
 
@@ -38,24 +47,99 @@ def _mode(target):
         return 0o666 & ~umask
 
 
+class OutputFiles:
+    """The files of one :func:`together` block: :meth:`reserve` gives the
+    temporary name to write each target under."""
+
+    def __init__(self):
+        self._files = []         # (temporary name, target)
+
+    def reserve(self, path, suffix=""):
+        """A unique temporary file name beside ``path``'s target (ending in
+        ``suffix``, e.g. ``".png"`` for a writer that goes by the extension),
+        renamed over the target when the block ends. Raises :class:`InputError`
+        naming ``path`` when its directory cannot hold it."""
+        target = target_of(path)
+        directory, name = os.path.split(target)
+        if any(t == target for _tmp, t in self._files):
+            raise InputError("'{}' is given twice as an output".format(path))
+        try:
+            fd, tmp = tempfile.mkstemp(prefix=".{}.".format(name), suffix=".part" + suffix,
+                                       dir=directory)
+        except OSError as error:
+            raise InputError("Cannot write '{}': {}".format(
+                path, error.strerror or error)) from None
+        os.close(fd)
+        self._files.append((tmp, target))
+        return tmp
+
+    def open(self, path, mode="w", encoding="utf-8", newline=None):
+        """The file object of :meth:`reserve`'s temporary file of ``path``
+        (``mode`` ``"w"`` or ``"wb"``; ``encoding`` and ``newline`` as for ``open``,
+        text only): close it, e.g. in a ``with`` block, before the set ends."""
+        text = {} if "b" in mode else {"encoding": encoding, "newline": newline}
+        return open(self.reserve(path), mode, **text)
+
+    def _commit(self):
+        """Every file renamed into place, interruptions held back meanwhile."""
+        with _signals_held():
+            for tmp, target in self._files:
+                os.chmod(tmp, _mode(target))
+                os.replace(tmp, target)
+            self._files = []
+
+    def _discard(self):
+        for tmp, _target in self._files:
+            with contextlib.suppress(FileNotFoundError):
+                os.remove(tmp)
+        self._files = []
+
+
+@contextlib.contextmanager
+def _signals_held():
+    """Ctrl-C and SIGTERM received in the block take effect when it ends (in
+    the main thread; elsewhere Python runs no signal handler anyway)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    received = []
+    kept = {}
+    for number in (signal.SIGINT, signal.SIGTERM):
+        kept[number] = signal.signal(number, lambda n, frame: received.append(n))
+    try:
+        yield
+    finally:
+        for number, handler in kept.items():
+            signal.signal(number, signal.SIG_DFL if handler is None else handler)
+        if received:
+            signal.raise_signal(received[0])
+
+
+@contextlib.contextmanager
+def together():
+    """``with together() as files: write(files.reserve(a)); write(files.reserve(b))``:
+    the files appear together when the block ends without an exception, or
+    not at all (their temporary files removed, the targets untouched)."""
+    files = OutputFiles()
+    try:
+        yield files
+    except BaseException:
+        files._discard()
+        raise
+    try:
+        files._commit()
+    except BaseException:
+        files._discard()
+        raise
+
+
 @contextlib.contextmanager
 def replacing_path(path, suffix=""):
-    """``with replacing_path(path) as tmp: writer(tmp)``: a unique temporary
-    file name beside ``path``'s target (ending in ``suffix``, e.g. ``".png"``
-    for a writer that goes by the extension), renamed over the target when the
-    block ends without an exception (removed otherwise)."""
-    target = target_of(path)
-    directory, name = os.path.split(target)
-    fd, tmp = tempfile.mkstemp(prefix=".{}.".format(name), suffix=".part" + suffix, dir=directory)
-    os.close(fd)
-    try:
-        yield tmp
-        os.chmod(tmp, _mode(target))
-        os.replace(tmp, target)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.remove(tmp)
-        raise
+    """``with replacing_path(path) as tmp: writer(tmp)``: :func:`together` for
+    one file: a temporary name beside ``path``'s target, renamed over it when
+    the block ends without an exception (removed otherwise)."""
+    with together() as files:
+        yield files.reserve(path, suffix)
 
 
 @contextlib.contextmanager
@@ -64,8 +148,7 @@ def replacing(path, mode="w", encoding="utf-8", newline=None):
     file beside ``path``'s target, renamed over it when the block ends without
     an exception (removed otherwise). ``mode``: ``"w"`` (text) or ``"wb"``;
     ``encoding`` and ``newline`` as for ``open`` (text only)."""
-    text = {} if "b" in mode else {"encoding": encoding, "newline": newline}
-    with replacing_path(path) as tmp, open(tmp, mode, **text) as f:
+    with together() as files, files.open(path, mode, encoding, newline) as f:
         yield f
 
 

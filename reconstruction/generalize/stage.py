@@ -114,18 +114,22 @@ class GeneralizeReport:
         return {k: v for k, v in self.figures().items()
                 if isinstance(v, (int, float)) or v is None}
 
-    def write_json(self, path):
-        with safefile.replacing(path) as f:
-            json.dump(self.figures(), f, indent=2)
-
-    def write_metrics_csv(self, path):
-        """The metrics summed and averaged after each step, one row per step."""
-        with safefile.replacing(path, newline="") as f:
-            writer = csv.DictWriter(f, fieldnames=list(self.steps[0].keys()))
-            writer.writeheader()
-            for row in self.steps:
-                writer.writerow({k: (round(v, 6) if isinstance(v, float) else v)
-                                 for k, v in row.items()})
+    def write_files(self, files, metrics=None, report=None):
+        """Write the metrics CSV (summed and averaged after each step, one row
+        per step) to ``metrics`` and the JSON report (:meth:`figures`) to
+        ``report`` (None: not written) in ``files``, a
+        :func:`reconstruction.core.safefile.together` set: they appear
+        together with the module's other outputs, or not at all."""
+        if metrics:
+            with files.open(metrics, newline="") as f:
+                writer = csv.DictWriter(f, fieldnames=list(self.steps[0].keys()))
+                writer.writeheader()
+                for row in self.steps:
+                    writer.writerow({k: (round(v, 6) if isinstance(v, float) else v)
+                                     for k, v in row.items()})
+        if report:
+            with files.open(report) as f:
+                json.dump(self.figures(), f, indent=2)
 
 
 @dataclass(frozen=True)

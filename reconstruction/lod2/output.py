@@ -24,6 +24,7 @@ The sequence, after the buildings are built (:func:`reconstruction.lod2.stage.bu
 """
 
 import json
+from contextlib import nullcontext
 from dataclasses import dataclass, field, replace
 from typing import Optional
 
@@ -43,6 +44,7 @@ from . import stage as lod2
 from .config import FORMATS, ExistingRequest, OutputRequest  # noqa: F401 (also read here)
 from .heights import height_columns
 from .inputs import AlignedFootprints
+from .report import drawing_messages
 from .solids.build import Buildings, build_solids
 
 @dataclass(frozen=True)
@@ -254,10 +256,17 @@ def _single_text(result, copied, request):
     return citymerge.merged_pieces(text, copied)
 
 
-def write_model(result, footprints, request, match=None):
+def write_model(result, footprints, request, match=None, doing=nullcontext, say=None):
     """Write the model of a :class:`~reconstruction.lod2.stage.Lod2Result` (and the
     buildings ``match`` copies, an :class:`ExistingMatch` or None) as
-    ``request`` (:class:`OutputRequest`) says; returns an :class:`OutputReport`."""
+    ``request`` (:class:`OutputRequest`) says; returns an :class:`OutputReport`.
+
+    The model and its picture appear together or not at all
+    (:func:`reconstruction.core.safefile.together`): a failure or an
+    interruption while either is written leaves both files as they were.
+    ``doing(what)``: a context manager naming each step for the error of a
+    failure (v.histo.lod2: :class:`reconstruction.grassio.doing`); ``say``
+    prints a step's messages (:mod:`reconstruction.lod2.report`)."""
     fmt = request.format
     copied, report = None, OutputReport(generated=len(result.ids))
     if match is not None:
@@ -268,26 +277,28 @@ def write_model(result, footprints, request, match=None):
         report = OutputReport(generated=len(result.ids), copied=len(copied),
                               replaced=before - len(result.ids), copy=copied.report,
                               match=match.matches.report, candidates=len(match.candidates))
-    pieces = None
-    if fmt == "cityjson":
-        pieces = _single_text(result, copied, request)
+    with safefile.together() as files:
+        model_file = files.reserve(request.path)
+        picture_file = files.reserve(request.render, ".png") if request.render else None
+        pieces = None
+        with doing("writing '{}'".format(request.path)), open(model_file, "wb") as f:
+            if fmt == "cityjson":
+                pieces = _single_text(result, copied, request)
+                if request.render:
+                    pieces = list(pieces)           # written, then drawn
+                cityjson.write_pieces(f, pieces)
+            else:
+                cityjsonseq.write(f, result.solids, result.semantics, result.ids,
+                                  result.attributes, request.reference_system, request.title,
+                                  copied=copied)
         if request.render:
-            pieces = list(pieces)           # written, then drawn
-        cityjson.write_text(request.path, pieces)
-    else:
-        with safefile.replacing(request.path, "wb") as f:
-            cityjsonseq.write(f, result.solids, result.semantics, result.ids, result.attributes,
-                              request.reference_system, request.title, copied=copied)
-    if request.render:
-        document = json.loads(cityjson.joined_text(
-            pieces if pieces is not None else _single_text(result, copied, request)))
-        render_model(document, request, copied.ids if copied is not None else ())
-        report = replace(report, rendered=request.render)
+            if say is not None:
+                say(drawing_messages(request.render))
+            with doing("drawing the picture '{}'".format(request.render)):
+                document = json.loads(cityjson.joined_text(
+                    pieces if pieces is not None else _single_text(result, copied, request)))
+                render.render(document, picture_file, request.view,
+                              map_image=request.map_image,
+                              copied=copied.ids if copied is not None else ())
+            report = replace(report, rendered=request.render)
     return report
-
-
-def render_model(document, request, copied=()):
-    """The PNG picture of a CityJSON document (dict) at ``request.render``,
-    written to a temporary name and renamed when complete."""
-    with safefile.replacing_path(request.render, suffix=".png") as tmp:
-        render.render(document, tmp, request.view, map_image=request.map_image, copied=copied)

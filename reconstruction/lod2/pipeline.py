@@ -127,8 +127,7 @@ def run(inputs, config):
     say(build_messages(prepared.report.rings))
     result = lod2_output.build(prepared, config, match)
     say(built_messages(result.report))
-    with doing("writing '{}'".format(output.path)):
-        written = lod2_output.write_model(result, footprints, output, match)
+    written = lod2_output.write_model(result, footprints, output, match, doing, say)
     return Lod2Run(result, written, validation.validate(result.solids) if config.validate
                    else None)
 

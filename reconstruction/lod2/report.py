@@ -184,6 +184,11 @@ def report(result, config):
     return out
 
 
+
+def drawing_messages(path):
+    """Said before the picture is drawn (seconds for a large model)."""
+    return [verbose("Drawing the picture '{}'...".format(path))]
+
 def validity_lines(result):
     """The -v report's lines (standard output): counts and percent valid,
     fallbacks, dropped and simplified buildings, buildings per roof type;

@@ -8,6 +8,7 @@ import pytest
 from hypothesis import given, strategies as st
 
 from reconstruction.core import crs
+from reconstruction.core.errors import InputError
 from reconstruction.cityjson import model as cityjson
 from reconstruction.lod2 import outlines
 from reconstruction.lod2.roofs import plan as roofs
@@ -242,7 +243,7 @@ def test_write_text_leaves_no_partial_file(tmp_path):
     cityjson.write_text(str(path), '{"type":"CityJSON"}')
     assert path.read_text() == '{"type":"CityJSON"}' and not (tmp_path / "m.city.json.part").exists()
     missing = tmp_path / "no_such_dir" / "m.city.json"
-    with pytest.raises(OSError):
+    with pytest.raises(InputError, match="Cannot write '.*no_such_dir/m.city.json': No such file"):
         cityjson.write_text(str(missing), "{}")
     assert not missing.exists() and not (tmp_path / "no_such_dir").exists()
 

@@ -58,6 +58,76 @@ def test_something_else_than_a_regular_file_is_never_replaced(path):
         safefile.write_text(path, "x")
 
 
+
+def test_files_written_together_appear_together(tmp_path):
+    model, picture = tmp_path / "m.json", tmp_path / "m.png"
+    model.write_text("old model")
+    with safefile.together() as files:
+        with open(files.reserve(str(model)), "w") as f:
+            f.write("new model")
+        assert model.read_text() == "old model"      # nothing is in place before the end
+        with files.open(str(picture), "wb") as f:
+            f.write(b"png")
+    assert model.read_text() == "new model" and picture.read_bytes() == b"png"
+    assert sorted(os.listdir(str(tmp_path))) == ["m.json", "m.png"]
+
+
+@pytest.mark.parametrize("failure", [KeyboardInterrupt, RuntimeError, SystemExit])
+def test_a_failure_after_one_file_of_a_set_leaves_every_target_as_it_was(tmp_path, failure):
+    model, picture = tmp_path / "m.json", tmp_path / "m.png"
+    model.write_text("old model")
+    with pytest.raises(failure):
+        with safefile.together() as files:
+            with files.open(str(model)) as f:
+                f.write("new model")
+            files.reserve(str(picture), ".png")
+            raise failure()
+    assert model.read_text() == "old model" and os.listdir(str(tmp_path)) == ["m.json"]
+
+
+def test_an_output_whose_directory_cannot_hold_it_is_named_before_anything_is_written(tmp_path):
+    model = tmp_path / "m.json"
+    model.write_text("old model")
+    with pytest.raises(InputError, match=r"Cannot write '/proc/x.png'"):
+        with safefile.together() as files:
+            files.reserve(str(model))
+            files.reserve("/proc/x.png", ".png")
+    assert model.read_text() == "old model" and os.listdir(str(tmp_path)) == ["m.json"]
+
+
+def test_one_file_twice_in_a_set_is_refused(tmp_path):
+    link = tmp_path / "link.json"
+    link.symlink_to(tmp_path / "m.json")
+    with pytest.raises(InputError, match="given twice"):
+        with safefile.together() as files:
+            files.reserve(str(tmp_path / "m.json"))
+            files.reserve(str(link))
+    assert sorted(os.listdir(str(tmp_path))) == ["link.json"]
+
+
+def test_an_interruption_during_the_renames_waits_until_every_file_is_in_place(tmp_path,
+                                                                                monkeypatch):
+    import signal
+
+    paths = [tmp_path / "{}.json".format(i) for i in range(3)]
+    replace = os.replace
+    seen = []
+
+    def replace_and_interrupt(tmp, target):
+        replace(tmp, target)
+        seen.append(target)
+        if len(seen) == 1:
+            signal.raise_signal(signal.SIGINT)       # Ctrl-C after the first rename
+
+    monkeypatch.setattr(safefile.os, "replace", replace_and_interrupt)
+    with pytest.raises(KeyboardInterrupt):
+        with safefile.together() as files:
+            for path in paths:
+                with files.open(str(path)) as f:
+                    f.write("new")
+    assert len(seen) == 3 and all(p.read_text() == "new" for p in paths)
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
 def test_epsg_codes():
     if epsg.proj_db() is None:
         pytest.skip("PROJ's proj.db is not installed")

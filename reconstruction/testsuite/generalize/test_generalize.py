@@ -10,6 +10,7 @@ from shapely.geometry import MultiPolygon, Point, box
 
 from reconstruction import generalize
 from reconstruction.generalize import shape_metrics
+from reconstruction.core import safefile
 from reconstruction.core.errors import InputError
 
 def test_raw_plots_one_per_part_small_ones_dropped():
@@ -47,10 +48,10 @@ def test_generalize_map_columns_report_and_files(tmp_path):
     scalars = report.scalars()
     assert "steps" not in scalars and "turning_distances" not in scalars
     assert scalars["plots"] == 3 and scalars["gt_points"] == 2
-    report.write_json(tmp_path / "r.json")
+    with safefile.together() as files:
+        report.write_files(files, str(tmp_path / "m.csv"), str(tmp_path / "r.json"))
     with open(tmp_path / "r.json") as f:
         assert json.load(f) == json.loads(json.dumps(figures))
-    report.write_metrics_csv(tmp_path / "m.csv")
     with open(tmp_path / "m.csv", newline="") as f:
         rows = list(csv.DictReader(f))
     assert [row["step"] for row in rows] == ["raw", "douglas"]

@@ -1,5 +1,6 @@
 """lod2_output.py: v.histo.lod2's output side without GRASS (issue 17)."""
 
+import contextlib
 import io
 import json
 import os
@@ -103,6 +104,41 @@ def test_render_of_the_written_model(tmp_path, monkeypatch):
     with open(request.path) as f:
         assert len(cityjsonseq.collect(io.StringIO(f.read()))["CityObjects"]) == 4
 
+
+
+@pytest.mark.parametrize("fmt", ["cityjson", "cityjsonseq"])
+def test_a_picture_that_fails_leaves_the_old_model_and_no_picture(tmp_path, monkeypatch, fmt):
+    """Issue 33, item 3: the model and its picture appear together or not at all."""
+    footprints, result = built(BOXES, None)
+    model, png = tmp_path / "m.json", tmp_path / "m.png"
+    model.write_text("the old model")
+
+    def interrupted(document, path, *args, **kwargs):
+        with open(path, "wb") as f:
+            f.write(b"half a picture")
+        raise KeyboardInterrupt()
+
+    monkeypatch.setattr(lod2_output.render, "render", interrupted)
+    steps = []
+
+    @contextlib.contextmanager
+    def doing(what):
+        steps.append(what)
+        yield
+
+    with pytest.raises(KeyboardInterrupt):
+        lod2_output.write_model(result, footprints, lod2_output.OutputRequest(
+            str(model), fmt, render=str(png)), doing=doing)
+    assert model.read_text() == "the old model" and os.listdir(tmp_path) == ["m.json"]
+    assert steps == ["writing '{}'".format(model), "drawing the picture '{}'".format(png)]
+
+
+def test_a_picture_that_cannot_be_written_is_named_and_the_model_is_not_written(tmp_path):
+    footprints, result = built(BOXES, None)
+    with pytest.raises(InputError, match=r"Cannot write '/proc/m.png'"):
+        lod2_output.write_model(result, footprints, lod2_output.OutputRequest(
+            str(tmp_path / "m.json"), render="/proc/m.png"))
+    assert os.listdir(tmp_path) == []
 
 def test_copied_footprints_are_not_built(sample, tmp_path):
     model = existing.read_model(os.path.join(sample, FORMS[0]))
