@@ -201,7 +201,8 @@ def main(options, flags):
     from reconstruction.core.errors import InputError
 
     grassio.register_cleanup()
-    grassio.check_outputs(options, rasters=("output", "segments"))
+    grassio.check_outputs(options, rasters=("output", "segments"),
+                          inputs={"raster": ("input",), "vector": ("training",)})
     grassio.require_projected()
     config = classify.read_config(options, flags)
     bands = config.bands

@@ -10,6 +10,7 @@ map, with one ``ERROR:`` line and no traceback.
 
 import contextlib
 import os
+import shutil
 import signal
 import subprocess
 import time
@@ -307,3 +308,129 @@ def test_ctrl_c_while_grass_parses_the_options_is_one_error_line(mapset, tmp_pat
     assert proc.returncode == 1, err
     assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
     assert error_lines(err) == ["ERROR: Interrupted while starting"], err
+
+
+# ---------------------------------------------------------------------------
+# Issue 33, item 3: the file outputs of a run appear together or not at all
+# ---------------------------------------------------------------------------
+
+def _part_file_written(directory, name):
+    """Whether the temporary file of output ``name`` exists in ``directory``
+    and holds something (the model is being written)."""
+    def written():
+        return any(p.name.startswith("." + name + ".") and p.stat().st_size > 0
+                   for p in directory.iterdir())
+    return written
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+@pytest.mark.parametrize("moment", ["building", "writing", "drawing"])
+def test_an_interrupted_lod2_run_keeps_the_old_model_and_picture(mapset, tmp_path, signum,
+                                                                  moment):
+    """v.histo.lod2 ... render=x.png --overwrite, interrupted while it builds
+    (its message says so), while the model is being written (its temporary
+    file grows) and while the picture is drawn (its message): both old files
+    stay as they were, and nothing else is left beside them."""
+    import threading
+
+    import grass.script as gs
+
+    from reconstruction import grassio
+
+    outputs = tmp_path / "out"
+    outputs.mkdir()
+    model, picture = outputs / "m.json", outputs / "m.png"
+    model.write_text("the old model")
+    picture.write_bytes(b"the old picture")
+    houses = [box(X0 + (i % 60) * 15, Y0 + (i // 60) * 20, X0 + (i % 60) * 15 + 9,
+                  Y0 + (i // 60) * 20 + 14) for i in range(3000)]
+    grassio.write_features("many_houses", houses, {"h_building": [9.0] * len(houses),
+                                                   "h_attic": [4.0] * len(houses)})
+    proc = gs.start_command("v.histo.lod2", input="many_houses", output=str(model),
+                            render=str(picture), roof="hip", overwrite=True, verbose=True,
+                            stderr=subprocess.PIPE, env=dict(os.environ, TMPDIR=str(tmp_path)))
+    err = []
+    reader = threading.Thread(target=lambda: err.extend(gs.decode(ln) for ln in proc.stderr))
+    reader.start()
+    condition = {"building": lambda: any("Building" in ln for ln in err),
+                 "writing": _part_file_written(outputs, "m.json"),
+                 "drawing": lambda: any("Drawing the picture" in ln for ln in err)}[moment]
+    started = _wait_for(condition, proc)
+    assert started and proc.poll() is None, "the module ended before the signal: " + "".join(err)
+    proc.send_signal(signum)
+    proc.wait(timeout=60)
+    reader.join()
+    err = "".join(err)
+    assert proc.returncode != 0 and "Traceback" not in err, err
+    assert len(error_lines(err)) == 1, err
+    assert ("Terminated" if signum == signal.SIGTERM else "Interrupted") in err
+    assert model.read_text() == "the old model" and picture.read_bytes() == b"the old picture"
+    assert sorted(p.name for p in outputs.iterdir()) == ["m.json", "m.png"]
+
+
+def test_a_picture_that_cannot_be_written_fails_before_the_model_is_written(small, tmp_path):
+    model = tmp_path / "m.json"
+    model.write_text("the old model")
+    fails("v.histo.lod2", "Cannot write '/proc/m.png'", input="houses", output=str(model),
+          render="/proc/m.png", overwrite=True)
+    assert model.read_text() == "the old model" and os.listdir(str(tmp_path)) == ["m.json"]
+
+
+# ---------------------------------------------------------------------------
+# Issue 33, item 4: an output never replaces an input
+# ---------------------------------------------------------------------------
+
+def test_no_file_output_replaces_a_file_input(small, tmp_path):
+    existing = tmp_path / "bag.city.json"
+    code, _, err = run_module("v.histo.lod2", input="houses", output=str(existing), quiet=True)
+    assert code == 0, err
+    before = existing.read_bytes()
+    rules = tmp_path / "rules.csv"
+    rules.write_text("roof,weight\nhip,1\n")
+    link = tmp_path / "link.json"
+    link.symlink_to(existing)
+    for options, given in (
+            (dict(output=str(tmp_path / "m.json"), render=str(existing)), "render"),
+            (dict(output=str(link), existing=str(existing)), "output"),
+            (dict(output=str(rules), rules=str(rules)), "output")):
+        fails("v.histo.lod2", "Option {}= names the input".format(given), input="houses",
+              overwrite=True, **dict(dict(existing=str(existing)), **options))
+    assert existing.read_bytes() == before and rules.read_text() == "roof,weight\nhip,1\n"
+    assert sorted(os.listdir(str(tmp_path))) == ["bag.city.json", "link.json", "rules.csv"]
+
+
+@pytest.mark.parametrize("module, options", [
+    ("v.histo.subdivide", dict(input="plots", output="plots")),
+    ("v.histo.subdivide", dict(input="plots", aligned="houses", output="houses")),
+    ("v.histo.align", dict(input="plots", footprints="houses", year=1950, output="houses")),
+    ("v.histo.generalize", dict(input="plots", output="plots")),
+])
+def test_no_map_output_replaces_an_input_map(small, module, options):
+    gs, grassio = small
+    before = {name: grassio.vector_counts(name) for name in ("plots", "houses")}
+    output = options["output"]
+    fails(module, "Option output= names the input <{}>".format(output), overwrite=True,
+          **options)
+    assert {name: grassio.vector_counts(name) for name in ("plots", "houses")} == before
+
+
+def test_an_input_of_another_mapset_may_share_its_output_name(small):
+    """An output of the input's name replaces nothing when the input is
+    read from another mapset (as GRASS's own modules allow)."""
+    gs, grassio = small
+    mapset = gs.gisenv()["MAPSET"]
+    code, _, err = run_module("v.histo.subdivide", input="plots@" + mapset, output="fp1",
+                              quiet=True)
+    assert code == 0, err
+    other = mapset + "_other"
+    gs.run_command("g.mapset", mapset=other, flags="c", quiet=True)
+    try:
+        code, _, err = run_module("v.histo.subdivide", input="fp1@" + mapset,
+                                  output="fp1", quiet=True)
+        assert code == 0, err
+        assert grassio.vector_counts("fp1@" + other)["areas"] > 0
+    finally:
+        gs.run_command("g.mapset", mapset=mapset, quiet=True)
+        env = gs.gisenv()
+        shutil.rmtree(os.path.join(env["GISDBASE"], env["LOCATION_NAME"], other),
+                      ignore_errors=True)

@@ -395,7 +395,8 @@ def main(options, flags):
     from reconstruction import lod2
 
     grassio.require_projected()      # (a missing input map: when reading it)
-    grassio.check_outputs(options, files=("output", "render"))
+    grassio.check_outputs(options, files=("output", "render"),
+                          inputs={"file": ("rules", "existing")})
     config = lod2.read_config(options, flags, grassio.location_epsg(), street_labels(options,
                                                                                   flags))
 

@@ -105,7 +105,7 @@ def main(options, flags):
     from reconstruction.core.errors import InputError
 
     grassio.register_cleanup()
-    grassio.check_outputs(options, vectors=("output",))
+    grassio.check_outputs(options, vectors=("output",), inputs={"vector": ("input", "aligned")})
     config = subdivide.read_config(options, flags)
     grassio.require_projected()
     for name, what in ((config.plots, "plots"), (config.aligned, "aligned footprints")):

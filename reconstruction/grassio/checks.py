@@ -112,7 +112,7 @@ def vector_counts(name):
 # Outputs
 # ---------------------------------------------------------------------------
 
-def check_outputs(options, rasters=(), vectors=(), files=()):
+def check_outputs(options, rasters=(), vectors=(), files=(), inputs=None):
     """Raise :class:`InputError` now when an output named by ``options`` cannot be written.
 
     ``rasters``, ``vectors``, ``files``: the option keys of the output raster
@@ -122,6 +122,11 @@ def check_outputs(options, rasters=(), vectors=(), files=()):
     and be writable, an existing file needs --overwrite and must be a regular
     file (a symbolic link is followed: its target is checked and written,
     see :mod:`reconstruction.core.safefile`). Two outputs may not have one name.
+    ``inputs``: kind (``"raster"``, ``"vector"``, ``"file"``) -> the option
+    keys of the inputs of that kind (comma lists allowed): no output may be
+    one of them (issue 33, item 4: ``render=`` given the ``existing=`` model
+    would replace the user's model with a picture; as GRASS's own modules
+    refuse an output map that is their input).
     """
     seen = {}
     for kind, keys in (("raster", rasters), ("vector", vectors)):
@@ -138,6 +143,29 @@ def check_outputs(options, rasters=(), vectors=(), files=()):
     for key in files:
         if options[key]:
             _unique(seen, ("file", check_output_file(options[key], key)), key)
+    for kind, keys in (inputs or {}).items():
+        for key in keys:
+            for given in [v.strip() for v in (options.get(key) or "").split(",") if v.strip()]:
+                output = seen.get((kind, _input_identity(kind, given, seen)))
+                if output:
+                    raise InputError("Option {}= names the input <{}> of {}=: an output never "
+                                     "replaces an input".format(output, given, key))
+
+
+def _input_identity(kind, name, outputs):
+    """What an input is, as :func:`check_outputs` keys its ``outputs``: a
+    file's real path; a map's name when an output has that name and the map
+    is found in the current mapset (else None: no output replaces it)."""
+    if kind == "file":
+        return os.path.realpath(name)
+    bare, _at, mapset = name.partition("@")
+    if (kind, bare) not in outputs:
+        return None
+    current = gs.gisenv()["MAPSET"]
+    if mapset and mapset != current:
+        return None
+    found = gs.find_file(bare, element="cell" if kind == "raster" else "vector", mapset=current)
+    return bare if found["fullname"] else None
 
 
 def _map_name(name, key):
