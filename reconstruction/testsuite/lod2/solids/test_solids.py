@@ -310,3 +310,37 @@ def test_skeleton_roofs_of_jogged_outlines_are_valid_without_fallback(kind):
     ss, kept, got, log = built.solids, built.kept, built.types, built.log
     assert list(got) == [kind] and not log, log
     assert validation.validate(ss) == [None]
+
+
+def test_buildings_built_in_steps_give_the_same_model_whatever_nprocs(monkeypatch):
+    """Issue 33, item 9: a city is built STEP buildings at a time (bounded
+    memory); the model is the one built at once, and the CityJSONSeq text
+    (whose vertex numbering follows the steps) is the same for any nprocs."""
+    import io
+
+    from reconstruction.cityjson import model as cityjson
+    from reconstruction.cityjson import seq as cityjsonseq
+
+    rng = np.random.default_rng(3)
+    B = 1300
+    fps = [outlines.clean_ring(np.array([[0, 0], [rng.uniform(8, 20), rng.uniform(-1, 1)],
+                                         [12, rng.uniform(4, 10)], [0, 7]])
+                               + [i * 25.0, 0] + ORIGIN)[0] for i in range(B)]
+    args = (fps, np.zeros(B), np.full(B, 9.0), np.full(B, 3.5),
+            rng.choice(roofs.ROOF_TYPES, B), rng.random((B, 3)))
+
+    def model(r):
+        return cityjson.citymodel(r.solids, solidset.semantics(r.solids), list(r.kept),
+                                  {"t": list(r.types)})
+
+    def seq_text(r):
+        f = io.BytesIO()
+        cityjsonseq.write(f, r.solids, solidset.semantics(r.solids),
+                          ["b{}".format(k) for k in r.kept], {"t": list(r.types)}, 28992)
+        return f.getvalue()
+
+    at_once = solids.build_solids(solids.Buildings(*args))
+    monkeypatch.setattr(solids, "STEP", 400)
+    in_steps = [solids.build_solids(solids.Buildings(*args), nprocs=n) for n in (1, 2, 3)]
+    assert model(in_steps[0]) == model(at_once)
+    assert seq_text(in_steps[0]) == seq_text(in_steps[1]) == seq_text(in_steps[2])
