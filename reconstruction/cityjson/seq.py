@@ -20,6 +20,9 @@ coordinates. The text is built in bulk with the integer writer of
 import io
 import itertools
 import json
+import os
+import shutil
+import tempfile
 
 import numpy as np
 
@@ -145,14 +148,6 @@ def write(f, ss, semantics, ids, attributes=None, reference_system=None, title=N
     takes them), then one per copied building (``copied``:
     :class:`~reconstruction.cityjson.copied.CopiedBuildings`), ``chunk`` buildings
     at a time. Returns the number of features written."""
-    attributes = {k: _attr_list(v) for k, v in (attributes or {}).items()}
-    ids = [str(i) for i in ids]
-    if copied is not None and len(copied):
-        copied = by_building(copied)            # each feature indexes its own vertices
-        clash = set(ids).intersection(o for objs in copied.trees for o in objs)
-        if clash:
-            raise InputError("{} copied objects have the id of a generated building (e.g. <{}>)"
-                             .format(len(clash), sorted(clash)[0]))
     boxes = [corners(ss.vertices)] if len(ss.vertices) else []
     if copied is not None and len(copied.vertices):
         boxes.append(copied.extent())
@@ -161,28 +156,113 @@ def write(f, ss, semantics, ids, attributes=None, reference_system=None, title=N
         hi = np.max([c[1] for c in boxes], axis=0).astype(np.int64)
     else:
         lo = hi = np.zeros(3, dtype=np.int64)
-    text_file = isinstance(f, io.TextIOBase)
-    head = json.dumps(header(lo, lo, hi, reference_system, title, copied),
-                      separators=(",", ":")) + "\n"
-    f.write(head if text_file else head.encode())
-    S = len(ss)
-    for a in range(0, S, chunk):
-        b = min(S, a + chunk)
-        part = take(ss, np.arange(a, b)) if (a, b) != (0, S) else ss
-        local, rows, starts = _local_vertices(part)
-        objects = building_texts(part, np.asarray(semantics)[_faces_of(ss, a, b)], ids[a:b],
-                                 {k: v[a:b] for k, v in attributes.items()}, local)
-        verts = vertices_texts(rows - lo, starts)
-        keys = [json.encoder.encode_basestring_ascii(i) for i in ids[a:b]]
-        lines = map("".join, zip(
-            itertools.repeat('{"type":"CityJSONFeature","id":'), keys,
-            itertools.repeat(',"CityObjects":{'), objects, itertools.repeat('},"vertices":'),
-            verts, itertools.repeat("}\n")))
-        f.writelines(lines if text_file else (line.encode() for line in lines))
-    if copied is not None and len(copied):
-        for text in _copied_features(copied, lo, min(chunk, _COPIED_CHUNK)):
-            f.write(str(text, "utf-8") if text_file else text)
-    return S + (len(copied) if copied is not None else 0)
+    writer = SeqWriter(f, lo, reference_system, title, copied, extent=(lo, hi))
+    writer.add(ss, semantics, ids, attributes, chunk)
+    return writer.finish()
+
+
+class SeqWriter:
+    """A CityJSONSeq written in steps (issue 33, item 9: a city whose solids
+    are built a step at a time never holds them all): :meth:`add` writes the
+    features of some generated buildings, :meth:`finish` those of the copied
+    ones (``copied``, as for :func:`write`) and ends the file.
+
+    ``translate``: the integer origin of the vertices (scale 1 mm), fixed
+    beforehand. ``extent``: (lo, hi) integer corners of every vertex, when
+    known beforehand: the header is written at once and the features after
+    it; otherwise (None) the features go to a temporary file beside ``f``
+    (removed whatever happens) until :meth:`finish` knows the extent, writes
+    the header and copies them after it.
+    """
+
+    def __init__(self, f, translate, reference_system=None, title=None, copied=None,
+                 extent=None):
+        self.f, self.text_file = f, isinstance(f, io.TextIOBase)
+        self.translate = np.asarray(translate, dtype=np.int64)
+        self.reference_system, self.title = reference_system, title
+        self.copied = by_building(copied) if copied is not None and len(copied) else None
+        # each copied feature indexes its own vertices
+        self.copied_ids = (set() if self.copied is None else
+                           {o for objs in self.copied.trees for o in objs})
+        self.count = 0
+        self.boxes = [] if self.copied is None or not len(self.copied.vertices) else [
+            self.copied.extent()]
+        self.spool = None
+        if extent is not None:
+            self._write(self._header(*extent))
+        else:
+            self.spool = tempfile.TemporaryFile(dir=_directory_of(f))
+
+    def _header(self, lo, hi):
+        head = header(self.translate, lo, hi, self.reference_system, self.title, self.copied)
+        return json.dumps(head, separators=(",", ":")) + "\n"
+
+    def _write(self, text):
+        self.f.write(text if self.text_file else text.encode())
+
+    def add(self, ss, semantics, ids, attributes=None, chunk=20000):
+        """Write the features of the generated buildings ``ss`` (their face
+        ``semantics``, ``ids``, ``attributes``: name -> one value per building)."""
+        attributes = {k: _attr_list(v) for k, v in (attributes or {}).items()}
+        ids = [str(i) for i in ids]
+        clash = self.copied_ids.intersection(ids)
+        if clash:
+            raise InputError("{} copied objects have the id of a generated building (e.g. <{}>)"
+                             .format(len(clash), sorted(clash)[0]))
+        if len(ss.vertices):
+            self.boxes.append(corners(ss.vertices))
+        out = self.spool if self.spool is not None else self.f
+        text_file = self.spool is None and self.text_file
+        S = len(ss)
+        for a in range(0, S, chunk):
+            b = min(S, a + chunk)
+            part = take(ss, np.arange(a, b)) if (a, b) != (0, S) else ss
+            local, rows, starts = _local_vertices(part)
+            objects = building_texts(part, np.asarray(semantics)[_faces_of(ss, a, b)], ids[a:b],
+                                     {k: v[a:b] for k, v in attributes.items()}, local)
+            verts = vertices_texts(rows - self.translate, starts)
+            keys = [json.encoder.encode_basestring_ascii(i) for i in ids[a:b]]
+            lines = map("".join, zip(
+                itertools.repeat('{"type":"CityJSONFeature","id":'), keys,
+                itertools.repeat(',"CityObjects":{'), objects, itertools.repeat('},"vertices":'),
+                verts, itertools.repeat("}\n")))
+            out.writelines(lines if text_file else (line.encode() for line in lines))
+        self.count += S
+
+    def finish(self):
+        """Write the copied buildings' features (and, spooled, the header
+        and the features before them); returns the number of features."""
+        if self.spool is not None:
+            if self.boxes:
+                lo = np.min([c[0] for c in self.boxes], axis=0).astype(np.int64)
+                hi = np.max([c[1] for c in self.boxes], axis=0).astype(np.int64)
+            else:
+                lo = hi = self.translate
+            self._write(self._header(lo, hi))
+            self.spool.seek(0)
+            if self.text_file:
+                self.f.write(str(self.spool.read(), "utf-8"))
+            else:
+                shutil.copyfileobj(self.spool, self.f, 1 << 22)
+            self.spool.close()
+            self.spool = None
+        copied = self.copied
+        if copied is not None:
+            for text in _copied_features(copied, self.translate, _COPIED_CHUNK):
+                self.f.write(str(text, "utf-8") if self.text_file else text)
+        return self.count + (len(copied) if copied is not None else 0)
+
+    def close(self):
+        """Let go of the temporary file (also when the writing failed)."""
+        if self.spool is not None:
+            self.spool.close()
+            self.spool = None
+
+
+def _directory_of(f):
+    """The directory of an open file (None: the system's temporary one)."""
+    name = getattr(f, "name", None)
+    return os.path.dirname(os.path.abspath(name)) if isinstance(name, str) else None
 
 
 def _copied_features(copied, lo, chunk):

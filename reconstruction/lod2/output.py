@@ -38,13 +38,14 @@ from ..cityjson import seq as cityjsonseq
 from ..core import safefile
 from ..core.contract import PLOT, SOURCE, SOURCE_ALIGNED
 from ..core.errors import InputError
-from ..geom.solidset import semantics, take
+from ..geom.solidset import concat, semantics, take
 from . import render
 from . import stage as lod2
 from .config import FORMATS, ExistingRequest, OutputRequest  # noqa: F401 (also read here)
 from .heights import height_columns
 from .inputs import AlignedFootprints
 from .report import drawing_messages
+from .solids import validation
 from .solids.build import Buildings, build_solids
 
 @dataclass(frozen=True)
@@ -92,6 +93,9 @@ class OutputReport:
     copy: Optional[citycopy.CopyReport] = None
     match: Optional[existing.MatchReport] = None
     rendered: Optional[str] = None
+    #: buildings drawn when the picture shows only some
+    #: (:data:`reconstruction.lod2.render.MAX_DRAWN`), else None
+    drawn: Optional[int] = None
     candidates: int = 0
     notes: tuple = ()
 
@@ -231,13 +235,16 @@ def _pick(values, keep):
     return [values[i] for i in keep.tolist()]
 
 
-def copy_matched(match, footprints, count, fmt="cityjson"):
+def copy_matched(match, footprints, count, fmt="cityjson", among=None):
     """The matched buildings (:class:`~reconstruction.cityjson.copied.CopiedBuildings`),
     in footprint order, with their footprint's plot, source and category as
     attributes where they have none of their own, ready to be written in
-    the format ``fmt``."""
+    the format ``fmt``; ``among``: only those of these footprints (a mask
+    of ``count``; None: all)."""
     building = match.building(count)
     matched = match.copied(count)
+    if among is not None:
+        matched = matched[among[matched]]
     cats = footprints.cats if footprints.cats is not None else list(range(1, count + 1))
     attributes = {"footprint": [cats[i] for i in matched.tolist()]}
     for name, values in ((PLOT, footprints.plot), (SOURCE, footprints.source)):
@@ -256,6 +263,58 @@ def _single_text(result, copied, request):
     return citymerge.merged_pieces(text, copied)
 
 
+def drawn_footprints(geometries, most=None):
+    """Which footprints the picture draws: None for all (at most ``most``,
+    default :data:`reconstruction.lod2.render.MAX_DRAWN`), else a mask of
+    the ``most`` whose centroids are nearest the middle of the footprints'
+    bounding box (ties by order)."""
+    import shapely
+
+    most = render.MAX_DRAWN if most is None else most
+    if len(geometries) <= most:
+        return None
+    polygons = np.array([g if g is not None else shapely.Point() for g in geometries])
+    present = ~shapely.is_empty(polygons)
+    xy = shapely.get_coordinates(shapely.centroid(polygons[present]))
+    lo, hi = xy.min(axis=0), xy.max(axis=0)
+    distance = np.full(len(polygons), np.inf)
+    distance[present] = np.hypot(*(xy - (lo + hi) / 2.0).T)
+    mask = np.zeros(len(polygons), dtype=bool)
+    mask[np.argsort(distance, kind="stable")[:most]] = True
+    return mask
+
+
+def _drawn(result, drawn):
+    """The buildings of ``result`` on the ``drawn`` footprints (a mask; None: all)."""
+    if drawn is None:
+        return result
+    return without_footprints(result, np.nonzero(~drawn)[0])
+
+
+def _joined(results):
+    """One :class:`~reconstruction.lod2.stage.Lod2Result` of several (for the picture)."""
+    results = [r for r in results if len(r.ids)]
+    if len(results) == 1:
+        return results[0]
+    ss = concat([r.solids for r in results])
+    attributes = {k: [v for r in results for v in _pick(r.attributes[k], np.arange(len(r.ids)))]
+                  for k in (results[0].attributes if results else {})}
+    return lod2.Lod2Result(ss, semantics(ss), [i for r in results for i in r.ids],
+                           np.concatenate([r.roof_types for r in results]) if results else
+                           np.zeros(0, dtype=object),
+                           np.concatenate([r.footprint for r in results]) if results else
+                           np.zeros(0, dtype=np.int64), attributes,
+                           results[0].report if results else None)
+
+
+def _copied(match, footprints, fmt):
+    """The copied buildings and the report of what was matched and copied."""
+    count = len(footprints.geometries)
+    copied = copy_matched(match, footprints, count, fmt)
+    return copied, OutputReport(generated=0, copied=len(copied), copy=copied.report,
+                                match=match.matches.report, candidates=len(match.candidates))
+
+
 def write_model(result, footprints, request, match=None, doing=nullcontext, say=None):
     """Write the model of a :class:`~reconstruction.lod2.stage.Lod2Result` (and the
     buildings ``match`` copies, an :class:`ExistingMatch` or None) as
@@ -270,13 +329,11 @@ def write_model(result, footprints, request, match=None, doing=nullcontext, say=
     fmt = request.format
     copied, report = None, OutputReport(generated=len(result.ids))
     if match is not None:
-        count = len(footprints.geometries)
         before = len(result.ids)
-        result = without_footprints(result, match.copied(count))
-        copied = copy_matched(match, footprints, count, fmt)
-        report = OutputReport(generated=len(result.ids), copied=len(copied),
-                              replaced=before - len(result.ids), copy=copied.report,
-                              match=match.matches.report, candidates=len(match.candidates))
+        result = without_footprints(result, match.copied(len(footprints.geometries)))
+        copied, report = _copied(match, footprints, fmt)
+        report = replace(report, generated=len(result.ids), replaced=before - len(result.ids))
+    drawn = drawn_footprints(footprints.geometries) if request.render else None
     with safefile.together() as files:
         model_file = files.reserve(request.path)
         picture_file = files.reserve(request.render, ".png") if request.render else None
@@ -284,7 +341,7 @@ def write_model(result, footprints, request, match=None, doing=nullcontext, say=
         with doing("writing '{}'".format(request.path)), open(model_file, "wb") as f:
             if fmt == "cityjson":
                 pieces = _single_text(result, copied, request)
-                if request.render:
+                if request.render and drawn is None:
                     pieces = list(pieces)           # written, then drawn
                 cityjson.write_pieces(f, pieces)
             else:
@@ -292,13 +349,94 @@ def write_model(result, footprints, request, match=None, doing=nullcontext, say=
                                   result.attributes, request.reference_system, request.title,
                                   copied=copied)
         if request.render:
-            if say is not None:
-                say(drawing_messages(request.render))
-            with doing("drawing the picture '{}'".format(request.render)):
-                document = json.loads(cityjson.joined_text(
-                    pieces if pieces is not None else _single_text(result, copied, request)))
-                render.render(document, picture_file, request.view,
-                              map_image=request.map_image,
-                              copied=copied.ids if copied is not None else ())
-            report = replace(report, rendered=request.render)
+            if drawn is not None:
+                pieces = None
+                result = _drawn(result, drawn)
+                if copied is not None:
+                    copied = copy_matched(match, footprints, len(footprints.geometries),
+                                          among=drawn)
+            report = _render(pieces or _single_text(result, copied, request), picture_file,
+                             request, copied, report, drawn, doing, say)
     return report
+
+
+def _render(pieces, path, request, copied, report, drawn, doing, say):
+    """Draw the model given as ``pieces`` to ``path`` (the picture's temporary
+    file); the report with what was drawn."""
+    if say is not None:
+        say(drawing_messages(request.render))
+    with doing("drawing the picture '{}'".format(request.render)):
+        document = json.loads(cityjson.joined_text(pieces))
+        render.render(document, path, request.view, map_image=request.map_image,
+                      copied=copied.ids if copied is not None else ())
+    return replace(report, rendered=request.render,
+                   drawn=None if drawn is None else int(drawn.sum()))
+
+
+def write_in_steps(prepared, config, footprints, request, match=None, doing=nullcontext,
+                   say=None, validate=False):
+    """Build and write the CityJSONSeq model of ``prepared`` (without the
+    footprints ``match`` copies: :func:`without_copied`) a step of buildings
+    at a time (:func:`reconstruction.lod2.stage.build_in_steps`), so that
+    memory is bounded by a step, not by the city (issue 33, item 9): each
+    step's solids are written and let go. The copied buildings follow, as
+    :func:`write_model` writes them; the picture draws the buildings of
+    :func:`drawn_footprints`, kept as the steps go.
+
+    Returns the whole run's :class:`~reconstruction.lod2.stage.Lod2Result`
+    (:func:`reconstruction.lod2.stage.summary`: no solids), the
+    :class:`OutputReport` and, with ``validate``, the validation of every
+    solid (:func:`reconstruction.lod2.solids.validation.validate`, step by step)."""
+    copied, report = None, OutputReport(generated=0)
+    count = len(footprints.geometries)
+    if match is not None:
+        copied, report = _copied(match, footprints, request.format)
+    drawn = drawn_footprints(footprints.geometries) if request.render else None
+    steps, kept, invalid = [], [], [] if validate else None
+    with safefile.together() as files:
+        model_file = files.reserve(request.path)
+        picture_file = files.reserve(request.render, ".png") if request.render else None
+        with doing("writing '{}'".format(request.path)), open(model_file, "wb") as f:
+            writer = cityjsonseq.SeqWriter(f, _origin(prepared, copied), request.reference_system,
+                                           request.title, copied)
+            try:
+                built = (lod2.build_in_steps(prepared, config) if len(prepared.buildings) or
+                         match is None or not len(match.matches.matched) else ())
+                for step in built:
+                    before = len(step.ids)
+                    if match is not None:
+                        step = without_footprints(step, match.copied(count))
+                    report = replace(report, generated=report.generated + len(step.ids),
+                                     replaced=report.replaced + before - len(step.ids))
+                    writer.add(step.solids, step.semantics, step.ids, step.attributes)
+                    if validate:
+                        invalid.extend(validation.validate(step.solids))
+                    if request.render:
+                        kept.append(_drawn(step, drawn))
+                    steps.append(replace(step, solids=None, semantics=None, attributes={}))
+                writer.finish()
+            finally:
+                writer.close()
+        if request.render:
+            if copied is not None and drawn is not None:
+                copied = copy_matched(match, footprints, count, among=drawn)
+            report = _render(_single_text(_joined(kept), copied, request), picture_file,
+                             request, copied, report, drawn, doing, say)
+    return lod2.summary(steps, prepared.report), report, invalid
+
+
+def _origin(prepared, copied=None):
+    """The integer origin (1 mm) of a model's vertices, known before its
+    solids: the lowest corner of the footprints and their ground, and of
+    the copied buildings (the lowest vertex of the solids built on them)."""
+    b = prepared.buildings
+    corners_ = []
+    if len(b):
+        xy = np.concatenate([np.asarray(ring, dtype=float).reshape(-1, 2) for ring in
+                             b.footprints])
+        corners_.append(np.round(np.append(xy.min(axis=0), np.min(b.ground)) * 1000.0))
+    if copied is not None and len(copied.vertices):
+        corners_.append(copied.extent()[0])
+    if not corners_:
+        return np.zeros(3, dtype=np.int64)
+    return np.min(corners_, axis=0).astype(np.int64)

@@ -17,7 +17,10 @@ checked) and does, in turn:
    edges added (:mod:`reconstruction.lod2.inputs`), the copied footprints
    left out (:func:`reconstruction.lod2.output.without_copied`);
 5. the solids built (:func:`reconstruction.lod2.output.build`) and the model
-   written (:func:`reconstruction.lod2.output.write_model`), validated with -v.
+   written (:func:`reconstruction.lod2.output.write_model`), validated with -v;
+   a CityJSONSeq is built and written a step of buildings at a time
+   (:func:`reconstruction.lod2.output.write_in_steps`: memory bounded by a
+   step, not by the city).
 
 The messages of each step (:mod:`reconstruction.lod2.report`) go to
 ``inputs.say`` as the step is done; :func:`reconstruction.lod2.report.report`
@@ -125,6 +128,11 @@ def run(inputs, config):
     say(footprint_messages(prepared.report, config))
     prepared = lod2_output.without_copied(prepared, match)     # the copied are not built
     say(build_messages(prepared.report.rings))
+    if output.format == "cityjsonseq":      # built and written a step at a time
+        result, written, invalid = lod2_output.write_in_steps(
+            prepared, config, footprints, output, match, doing, say, config.validate)
+        say(built_messages(result.report))
+        return Lod2Run(result, written, invalid)
     result = lod2_output.build(prepared, config, match)
     say(built_messages(result.report))
     written = lod2_output.write_model(result, footprints, output, match, doing, say)

@@ -140,6 +140,12 @@ def _map_plane(map_image, origin, z, pv):
     return plane, texture
 
 
+#: buildings drawn at most (issue 33, item 9): a picture costs about 17 KB
+#: of memory per building drawn, and at 1,600 x 1,200 pixels more buildings
+#: would be specks; v.histo.lod2 draws a larger model by the footprints
+#: nearest the middle of them all (:func:`reconstruction.lod2.output.drawn_footprints`)
+MAX_DRAWN = 10000
+
 #: faces up to which every face is outlined by default (more: the outlines would grey the picture)
 EDGE_FACES = 20000
 

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..core.messages import note, verbose, warning
 from . import street_edges as se
+from .render import MAX_DRAWN
 from .solids.vertex_budget import MAX_ROOF_VERTICES
 
 #: the largest ground buffer, in the message on footprints without ground
@@ -176,6 +177,10 @@ def report(result, config):
                                "are left out".format(written.copy.skipped_geometries)))
     if written.rendered:
         out.append(note("Picture written to '{}'".format(written.rendered)))
+        if written.drawn is not None:
+            out.append(note("The picture draws the buildings of the {} footprints nearest the "
+                            "middle of the model: a picture draws at most {}".format(
+                                written.drawn, MAX_DRAWN)))
     if result.invalid is not None:
         for f in result.model.report.fallbacks:
             out.append(note("Footprint cat {}: {} roof invalid ({}), fell back".format(

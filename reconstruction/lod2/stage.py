@@ -30,11 +30,11 @@ import numpy as np
 from ..cityjson import model as cityjson
 from ..core.contract import PLOT, SOURCE
 from ..core.errors import InputError
-from ..geom.solidset import SolidSet, semantics
+from ..geom.solidset import SolidSet, concat, semantics
 from .config import AUTO, Lod2Config
 from .outlines import clean_rings, footprint_polygons, rings_are_simple
 from .roofs.plan import ROOF_TYPES, draw_roof_types
-from .solids.build import Buildings, build_solids
+from .solids.build import Buildings, build_solids, build_solids_steps
 from .solids.vertex_budget import needs_budget
 
 
@@ -330,10 +330,50 @@ def build(prepared, config=None):
     Raises :class:`InputError` when no footprint is left to build.
     """
     config = config or Lod2Config()
-    buildings = prepared.buildings
-    if not len(buildings):
+    if not len(prepared.buildings):
         raise InputError("No footprint left to build")
-    built = build_solids(buildings, config.roof, nprocs=config.nprocs)
+    return _result(prepared, build_solids(prepared.buildings, config.roof, nprocs=config.nprocs),
+                   len(prepared.buildings), config)
+
+
+def build_in_steps(prepared, config=None):
+    """:func:`build` a step of buildings at a time
+    (:func:`~reconstruction.lod2.solids.build.build_solids_steps`), for a
+    writer that streams: yields the :class:`Lod2Result` of every step in
+    turn, its report counting the dropped, fallen back, changed and
+    simplified buildings of that step (:func:`summary` adds them up).
+
+    Raises :class:`InputError` when no footprint is left to build.
+    """
+    config = config or Lod2Config()
+    if not len(prepared.buildings):
+        raise InputError("No footprint left to build")
+    for idx, built in build_solids_steps(prepared.buildings, config.roof, nprocs=config.nprocs):
+        yield _result(prepared, built, len(idx), config)
+
+
+def summary(steps, report):
+    """One :class:`Lod2Result` of the ``steps`` of :func:`build_in_steps`,
+    without their solids (written step by step and let go): ids, roof types
+    and footprints of every building and the counts of ``report`` (the
+    prepared footprints') with the steps' added up."""
+    steps = list(steps)
+    ss = concat([])
+    return Lod2Result(
+        ss, semantics(ss), [i for r in steps for i in r.ids],
+        np.concatenate([r.roof_types for r in steps]) if steps else np.zeros(0, dtype=object),
+        np.concatenate([r.footprint for r in steps]) if steps else np.zeros(0, dtype=np.int64),
+        {}, replace(report, dropped=sum(r.report.dropped for r in steps),
+                    fell_back=sum(r.report.fell_back for r in steps),
+                    by_rule=sum(r.report.by_rule for r in steps),
+                    simplified=sum(r.report.simplified for r in steps),
+                    fallbacks=[f for r in steps for f in r.report.fallbacks]))
+
+
+def _result(prepared, built, count, config):
+    """The :class:`Lod2Result` of ``built`` (:class:`~reconstruction.lod2.solids.build.BuiltSolids`
+    of ``count`` of the prepared buildings, indexed among all)."""
+    buildings = prepared.buildings
     ss, kept, got, log = built.solids, built.kept, built.types, built.log
     src, cats = prepared.source, prepared.cats
     fsrc = src[kept]
@@ -361,7 +401,7 @@ def build(prepared, config=None):
     failed = np.zeros(len(buildings), dtype=bool)
     failed[[f.index for f in log]] = True
     changed = got != buildings.roof_types[kept]
-    report = replace(prepared.report, dropped=len(buildings) - len(kept),
+    report = replace(prepared.report, dropped=count - len(kept),
                                       fell_back=int(np.sum(changed & failed[kept])),
                                       by_rule=int(np.sum(changed & ~failed[kept])),
                                       simplified=int(needs_budget(

@@ -259,12 +259,45 @@ STEP = 2000
 def _build_in_steps(buildings, config):
     """:func:`_build_beside` on :data:`STEP` buildings at a time, merged (the
     steps of :func:`build_solids` start at multiples of :data:`STEP`)."""
-    B = len(buildings)
-    if B <= STEP:
+    if len(buildings) <= STEP:
         return _build_beside(buildings, config)
-    bounds = list(range(0, B, STEP)) + [B]
-    return _merge([(np.arange(a, b), _build_beside(buildings.subset(slice(a, b)), config))
-                   for a, b in zip(bounds[:-1], bounds[1:])])
+    return _merge(list(_steps(buildings, config)))
+
+
+def build_solids_steps(buildings, config=None, nprocs=1):
+    """:func:`build_solids` step by step, for a writer that streams (issue
+    33, item 9: memory bounded by a step, not by the city): yields
+    ``(indices, built)`` for every :data:`STEP` buildings in turn, ``built``
+    the :class:`BuiltSolids` of the buildings ``indices`` (its ``kept`` and
+    log indices among all the buildings). With ``nprocs`` > 1 that many
+    steps are built at a time, one by this process, the others by forked
+    processes. The solids are those of :func:`build_solids`."""
+    for idx, built in _steps(buildings, config or RoofConfig(), nprocs):
+        yield idx, _merge([(idx, built)])
+
+
+def _steps(buildings, config, nprocs=1):
+    """``(indices, built)`` of every step in turn, ``built`` indexing the
+    step's own buildings."""
+    check_crow_steps(config.step)
+    B = len(buildings)
+    bounds = np.minimum(np.arange(-(-B // STEP) + 1) * STEP, B)
+    steps = len(bounds) - 1
+    nprocs = min(int(nprocs), steps)
+    if nprocs <= 1:
+        for a, b in zip(bounds[:-1], bounds[1:]):
+            yield np.arange(a, b), _build_beside(buildings.subset(slice(a, b)), config)
+        return
+    _CHUNKS[:] = [(bounds, buildings, config)]
+    try:
+        with multiprocessing.get_context("fork").Pool(nprocs - 1) as pool:
+            for first in range(0, steps, nprocs):
+                ks = list(range(first, min(first + nprocs, steps)))
+                others = pool.map_async(_build_chunk, ks[1:])
+                for k, built in zip(ks, [_build_chunk(ks[0])] + others.get()):
+                    yield np.arange(bounds[k], bounds[k + 1]), built
+    finally:
+        _CHUNKS[:] = []
 
 
 def _build_beside(buildings, config):

@@ -1,6 +1,7 @@
 """lod2_output.py: v.histo.lod2's output side without GRASS (issue 17)."""
 
 import contextlib
+from dataclasses import replace
 import io
 import json
 import os
@@ -181,3 +182,110 @@ def test_the_matched_buildings_heights_are_measured_heights(sample):
     assert measured.ground[2] == pytest.approx(-0.077)
     assert lod2_output.attribute_columns(match, 3, ["b3_h_dak_max"]) == {
         "b3_h_dak_max": [None] + [model.objects[b]["attributes"]["b3_h_dak_max"] for b in BAG]}
+
+
+def _prepared(polygons, source=None, roof="gable"):
+    n = len(polygons)
+    footprints = lod2.Footprints(list(polygons), cats=list(range(1, n + 1)),
+                                 plot=list(range(100, 100 + n)), source=source)
+    prepared = lod2.prepare(
+        footprints, lod2.Heights(eaves=np.full(n, 6.0), attic=np.full(n, 3.0)),
+        lod2.RoofRequests(types=np.full(n, roof, dtype=object), years=np.full(n, np.nan)))
+    return footprints, prepared
+
+
+def _row_of_houses(n):
+    return [shapely.box(85000 + (i % 40) * 12, 446000 + (i // 40) * 16,
+                        85000 + (i % 40) * 12 + 8, 446000 + (i // 40) * 16 + 11)
+            for i in range(n)]
+
+
+def test_a_cityjsonseq_built_and_written_in_steps_is_the_one_written_at_once(
+        sample, tmp_path, monkeypatch):
+    """Issue 33, item 9: the streamed CityJSONSeq (a step of buildings built,
+    written and let go at a time) is byte for byte the one written from
+    every solid at once, copied buildings included; -v checks every solid."""
+    from reconstruction.lod2.solids import build as solids
+
+    model = existing.read_model(os.path.join(sample, FORMS[1]))
+    fps = existing.footprints(model)
+    polygons = [fps.geometry(model.buildings.index(b)) for b in BAG] + _row_of_houses(23)
+    source = ["aligned"] + ["2pm"] * 24
+    footprints, prepared = _prepared(polygons, source, roof="hip")
+    match = lod2_output.match_existing(
+        model, lod2_output.ExistingRequest(os.path.join(sample, FORMS[1])), footprints)
+    request = lod2_output.OutputRequest(str(tmp_path / "at_once.city.jsonl"), "cityjsonseq",
+                                        28992, "t")
+    config = lod2.Lod2Config()
+    monkeypatch.setattr(solids, "STEP", 4)      # (vertex numbering follows the steps)
+    result = lod2_output.build(lod2_output.without_copied(prepared, match), config, match)
+    at_once = lod2_output.write_model(result, footprints, request, match)
+    streamed = replace(request, path=str(tmp_path / "steps.city.jsonl"))
+    summary, report, invalid = lod2_output.write_in_steps(
+        lod2_output.without_copied(prepared, match), config, footprints, streamed, match,
+        validate=True)
+    with open(request.path, "rb") as a, open(streamed.path, "rb") as b:
+        assert a.read() == b.read()
+    assert report == at_once and (report.generated, report.copied) == (24, 1)
+    assert summary.ids == result.ids and list(summary.roof_types) == list(result.roof_types)
+    assert summary.report == result.report and summary.roof_counts() == result.roof_counts()
+    assert invalid == [None] * 24
+    assert sorted(os.listdir(tmp_path)) == ["at_once.city.jsonl", "steps.city.jsonl"]
+
+
+def test_a_streamed_write_that_fails_leaves_nothing(tmp_path, monkeypatch):
+    from reconstruction.lod2.solids import build as solids
+
+    footprints, prepared = _prepared(_row_of_houses(9))
+    monkeypatch.setattr(solids, "STEP", 4)
+    written = []
+
+    def add_then_fail(self, *args, **kwargs):
+        if written:
+            raise KeyboardInterrupt()
+        written.append(1)
+        return add(self, *args, **kwargs)
+
+    add = cityjsonseq.SeqWriter.add
+    monkeypatch.setattr(cityjsonseq.SeqWriter, "add", add_then_fail)
+    (tmp_path / "m.jsonl").write_text("old")
+    with pytest.raises(KeyboardInterrupt):
+        lod2_output.write_in_steps(prepared, lod2.Lod2Config(), footprints,
+                                   lod2_output.OutputRequest(str(tmp_path / "m.jsonl"),
+                                                             "cityjsonseq"))
+    assert os.listdir(tmp_path) == ["m.jsonl"] and (tmp_path / "m.jsonl").read_text() == "old"
+
+
+def test_the_picture_of_a_large_model_draws_the_footprints_nearest_its_middle():
+    polygons = _row_of_houses(120)
+    mask = lod2_output.drawn_footprints(polygons, most=20)
+    assert mask.sum() == 20
+    middle = shapely.box(*shapely.total_bounds(polygons)).centroid
+    drawn = max(polygons[i].centroid.distance(middle) for i in np.nonzero(mask)[0])
+    left = min(polygons[i].centroid.distance(middle) for i in np.nonzero(~mask)[0])
+    assert drawn <= left
+    assert lod2_output.drawn_footprints(polygons, most=120) is None
+    assert lod2_output.drawn_footprints(polygons[:3] + [None], most=2).tolist()[3] is False
+
+
+@pytest.mark.parametrize("fmt", lod2_output.FORMATS)
+def test_render_draws_at_most_max_drawn_buildings_and_says_so(tmp_path, monkeypatch, fmt):
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.setattr(lod2_output.render, "MAX_DRAWN", 5)
+    seen = []
+    draw = lod2_output.render.render
+
+    def counted(document, *args, **kwargs):
+        seen.append(len(document["CityObjects"]))
+        return draw(document, *args, **kwargs)
+
+    monkeypatch.setattr(lod2_output.render, "render", counted)
+    footprints, prepared = _prepared(_row_of_houses(12))
+    request = lod2_output.OutputRequest(str(tmp_path / "m.json"), fmt,
+                                        render=str(tmp_path / "m.png"))
+    if fmt == "cityjson":
+        report = lod2_output.write_model(lod2.build(prepared), footprints, request)
+    else:
+        report = lod2_output.write_in_steps(prepared, lod2.Lod2Config(), footprints, request)[1]
+    assert seen == [5] and report.drawn == 5 and report.generated == 12
+    assert os.path.getsize(tmp_path / "m.png") > 1000
