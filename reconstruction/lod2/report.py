@@ -17,8 +17,12 @@ import numpy as np
 
 from ..core.messages import note, verbose, warning
 from . import street_edges as se
+from .config import EXTENSIONS, format_of_name
 from .solids.vertex_budget import MAX_ROOF_VERTICES
 
+#: what each format= writes, in the warning on an output name of the other
+FORMAT_NAMES = {"cityjson": "one CityJSON document",
+                "cityjsonseq": "CityJSONSeq (one JSON object a line)"}
 #: the largest ground buffer, in the message on footprints without ground
 GROUND_BUFFER = 50.0
 
@@ -29,6 +33,13 @@ def config_messages(config):
     if config.output.reference_system is None:
         out.append(warning("The location has no EPSG code and crs= is not given: the CityJSON "
                            "file has no reference system"))
+    named = format_of_name(config.output.path)
+    if named is not None and named != config.output.format:
+        out.append(warning("output= '{}' ends in {} but format={} writes {}: written as asked "
+                           "(give format={} for {})".format(
+                               config.output.path, EXTENSIONS[named], config.output.format,
+                               FORMAT_NAMES[config.output.format], named,
+                               FORMAT_NAMES[named])))
     if config.map_ignored:
         out.append(warning("map= is drawn only in the picture of render=: ignored"))
     return out

@@ -4,6 +4,7 @@ from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
+import pytest
 
 from reconstruction.cityjson.copied import CopyReport
 from reconstruction.cityjson.existing import MatchReport
@@ -45,6 +46,30 @@ def test_config_messages():
     assert config_messages(replace(CONFIG, output=OutputRequest("o"), map_ignored=True)) == [
         W("The location has no EPSG code and crs= is not given: the CityJSON file has no "
           "reference system"), W("map= is drawn only in the picture of render=: ignored")]
+
+
+@pytest.mark.parametrize("path,fmt,ending,named", [
+    ("x.json", "cityjsonseq", ".json", "cityjson"),
+    ("x.city.jsonl", "cityjson", ".jsonl", "cityjsonseq"),
+])
+def test_an_output_named_like_the_other_format_is_written_with_a_warning(path, fmt, ending,
+                                                                         named):
+    """format=cityjsonseq output=x.json, or the default format with
+    output=x.city.jsonl, were written without a word (issue 33, item 8)."""
+    from reconstruction.lod2.report import FORMAT_NAMES
+
+    got = config_messages(replace(CONFIG, output=replace(OUTPUT, path=path, format=fmt)))
+    assert len(got) == 1 and got[0].level == "warning"
+    assert got[0].text.startswith("output= '{}' ends in {} but format={} writes ".format(
+        path, ending, fmt))
+    assert got[0].text.endswith("written as asked (give format={} for {})".format(
+        named, FORMAT_NAMES[named]))
+
+
+@pytest.mark.parametrize("path,fmt", [("x.city.json", "cityjson"), ("x.JSONL", "cityjsonseq"),
+                                      ("x.cj", "cityjsonseq"), ("x", "cityjson")])
+def test_an_output_named_like_its_format_or_neither_gets_no_warning(path, fmt):
+    assert config_messages(replace(CONFIG, output=replace(OUTPUT, path=path, format=fmt))) == []
 
 
 def test_existing_and_height_input_messages():
