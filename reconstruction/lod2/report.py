@@ -176,6 +176,12 @@ def report(result, config):
         if m.ids_not_found:
             out.append(warning("{} building ids matched no object of the existing model (tried "
                                "by geometry)".format(m.ids_not_found)))
+        if m.duplicate_ids:
+            out.append(warning("{} aligned footprints have the building id of an earlier "
+                               "footprint (e.g. {}): the building is copied once, for the "
+                               "first; {} of them are generated".format(
+                                   m.duplicate_ids, ", ".join(m.duplicate_examples),
+                                   m.duplicates_unmatched)))
         if m.unmatched:
             out.append(warning("{} aligned footprints matched no building of the existing model "
                                "and are generated".format(m.unmatched)))

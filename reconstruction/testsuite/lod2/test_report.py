@@ -173,6 +173,17 @@ def test_report_of_a_run():
     assert [m.level for m in lod2_report(_run(quiet), CONFIG)] == ["message", "message"]
 
 
+def test_footprints_with_the_id_of_an_earlier_one_are_reported_as_duplicates():
+    """Issue 33, item 8: not as "matched no building"."""
+    written = OutputReport(generated=2, copied=1, candidates=3, copy=CopyReport(),
+                           match=MatchReport(3, 1, 0, 0, 0, duplicate_ids=2,
+                                             duplicates_unmatched=2,
+                                             duplicate_examples=("NL.1",)))
+    assert lod2_report(_run(written), CONFIG)[2:] == [
+        W("2 aligned footprints have the building id of an earlier footprint (e.g. NL.1): "
+          "the building is copied once, for the first; 2 of them are generated")]
+
+
 def test_the_validity_report():
     assert validity_lines(_run(OutputReport(generated=3))) == []
     run = _run(OutputReport(generated=3), invalid=[None, "104 (shell not closed)", None],
