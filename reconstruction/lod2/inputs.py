@@ -126,6 +126,30 @@ def check_points_near(points, geometries, what, margin=MAX_GROUND_BUFFER):
                                           py0, py1))
 
 
+def check_streets_near(grid, classes, name, margin, footprints):
+    """Raise :class:`InputError` when the streets raster ``name``, read as
+    ``grid`` over the footprints' :class:`~reconstruction.geom.grid.Extent`
+    grown by ``margin``, has no cell of the street and water ``classes``
+    there: no data at all (a raster of another area), or cells of other
+    classes only (named, as the classes near the footprints are what the
+    user must choose from). A raster that has such cells elsewhere is no
+    help: the street edges are looked for next to the footprints."""
+    values = np.asarray(grid.values, dtype=float)
+    wanted = ", ".join("{:g}".format(c) for c in classes)
+    where = "within {:g} m of the footprints ({})".format(margin, footprints.text())
+    known = values[np.isfinite(values)]
+    if not len(known):
+        raise InputError("The streets raster <{}> has no data {}: does it cover another area "
+                         "(or is it in another reference system)?".format(name, where))
+    if not np.isin(known, np.asarray(classes, dtype=float)).any():
+        present = np.unique(known)
+        raise InputError("The streets raster <{}> has no cells of the classes {} {}; its cells "
+                         "there are of the classes {}".format(
+                             name, wanted, where, ", ".join(
+                                 "{:g}".format(c) for c in present[:12])
+                             + (", ..." if len(present) > 12 else "")))
+
+
 def _ground(geoms, columns, opts):
     """Absolute ground per footprint (NaN: unknown) and the report's ground fields."""
     n = len(geoms)

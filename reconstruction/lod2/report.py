@@ -6,7 +6,7 @@ buildings copied, the -v report's fallbacks and invalid solids);
 The other functions give the messages of each step, which
 :func:`reconstruction.lod2.run` hands to the script's printer as the step is
 done (a progress message before the work it announces), in this order:
-:func:`config_messages`, :func:`existing_messages`,
+:func:`config_messages`, :func:`existing_messages`, :func:`map_messages`,
 :func:`ground_points_messages`, :func:`matched_heights_messages`,
 :func:`plots_messages`, :func:`height_messages`,
 :func:`street_messages`, :func:`street_edge_messages`,
@@ -43,6 +43,18 @@ def config_messages(config):
     if config.map_ignored:
         out.append(warning("map= is drawn only in the picture of render=: ignored"))
     return out
+
+
+def map_messages(image, footprints):
+    """When the map picture of map= (a :class:`~reconstruction.geom.grid.MapImage`)
+    is read: a warning when it does not meet the footprints'
+    :class:`~reconstruction.geom.grid.Extent` (None: no footprint), as the
+    picture would draw the map and the model apart."""
+    if footprints is None or image.place.meets(footprints):
+        return []
+    return [warning("The map of map= ({}) does not overlap the footprints ({}): the picture "
+                    "draws them apart (a map of another area or reference system?)".format(
+                        image.place.text(), footprints.text()))]
 
 
 def existing_messages(request):

@@ -304,6 +304,19 @@ def test_rules_file_decides_the_roofs(houses, tmp_path):
         assert {a["roof_type"] for a in by_footprint(load(out)).values()} == {kind}
 
 
+def test_an_excel_rules_file_is_read_without_a_word(houses, tmp_path):
+    """Excel's "CSV UTF-8" (a byte order mark, CRLF) was refused with an
+    invisible BOM in the message (issue 33, item 8)."""
+    path = tmp_path / "excel.csv"
+    path.write_bytes(b"\xef\xbb\xbffrom,to,shape,flat,mansard\r\n,1900,n,100,0\r\n"
+                     b"1901,,n,0,100\r\n")
+    out = str(tmp_path / "excel.json")
+    rc, _, err = run(input=houses, output=out, rules=str(path), year=1950)
+    assert rc == 0, err
+    assert "WARNING" not in err and "Traceback" not in err
+    assert {a["roof_type"] for a in by_footprint(load(out)).values()} == {"mansard"}
+
+
 # ---------------------------------------------------------------------------
 # Bad inputs: a clear error and nothing left behind
 # ---------------------------------------------------------------------------
@@ -317,6 +330,9 @@ def test_rules_file_decides_the_roofs(houses, tmp_path):
     ("streets_bad_label", "neither a number nor a category label"),
     ("rules_sum", "sum to 90"),
     ("rules_missing", "Cannot read the roof rules"),
+    ("rules_latin1", "is not UTF-8 text (byte 0xe9 at offset 3): save it as CSV UTF-8"),
+    ("rules_fraction", "a year must be a whole number, not <1899.5>"),
+    ("streets_elsewhere", "has no data within 10 m of the footprints"),
     ("percentile", "ground_percentile"),
 ])
 def test_bad_inputs_fail_cleanly(houses, tmp_path, case, expect):
@@ -330,6 +346,14 @@ def test_bad_inputs_fail_cleanly(houses, tmp_path, case, expect):
         kwargs["ground_points"] = import_points(ground_points(n=200), "flat2d", tmp_path, z=False)
     elif case == "aligned_no_columns":
         kwargs["aligned"] = houses
+    elif case == "streets_elsewhere":                # its streets 100 km east
+        import grass.script as gs
+
+        gs.run_command("g.region", n=Y0 + 40, s=Y0 - 20, e=X0 + 100056, w=X0 + 99980, res=0.5,
+                       quiet=True)
+        gs.mapcalc("far_cls = 4", quiet=True)
+        gs.run_command("g.region", n=Y0 + 40, s=Y0 - 20, e=X0 + 56, w=X0 - 20, quiet=True)
+        kwargs.update(streets="far_cls", street_classes="4")
     elif case.startswith("streets"):
         kwargs["streets"] = street_raster(tmp_path)
         if case == "streets_no_classes":
@@ -341,6 +365,14 @@ def test_bad_inputs_fail_cleanly(houses, tmp_path, case, expect):
         with open(path, "w") as f:
             f.write("from,to,shape,flat,hip\n,,n,50,40\n")
         kwargs["rules"] = path
+    elif case == "rules_latin1":
+        path = tmp_path / "latin1.csv"
+        path.write_bytes("# p\u00e9riode\nfrom,to,shape,flat\n,,n,100\n".encode("latin-1"))
+        kwargs["rules"] = str(path)
+    elif case == "rules_fraction":
+        path = tmp_path / "fraction.csv"
+        path.write_text("from,to,shape,flat\n,1899.5,n,100\n1900,,n,100\n")
+        kwargs["rules"] = str(path)
     elif case == "rules_missing":
         kwargs["rules"] = str(tmp_path / "nothing.csv")
     elif case == "percentile":

@@ -122,3 +122,36 @@ def test_roofs_changed_by_the_rules_are_not_counted_as_fallbacks():
     assert result.roof_types[4] == "hip"
     assert result.report.by_rule >= 1
     assert result.report.fell_back == len({f.footprint for f in result.report.fallbacks}) == 0
+
+
+def streets_grid(values, west=0.0, north=20.0):
+    return Grid(np.asarray(values, dtype=float), north=north, west=west, nsres=1.0, ewres=1.0)
+
+
+def test_a_streets_raster_with_its_classes_near_the_footprints_passes():
+    from reconstruction.geom.grid import Extent
+
+    grid = streets_grid([[1, 4], [np.nan, 1]])
+    li.check_streets_near(grid, (3, 4), "cls", 10.0, Extent(0, 0, 5, 5))
+
+
+def test_a_streets_raster_of_another_area_says_it_has_no_data_near_the_footprints():
+    """It said "has no cells of the classes 3, 4" of a raster that has them,
+    only not near the footprints (issue 33, item 7)."""
+    from reconstruction.geom.grid import Extent
+
+    with pytest.raises(InputError, match=r"The streets raster <cls> has no data within 10 m of "
+                                         r"the footprints \(x 0\.\.5, y 0\.\.5\): does it cover "
+                                         r"another area"):
+        li.check_streets_near(streets_grid(np.full((3, 3), np.nan)), (3, 4), "cls", 10.0,
+                              Extent(0, 0, 5, 5))
+
+
+def test_a_streets_raster_without_the_classes_near_the_footprints_names_those_there():
+    from reconstruction.geom.grid import Extent
+
+    with pytest.raises(InputError, match=r"no cells of the classes 3, 4 within 10 m of the "
+                                         r"footprints \(x 0\.\.5, y 0\.\.5\); its cells there "
+                                         r"are of the classes 1, 2$"):
+        li.check_streets_near(streets_grid([[1, 2], [np.nan, 1]]), (3, 4), "cls", 10.0,
+                              Extent(0, 0, 5, 5))

@@ -72,6 +72,20 @@ def test_an_output_named_like_its_format_or_neither_gets_no_warning(path, fmt):
     assert config_messages(replace(CONFIG, output=replace(OUTPUT, path=path, format=fmt))) == []
 
 
+def test_a_map_picture_far_from_the_footprints_warns_with_both_boxes():
+    """map= far from the model was drawn apart without a word (issue 33, item 7)."""
+    from reconstruction.geom.grid import Extent, MapImage
+    from reconstruction.lod2.report import map_messages
+
+    image = MapImage(np.zeros((2, 2, 3), dtype=np.uint8), (185000, 185400, 446000, 446300))
+    assert map_messages(image, Extent(85000, 446000, 85300, 446200)) == [
+        W("The map of map= (x 185000..185400, y 446000..446300) does not overlap the footprints "
+          "(x 85000..85300, y 446000..446200): the picture draws them apart (a map of another "
+          "area or reference system?)")]
+    assert map_messages(image, Extent(185300, 446200, 185600, 446500)) == []
+    assert map_messages(image, None) == []
+
+
 def test_existing_and_height_input_messages():
     assert existing_messages(ExistingRequest("m.city.json")) == [
         N("Reading the existing model 'm.city.json'...")]
