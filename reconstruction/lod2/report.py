@@ -18,6 +18,7 @@ import numpy as np
 from ..core.messages import note, verbose, warning
 from . import street_edges as se
 from .config import EXTENSIONS, format_of_name
+from .inputs import LOW_BUILDING
 from .solids.vertex_budget import MAX_ROOF_VERTICES
 
 #: what each format= writes, in the warning on an output name of the other
@@ -103,6 +104,12 @@ def height_messages(report, config):
                 report.aligned_unmeasured)))
     if h.building_points:
         out.append(note("{} footprints have building points".format(report.with_points)))
+        if report.points_measured and 2 * report.points_low > report.points_measured:
+            out.append(warning("The building points of <{}> stand less than {:g} m above the "
+                               "ground on {} of {} footprints (median {:.2f} m): are they ground "
+                               "points?".format(h.building_points, LOW_BUILDING,
+                                                report.points_low, report.points_measured,
+                                                report.points_median_top)))
     out.append(verbose("Height sources: {}".format(
         ", ".join("{} {}".format(v, k) for k, v in report.sources.items()))))
     return out

@@ -200,10 +200,26 @@ def test_building_points_then_neighbours(houses, tmp_path):
     rc, _, err = run(input=houses, output=out, building_points=bp, ground=2.0, roof="flat")
     assert rc == 0, err
     assert "4 footprints have building points" in err
+    assert "are they ground points?" not in err
     attrs = by_footprint(load(out))
     assert [attrs[c]["height_source"] for c in range(1, 13)] == ["points"] * 4 + \
         ["neighbours"] * 8
     assert all(9.0 < a["eaves_height"] < 13.0 for a in attrs.values())
+
+
+def test_ground_points_given_as_building_points_warn(houses, tmp_path):
+    """They gave buildings 0.01-1.4 m tall without a word (issue 33, item 8)."""
+    rng = np.random.default_rng(3)
+    xy = rng.uniform([X0 - 20, Y0 - 20], [X0 + 56, Y0 + 44], (40000, 2))
+    ground = np.column_stack([xy, plane(xy[:, 0], xy[:, 1]) + rng.uniform(0, 1.0, len(xy))])
+    pts = import_points(ground, "gpts_all", tmp_path)
+    out = str(tmp_path / "low.json")
+    rc, _, err = run(input=houses, output=out, ground_points=pts, building_points=pts,
+                     roof="flat")
+    assert rc == 0, err
+    assert "WARNING: The building points of <gpts_all> stand less than 2 m above the ground " \
+        "on 12 of 12 footprints" in err and "are they ground points?" in err, err
+    assert "Traceback" not in err
 
 
 def test_ranges_and_columns_keep_working_with_their_source(houses, tmp_path):

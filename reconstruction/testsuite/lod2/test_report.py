@@ -86,6 +86,19 @@ def test_a_map_picture_far_from_the_footprints_warns_with_both_boxes():
     assert map_messages(image, None) == []
 
 
+def test_building_points_low_on_most_footprints_warn_they_may_be_ground_points():
+    """Issue 33, item 8: more than half the footprints with points under 2 m."""
+    config = replace(CONFIG, heights=HeightConfig(building_points="bpts"))
+    low = HeightReport("points", with_points=5, points_low=3, points_measured=5,
+                       points_median_top=0.84, sources={"points": 5})
+    assert height_messages(low, config)[1:3] == [
+        N("5 footprints have building points"),
+        W("The building points of <bpts> stand less than 2 m above the ground on 3 of 5 "
+          "footprints (median 0.84 m): are they ground points?")]
+    half = replace(low, points_low=2, points_measured=4)
+    assert [m.level for m in height_messages(half, config)] == ["message", "message", "verbose"]
+
+
 def test_existing_and_height_input_messages():
     assert existing_messages(ExistingRequest("m.city.json")) == [
         N("Reading the existing model 'm.city.json'...")]
