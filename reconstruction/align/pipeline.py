@@ -16,6 +16,7 @@ import numpy as np
 
 from ..core import contract
 from ..core.errors import InputError
+from ..geom.grid import Extent
 from .stage import Alignment, align, candidate_mask, construction_years, report_json
 
 #: the 3D BAG's year column, taken when the default bouwjaar is absent
@@ -68,6 +69,10 @@ class AlignmentResult:
     unmatched: Optional[FootprintMap]
     report_json: Optional[dict]
     clock: tuple
+    #: the boxes the candidate footprints and the plots cover (None: none), for
+    #: the warning when nothing aligned because they do not meet
+    footprints_extent: Optional[Extent] = None
+    plots_extent: Optional[Extent] = None
 
 
 def year_column(columns, wanted, given, name):
@@ -154,4 +159,5 @@ def run(inputs, config):
             "Candidate footprints of <{}> matching no plot".format(name))
     report = report_json(result, config, plot_cats) if config.report_file else None
     return AlignmentResult(result, column, list(plot_cats), output, unmatched, report,
-                           (read, matched))
+                           (read, matched), footprints_extent=Extent.of(footprints),
+                           plots_extent=Extent.of(plots))

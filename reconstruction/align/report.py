@@ -22,6 +22,8 @@ def report(result, config, started=None, finished=None):
     if not counts.candidates:
         messages.append(warning("No footprint of <{}> was built before {}".format(
             config.footprints, config.map_year)))
+    if counts.candidates and not counts.aligned:
+        messages.append(_nothing_aligned(result, config))
     if counts.repaired:
         messages.append(warning("{} invalid geometries repaired".format(counts.repaired)))
     if started is not None and finished is not None:
@@ -36,6 +38,26 @@ def report(result, config, started=None, finished=None):
             "; {} plots matched at a shifted place".format(counts.shifted_plots)
             if alignment.shifts is not None else "")))
     return messages
+
+
+def _nothing_aligned(result, config):
+    """The warning of a run where no candidate aligned: the boxes of the footprints and
+    of the plots when they do not meet, even with the plots grown by the buffer and
+    the shift (another region or reference system), else the best similarity reached."""
+    counts, fp, plots = result.alignment.report, result.footprints_extent, result.plots_extent
+    if fp is not None and plots is not None and not fp.meets(plots,
+                                                             config.buffer + config.shift):
+        return warning("The {} candidate footprints of <{}> ({}) do not overlap the plots of "
+                       "<{}> ({}): nothing aligned, <{}> is empty. Are they of another region "
+                       "or reference system?".format(counts.candidates, config.footprints,
+                                                     fp.text(), config.plots, plots.text(),
+                                                     config.output))
+    best = result.alignment.best_similarity
+    return warning("None of the {} candidate footprints of <{}> aligned with a plot of <{}> "
+                   "(best similarity {:.2f}, overlap= asks {:g}): <{}> is empty".format(
+                       counts.candidates, config.footprints, config.plots,
+                       float(best.max()) if len(best) else 0.0, config.overlap,
+                       config.output))
 
 
 def shell_counts(result):

@@ -383,12 +383,20 @@ def _number(value):
 @dataclass(frozen=True)
 class MatchReport:
     """Counts of a match: footprints matched by id, by geometry, not at all,
-    and footprints whose id matched no building (these were then tried by geometry)."""
+    and footprints whose id matched no building (these were then tried by
+    geometry); ``duplicate_ids``: footprints whose id names the building an
+    earlier footprint's id already took (one footprint per building: these
+    too were tried by geometry), not counted in ``unmatched`` when they
+    matched nothing, ``duplicates_unmatched`` of them; ``duplicate_examples``:
+    the first three of these ids."""
     footprints: int
     by_id: int
     by_geometry: int
     unmatched: int
     ids_not_found: int
+    duplicate_ids: int = 0
+    duplicates_unmatched: int = 0
+    duplicate_examples: tuple = ()
 
 
 @dataclass
@@ -538,16 +546,18 @@ def match(model, polygons, ids=None, prefix=None, min_overlap=0.5, fps=None):
         raise InputError("The least overlap must be in (0, 1], not {}".format(min_overlap))
     n = len(polygons)
     building = np.full(n, -1, dtype=np.int64)
+    duplicate = np.zeros(n, dtype=bool)
     missing = 0
     if ids is not None:
         if len(ids) != n:
             raise ValueError("one id per footprint is needed")
         building, missing = _by_id(model, ids, prefix)
-        # one footprint per building: the first one keeps it
+        # one footprint per building: the first one keeps it, the others are duplicates
         seen = set()
         for i in np.nonzero(building >= 0)[0].tolist():
             if building[i] in seen:
                 building[i] = -1
+                duplicate[i] = True
             else:
                 seen.add(int(building[i]))
     by_id = building >= 0
@@ -562,5 +572,9 @@ def match(model, polygons, ids=None, prefix=None, min_overlap=0.5, fps=None):
         overlap[todo] = iou
     report = MatchReport(footprints=n, by_id=int(by_id.sum()),
                          by_geometry=int(((building >= 0) & ~by_id).sum()),
-                         unmatched=int((building < 0).sum()), ids_not_found=int(missing))
+                         unmatched=int(((building < 0) & ~duplicate).sum()),
+                         ids_not_found=int(missing), duplicate_ids=int(duplicate.sum()),
+                         duplicates_unmatched=int(((building < 0) & duplicate).sum()),
+                         duplicate_examples=tuple(dict.fromkeys(
+                             _id_text(ids[i]) for i in np.nonzero(duplicate)[0].tolist()))[:3])
     return Matches(building=building, by_id=by_id, overlap=overlap, report=report, model=model)

@@ -5,15 +5,16 @@
 - ``overlaps``: overlapping geometries made disjoint, the policy an
   :class:`OverlapRule`;
 - ``grid``: a raster as a numpy array with its place on the ground
-  (:class:`Grid`), a map picture (:class:`MapImage`);
+  (:class:`Grid`), a map picture (:class:`MapImage`), the box an input
+  covers (:class:`Extent`);
 - ``solidset``: many LoD2 solids as flat numpy arrays (:class:`SolidSet`) and
   their semantic surfaces.
 """
 
 from . import grid, overlaps, polygons, rings, solidset
-from .grid import Grid, MapImage
+from .grid import Extent, Grid, MapImage
 from .overlaps import OverlapRule, resolve_overlaps
 from .solidset import SolidSet
 
-__all__ = ["Grid", "MapImage", "OverlapRule", "SolidSet", "grid", "overlaps", "polygons",
-           "resolve_overlaps", "rings", "solidset"]
+__all__ = ["Extent", "Grid", "MapImage", "OverlapRule", "SolidSet", "grid", "overlaps",
+           "polygons", "resolve_overlaps", "rings", "solidset"]

@@ -1,4 +1,5 @@
-"""A raster as a numpy array with its place on the ground.
+"""A raster as a numpy array with its place on the ground (and the box an input covers,
+:class:`Extent`).
 
 GRASS's region conventions: row 0 is the northern row, cells are
 ``nsres`` by ``ewres`` map units, ``north`` and ``west`` are the outer edges
@@ -111,8 +112,45 @@ def expand_ranges(starts, stops):
 
 
 @dataclass(frozen=True)
+class Extent:
+    """The box ``x0..x1``, ``y0..y1`` (map units) an input covers: for the
+    warnings and errors of inputs that do not meet (footprints 100 km from
+    the plots, a map picture of another area), which name both boxes."""
+    x0: float
+    y0: float
+    x1: float
+    y1: float
+
+    @classmethod
+    def of(cls, geometries):
+        """The extent of shapely ``geometries`` (None and empty ones left out);
+        None when there is none."""
+        import shapely
+
+        geoms = np.asarray([g for g in geometries if g is not None], dtype=object)
+        if not len(geoms) or shapely.is_empty(geoms).all():
+            return None
+        return cls(*(float(v) for v in shapely.total_bounds(geoms)))
+
+    def meets(self, other, margin=0.0):
+        """Whether the two boxes, this one grown by ``margin``, overlap or touch."""
+        return (self.x0 - margin <= other.x1 and other.x0 <= self.x1 + margin
+                and self.y0 - margin <= other.y1 and other.y0 <= self.y1 + margin)
+
+    def text(self):
+        """``x 85000..85200, y 446000..446300``, to the map unit."""
+        return "x {:.0f}..{:.0f}, y {:.0f}..{:.0f}".format(self.x0, self.x1, self.y0, self.y1)
+
+
+@dataclass(frozen=True)
 class MapImage:
     """A map to drape on the ground: ``rgb`` (rows, columns, 3) uint8, row 0
     at the north; ``extent``: west, east, south, north (model x, y)."""
     rgb: np.ndarray
     extent: tuple
+
+    @property
+    def place(self):
+        """Its :class:`Extent` on the ground."""
+        west, east, south, north = (float(v) for v in self.extent)
+        return Extent(west, south, east, north)

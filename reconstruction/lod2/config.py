@@ -27,6 +27,9 @@ from .roofs.rules import RoofRules, read_rules
 
 #: the output formats (``format=``)
 FORMATS = ("cityjson", "cityjsonseq")
+#: the file name endings of each format: a name ending in the other format's
+#: is written as asked, with a warning (:func:`format_of_name`)
+EXTENSIONS = {"cityjson": ".json", "cityjsonseq": ".jsonl"}
 #: what a roof column or ``roof=`` may ask for besides a roof type
 AUTO = "auto"
 
@@ -253,6 +256,17 @@ def parse_format(text):
         raise InputError("Option format= must be one of {}, not <{}>".format(
             ", ".join(FORMATS), text))
     return value
+
+
+def format_of_name(path):
+    """The format an output file name suggests by its ending (``x.city.json``:
+    cityjson, ``x.jsonl``: cityjsonseq), None for any other name. Only a
+    warning comes of it: a user may name a file as they like."""
+    name = str(path or "").lower()
+    for value, ending in EXTENSIONS.items():
+        if name.endswith(ending):
+            return value
+    return None
 
 
 def parse_view(text):

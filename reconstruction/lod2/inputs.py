@@ -42,6 +42,11 @@ from . import street_edges as se
 SAME_FOOTPRINT = 0.8
 #: ground points or cells are looked for up to this far around a footprint (m)
 MAX_GROUND_BUFFER = 50.0
+#: building points whose top (percentile 99) stands less than this above the
+#: ground (m) make a footprint "low"; when more than half the footprints with
+#: building points are low, the points are likely ground points (a house is
+#: 2.5 m tall at the least; ground points give 0.01-1.4 m), and a warning says so
+LOW_BUILDING = 2.0
 
 
 @dataclass(frozen=True)
@@ -87,6 +92,11 @@ class HeightReport:
     aligned_unmeasured: int = 0
     #: footprints with building points
     with_points: int = 0
+    #: of those with a known ground, the number whose points' top stands less than
+    #: :data:`LOW_BUILDING` above it, the number measured and their median top (m)
+    points_low: int = 0
+    points_measured: int = 0
+    points_median_top: float = float("nan")
     #: height_source label -> number of footprints
     sources: dict = field(default_factory=dict)
 
@@ -124,6 +134,30 @@ def check_points_near(points, geometries, what, margin=MAX_GROUND_BUFFER):
                          "{:.0f}..{:.0f}): are they in another reference system or "
                          "region?".format(len(pts), what, margin, x0, x1, y0, y1, px0, px1,
                                           py0, py1))
+
+
+def check_streets_near(grid, classes, name, margin, footprints):
+    """Raise :class:`InputError` when the streets raster ``name``, read as
+    ``grid`` over the footprints' :class:`~reconstruction.geom.grid.Extent`
+    grown by ``margin``, has no cell of the street and water ``classes``
+    there: no data at all (a raster of another area), or cells of other
+    classes only (named, as the classes near the footprints are what the
+    user must choose from). A raster that has such cells elsewhere is no
+    help: the street edges are looked for next to the footprints."""
+    values = np.asarray(grid.values, dtype=float)
+    wanted = ", ".join("{:g}".format(c) for c in classes)
+    where = "within {:g} m of the footprints ({})".format(margin, footprints.text())
+    known = values[np.isfinite(values)]
+    if not len(known):
+        raise InputError("The streets raster <{}> has no data {}: does it cover another area "
+                         "(or is it in another reference system)?".format(name, where))
+    if not np.isin(known, np.asarray(classes, dtype=float)).any():
+        present = np.unique(known)
+        raise InputError("The streets raster <{}> has no cells of the classes {} {}; its cells "
+                         "there are of the classes {}".format(
+                             name, wanted, where, ", ".join(
+                                 "{:g}".format(c) for c in present[:12])
+                             + (", ..." if len(present) > 12 else "")))
 
 
 def _ground(geoms, columns, opts):
@@ -218,8 +252,20 @@ def _measured(geoms, ground, opts, report):
         use = ~np.isfinite(eaves) & np.isfinite(rh.eaves) & np.isfinite(rh.attic)
         eaves[use], attic[use] = rh.eaves[use], rh.attic[use]
         label[use] = HEIGHTS_POINTS
-        report.update(with_points=int(np.sum(roof.count > 0)))
+        report.update(with_points=int(np.sum(roof.count > 0)), **_points_tops(roof, ground))
     return eaves, attic, label, donors
+
+
+def _points_tops(roof, ground):
+    """The report's fields on how tall the building points make the footprints:
+    the top (percentile 99) above the ground of every footprint with points and
+    a known ground; many under :data:`LOW_BUILDING` mean ground points given
+    as building points."""
+    top = np.asarray(roof.high, dtype=float) - np.broadcast_to(
+        np.asarray(ground, dtype=float), np.shape(roof.high))
+    top = top[np.isfinite(top)]
+    return dict(points_low=int(np.sum(top < LOW_BUILDING)), points_measured=len(top),
+                points_median_top=float(np.median(top)) if len(top) else float("nan"))
 
 
 def footprint_heights(geometries, columns, plot=None, options=None):

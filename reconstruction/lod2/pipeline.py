@@ -32,13 +32,13 @@ from dataclasses import dataclass, replace
 from typing import Callable, ContextManager, Optional
 
 from ..core.errors import InputError
-from ..geom.grid import Grid, MapImage
+from ..geom.grid import Extent, Grid, MapImage
 from . import inputs as lod2_inputs
 from . import output as lod2_output
 from .neighbourhood import Plots
 from .report import (build_messages, built_messages, config_messages, existing_messages,
                      footprint_messages, ground_points_messages, height_messages,
-                     matched_heights_messages, plots_messages, street_edge_messages,
+                     map_messages, matched_heights_messages, plots_messages, street_edge_messages,
                      street_messages)
 from .solids import validation
 from .stage import Footprints, Lod2Result, prepare, requests_from_columns
@@ -108,6 +108,8 @@ def run(inputs, config):
     geoms, columns = inputs.footprints()
     if not geoms:
         raise InputError("Vector map <{}> has no areas".format(config.input))
+    if output.map_image is not None:
+        say(map_messages(output.map_image, Extent.of(geoms)))
     plot = _column(columns, config.plot_column)
     footprints = Footprints(geoms, columns.get("cat"), plot,
                             _column(columns, config.source_column))
@@ -178,6 +180,8 @@ def _street_options(inputs, streets, geoms):
     :class:`~reconstruction.lod2.config.StreetConfig`, its raster or areas read."""
     if streets.streets:
         grid = inputs.read_grid(streets.streets, _bounds(geoms), STREETS_MARGIN)
+        lod2_inputs.check_streets_near(grid, streets.classes, streets.streets, STREETS_MARGIN,
+                                       Extent.of(geoms))
         return lod2_inputs.StreetOptions(grid, streets.classes)
     inputs.say(street_messages(streets))
     if streets.areas:

@@ -6,7 +6,7 @@ buildings copied, the -v report's fallbacks and invalid solids);
 The other functions give the messages of each step, which
 :func:`reconstruction.lod2.run` hands to the script's printer as the step is
 done (a progress message before the work it announces), in this order:
-:func:`config_messages`, :func:`existing_messages`,
+:func:`config_messages`, :func:`existing_messages`, :func:`map_messages`,
 :func:`ground_points_messages`, :func:`matched_heights_messages`,
 :func:`plots_messages`, :func:`height_messages`,
 :func:`street_messages`, :func:`street_edge_messages`,
@@ -17,9 +17,14 @@ import numpy as np
 
 from ..core.messages import note, verbose, warning
 from . import street_edges as se
+from .config import EXTENSIONS, format_of_name
+from .inputs import LOW_BUILDING
 from .render import MAX_DRAWN
 from .solids.vertex_budget import MAX_ROOF_VERTICES
 
+#: what each format= writes, in the warning on an output name of the other
+FORMAT_NAMES = {"cityjson": "one CityJSON document",
+                "cityjsonseq": "CityJSONSeq (one JSON object a line)"}
 #: the largest ground buffer, in the message on footprints without ground
 GROUND_BUFFER = 50.0
 
@@ -30,9 +35,28 @@ def config_messages(config):
     if config.output.reference_system is None:
         out.append(warning("The location has no EPSG code and crs= is not given: the CityJSON "
                            "file has no reference system"))
+    named = format_of_name(config.output.path)
+    if named is not None and named != config.output.format:
+        out.append(warning("output= '{}' ends in {} but format={} writes {}: written as asked "
+                           "(give format={} for {})".format(
+                               config.output.path, EXTENSIONS[named], config.output.format,
+                               FORMAT_NAMES[config.output.format], named,
+                               FORMAT_NAMES[named])))
     if config.map_ignored:
         out.append(warning("map= is drawn only in the picture of render=: ignored"))
     return out
+
+
+def map_messages(image, footprints):
+    """When the map picture of map= (a :class:`~reconstruction.geom.grid.MapImage`)
+    is read: a warning when it does not meet the footprints'
+    :class:`~reconstruction.geom.grid.Extent` (None: no footprint), as the
+    picture would draw the map and the model apart."""
+    if footprints is None or image.place.meets(footprints):
+        return []
+    return [warning("The map of map= ({}) does not overlap the footprints ({}): the picture "
+                    "draws them apart (a map of another area or reference system?)".format(
+                        image.place.text(), footprints.text()))]
 
 
 def existing_messages(request):
@@ -81,6 +105,12 @@ def height_messages(report, config):
                 report.aligned_unmeasured)))
     if h.building_points:
         out.append(note("{} footprints have building points".format(report.with_points)))
+        if report.points_measured and 2 * report.points_low > report.points_measured:
+            out.append(warning("The building points of <{}> stand less than {:g} m above the "
+                               "ground on {} of {} footprints (median {:.2f} m): are they ground "
+                               "points?".format(h.building_points, LOW_BUILDING,
+                                                report.points_low, report.points_measured,
+                                                report.points_median_top)))
     out.append(verbose("Height sources: {}".format(
         ", ".join("{} {}".format(v, k) for k, v in report.sources.items()))))
     return out
@@ -166,6 +196,12 @@ def report(result, config):
         if m.ids_not_found:
             out.append(warning("{} building ids matched no object of the existing model (tried "
                                "by geometry)".format(m.ids_not_found)))
+        if m.duplicate_ids:
+            out.append(warning("{} aligned footprints have the building id of an earlier "
+                               "footprint (e.g. {}): the building is copied once, for the "
+                               "first; {} of them are generated".format(
+                                   m.duplicate_ids, ", ".join(m.duplicate_examples),
+                                   m.duplicates_unmatched)))
         if m.unmatched:
             out.append(warning("{} aligned footprints matched no building of the existing model "
                                "and are generated".format(m.unmatched)))

@@ -188,6 +188,23 @@ def test_nothing_built_before_the_year_gives_an_empty_map_and_a_warning(small):
     assert grassio.read_table("un")["cat"] == []
 
 
+def test_footprints_far_from_the_plots_give_a_warning_naming_both_boxes(small):
+    """Footprints 100 km from the plots ended rc 0 with an empty map and no
+    word (issue 33, item 7)."""
+    gs, grassio = small
+    far = [box(X0 + 100001, Y0 + 1, X0 + 100008, Y0 + 10),
+           box(X0 + 100001, Y0 + 41, X0 + 100008, Y0 + 50)]
+    grassio.write_features("far", far, {"bouwjaar": [1800, 1810]})
+    code, out, err = run_module(MODULE, flags="g", input="plots", footprints="far", year=1900,
+                                output="al")
+    assert code == 0, err
+    assert counts(out)["aligned"] == 0
+    text = " ".join(err.split())
+    assert ("WARNING: The 2 candidate footprints of <far> (x 184001..184008, y 446001..446050) "
+            "do not overlap the plots of <plots> (x 84000..84030, y 446000..446052)") in text, err
+    assert "Traceback" not in err
+
+
 def test_outputs_are_not_overwritten_without_overwrite(small):
     gs, _ = small
     args = dict(input="plots", footprints="fp", year=1900)

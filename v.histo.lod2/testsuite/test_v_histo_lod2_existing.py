@@ -238,6 +238,28 @@ def test_render_writes_a_picture_without_display(mapset, tmp_path):
     assert not [f for f in os.listdir(tmp_path) if ".part" in f]
 
 
+def test_a_map_far_away_and_an_output_named_as_the_other_format_warn(mapset, tmp_path):
+    """map= 100 km from the footprints was drawn apart, and output=x.city.jsonl
+    written as CityJSON, without a word (issue 33, items 7 and 8)."""
+    import grass.script as gs
+
+    name = import_footprints("gen", tmp_path, BOXES, [{"h_building": 6.0, "h_attic": 3.0}] * 3)
+    gs.run_command("g.region", n=446600, s=446510, e=185060, w=184950, res=1)
+    for band in ("red", "green", "blue"):
+        gs.run_command("r.mapcalc", expression="far.{} = 100".format(band), quiet=True)
+    out, png = str(tmp_path / "m.city.jsonl"), str(tmp_path / "m.png")
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    rc, _, err = run(input=name, output=out, render=png, map="far.red,far.green,far.blue",
+                     env=env)
+    assert rc == 0, err
+    text = " ".join(err.split())
+    assert "WARNING: output= '{}' ends in .jsonl but format=cityjson writes".format(out) in text
+    assert "WARNING: The map of map= (x 184950..185060, y 446510..446600) does not overlap " \
+        "the footprints" in text, err
+    assert "Traceback" not in err
+    assert load(out)["type"] == "CityJSON"
+
+
 @pytest.mark.acceptance
 def test_render_with_copied_buildings_and_the_map(aligned, sample, tmp_path):
     import grass.script as gs

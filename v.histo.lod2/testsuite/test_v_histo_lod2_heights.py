@@ -200,10 +200,26 @@ def test_building_points_then_neighbours(houses, tmp_path):
     rc, _, err = run(input=houses, output=out, building_points=bp, ground=2.0, roof="flat")
     assert rc == 0, err
     assert "4 footprints have building points" in err
+    assert "are they ground points?" not in err
     attrs = by_footprint(load(out))
     assert [attrs[c]["height_source"] for c in range(1, 13)] == ["points"] * 4 + \
         ["neighbours"] * 8
     assert all(9.0 < a["eaves_height"] < 13.0 for a in attrs.values())
+
+
+def test_ground_points_given_as_building_points_warn(houses, tmp_path):
+    """They gave buildings 0.01-1.4 m tall without a word (issue 33, item 8)."""
+    rng = np.random.default_rng(3)
+    xy = rng.uniform([X0 - 20, Y0 - 20], [X0 + 56, Y0 + 44], (40000, 2))
+    ground = np.column_stack([xy, plane(xy[:, 0], xy[:, 1]) + rng.uniform(0, 1.0, len(xy))])
+    pts = import_points(ground, "gpts_all", tmp_path)
+    out = str(tmp_path / "low.json")
+    rc, _, err = run(input=houses, output=out, ground_points=pts, building_points=pts,
+                     roof="flat")
+    assert rc == 0, err
+    assert "WARNING: The building points of <gpts_all> stand less than 2 m above the ground " \
+        "on 12 of 12 footprints" in err and "are they ground points?" in err, err
+    assert "Traceback" not in err
 
 
 def test_ranges_and_columns_keep_working_with_their_source(houses, tmp_path):
@@ -304,6 +320,19 @@ def test_rules_file_decides_the_roofs(houses, tmp_path):
         assert {a["roof_type"] for a in by_footprint(load(out)).values()} == {kind}
 
 
+def test_an_excel_rules_file_is_read_without_a_word(houses, tmp_path):
+    """Excel's "CSV UTF-8" (a byte order mark, CRLF) was refused with an
+    invisible BOM in the message (issue 33, item 8)."""
+    path = tmp_path / "excel.csv"
+    path.write_bytes(b"\xef\xbb\xbffrom,to,shape,flat,mansard\r\n,1900,n,100,0\r\n"
+                     b"1901,,n,0,100\r\n")
+    out = str(tmp_path / "excel.json")
+    rc, _, err = run(input=houses, output=out, rules=str(path), year=1950)
+    assert rc == 0, err
+    assert "WARNING" not in err and "Traceback" not in err
+    assert {a["roof_type"] for a in by_footprint(load(out)).values()} == {"mansard"}
+
+
 # ---------------------------------------------------------------------------
 # Bad inputs: a clear error and nothing left behind
 # ---------------------------------------------------------------------------
@@ -317,6 +346,9 @@ def test_rules_file_decides_the_roofs(houses, tmp_path):
     ("streets_bad_label", "neither a number nor a category label"),
     ("rules_sum", "sum to 90"),
     ("rules_missing", "Cannot read the roof rules"),
+    ("rules_latin1", "is not UTF-8 text (byte 0xe9 at offset 3): save it as CSV UTF-8"),
+    ("rules_fraction", "a year must be a whole number, not <1899.5>"),
+    ("streets_elsewhere", "has no data within 10 m of the footprints"),
     ("percentile", "ground_percentile"),
 ])
 def test_bad_inputs_fail_cleanly(houses, tmp_path, case, expect):
@@ -330,6 +362,14 @@ def test_bad_inputs_fail_cleanly(houses, tmp_path, case, expect):
         kwargs["ground_points"] = import_points(ground_points(n=200), "flat2d", tmp_path, z=False)
     elif case == "aligned_no_columns":
         kwargs["aligned"] = houses
+    elif case == "streets_elsewhere":                # its streets 100 km east
+        import grass.script as gs
+
+        gs.run_command("g.region", n=Y0 + 40, s=Y0 - 20, e=X0 + 100056, w=X0 + 99980, res=0.5,
+                       quiet=True)
+        gs.mapcalc("far_cls = 4", quiet=True)
+        gs.run_command("g.region", n=Y0 + 40, s=Y0 - 20, e=X0 + 56, w=X0 - 20, quiet=True)
+        kwargs.update(streets="far_cls", street_classes="4")
     elif case.startswith("streets"):
         kwargs["streets"] = street_raster(tmp_path)
         if case == "streets_no_classes":
@@ -341,6 +381,14 @@ def test_bad_inputs_fail_cleanly(houses, tmp_path, case, expect):
         with open(path, "w") as f:
             f.write("from,to,shape,flat,hip\n,,n,50,40\n")
         kwargs["rules"] = path
+    elif case == "rules_latin1":
+        path = tmp_path / "latin1.csv"
+        path.write_bytes("# p\u00e9riode\nfrom,to,shape,flat\n,,n,100\n".encode("latin-1"))
+        kwargs["rules"] = str(path)
+    elif case == "rules_fraction":
+        path = tmp_path / "fraction.csv"
+        path.write_text("from,to,shape,flat\n,1899.5,n,100\n1900,,n,100\n")
+        kwargs["rules"] = str(path)
     elif case == "rules_missing":
         kwargs["rules"] = str(tmp_path / "nothing.csv")
     elif case == "percentile":

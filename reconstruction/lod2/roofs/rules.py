@@ -26,7 +26,8 @@ not a finding about the buildings. The split year stays the table's 1915
 (the script used 1930). :data:`THESIS_RULES` is the table as printed; a
 ``rules=`` file reproduces it or any other.
 
-A rules file is CSV (``#`` comments allowed) or JSON::
+A rules file is UTF-8 text (a byte order mark and CRLF line ends, as Excel
+writes "CSV UTF-8", are fine), CSV (``#`` comments allowed) or JSON::
 
     from,to,shape,flat,hip,gable,mansard,stepped
     ,1915,4,10,20,20,10,40
@@ -34,13 +35,13 @@ A rules file is CSV (``#`` comments allowed) or JSON::
     ,1915,n,60,0,0,40,0
     1916,,n,60,0,0,40,0
 
-``from``/``to``: the period's first and last year (empty: open); periods
+``from``/``to``: the period's first and last year, whole numbers (empty: open); periods
 follow each other without gap (``from`` = the previous ``to`` + 1) from an
 open start to an open end; a year belongs to the first period whose ``to``
 is not below it, an unknown year to the first period. ``shape``: ``4``
 (4-sided footprints), another vertex count, or ``n`` (every other shape;
 each period needs one). Weights in percent, one column per roof type
-(:data:`reconstruction.lod2.roofs.plan.ROOF_TYPES`), summing to 100 in every row. JSON:
+(:data:`reconstruction.lod2.roofs.plan.ROOF_TYPES`), numbers (not ``true``) summing to 100 in every row. JSON:
 ``{"rules": [{"from": null, "to": 1915, "shape": "4", "weights": {"flat": 10,
 ...}}, ...]}``. Roofs lower than 1 m are flat whatever the rules say.
 """
@@ -206,8 +207,15 @@ THESIS_RULES = _rules_from_probabilities({
 # ---------------------------------------------------------------------------
 
 def _year(text, what):
+    """A period's first or last year: a whole number, or None (empty: open).
+    A fraction or a JSON boolean is refused: periods are whole years, and a
+    year of 1849.5 would only surface later as periods that "do not follow
+    each other"."""
     if text is None or (isinstance(text, str) and not text.strip()):
         return None
+    if isinstance(text, bool):
+        raise InputError("Roof rules {}: a year must be a number, not {}".format(
+            what, json.dumps(text)))
     try:
         value = float(text)
     except (TypeError, ValueError):
@@ -215,12 +223,20 @@ def _year(text, what):
             what, text)) from None
     if not math.isfinite(value):
         raise InputError("Roof rules {}: a year must be finite, not <{}>".format(what, text))
+    if not value.is_integer():
+        raise InputError("Roof rules {}: a year must be a whole number, not <{}> (a period "
+                         "runs from its first year to its last, both included)".format(
+                             what, text))
     return value
 
 
 def _weight(text, what):
+    """A weight in percent (empty: 0). A JSON boolean is refused, not taken as 1 or 0."""
     if text is None or (isinstance(text, str) and not text.strip()):
         return 0.0
+    if isinstance(text, bool):
+        raise InputError("Roof rules {}: a weight must be a number of percent, not {}".format(
+            what, json.dumps(text)))
     try:
         return float(text)
     except (TypeError, ValueError):
@@ -272,18 +288,35 @@ def _from_json(text):
 
 def parse_rules(text):
     """:class:`RoofRules` from the text of a rules file (JSON when it starts
-    with ``{`` or ``[``, else CSV). Raises InputError on any mistake."""
+    with ``{`` or ``[``, else CSV). A byte order mark and CRLF line ends
+    (Excel's CSV) are accepted. Raises InputError on any mistake."""
+    text = text[1:] if text.startswith(BOM) else text
     stripped = text.lstrip()
     rows = _from_json(text) if stripped[:1] in ("{", "[") else _from_csv(text)
     return RoofRules(rows)
 
 
+#: the byte order mark Excel and Notepad put at the start of a UTF-8 file
+BOM = "\ufeff"
+
+
 def read_rules(path):
-    """:class:`RoofRules` from a rules file (see the module doc)."""
+    """:class:`RoofRules` from a rules file (see the module doc), UTF-8 text
+    (with or without a byte order mark). A file of another encoding
+    (Latin-1) or a binary file is refused with one InputError naming it."""
     try:
-        with open(path, encoding="utf-8") as f:
-            text = f.read()
+        with open(path, "rb") as f:
+            data = f.read()
     except OSError as error:
         raise InputError("Cannot read the roof rules file '{}': {}".format(
             path, error.strerror or error)) from None
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as error:
+        raise InputError("The roof rules file '{}' is not UTF-8 text (byte 0x{:02x} at "
+                         "offset {}): save it as CSV UTF-8 or JSON".format(
+                             path, data[error.start], error.start)) from None
+    if "\x00" in text:
+        raise InputError("The roof rules file '{}' is a binary file, not UTF-8 text: save it "
+                         "as CSV UTF-8 or JSON".format(path))
     return parse_rules(text)

@@ -76,3 +76,11 @@ def test_maps_without_areas_are_refused_naming_the_option():
     with pytest.raises(InputError, match=r"<plots> given as input= has no areas \(it holds 0 "
                                          r"points, 2 lines"):
         run(inputs(plots=[], counts=counts), CONFIG)
+
+
+def test_the_result_holds_the_boxes_of_the_candidates_and_of_the_plots():
+    """For the warning when they do not meet (issue 33, item 7)."""
+    result = run(inputs(), CONFIG)
+    fp, plots = result.footprints_extent, result.plots_extent
+    assert (fp.x0, fp.y0, fp.x1, fp.y1) == (1, 1, 50, 11)      # candidates 1 and 2 only
+    assert (plots.x0, plots.y0, plots.x1, plots.y1) == (0, 0, 70, 12)

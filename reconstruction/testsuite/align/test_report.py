@@ -64,3 +64,35 @@ def test_the_shell_counts_are_every_count_in_order():
         "footprints=10", "without_year=0", "after_year=0", "candidates=6", "aligned=4",
         "contested=0", "unmatched=2", "plots=5", "plots_matched=3", "shifted_plots=0",
         "repaired=0"]
+
+
+def test_no_candidate_aligned_far_from_the_plots_warns_with_both_boxes():
+    """Footprints 100 km from the plots ended with an empty map and no word
+    (issue 33, item 7)."""
+    from dataclasses import replace
+
+    from reconstruction.geom.grid import Extent
+
+    far = replace(result(aligned=0, unmatched=6, plots_matched=0),
+                  footprints_extent=Extent(185000, 446000, 185300, 446200),
+                  plots_extent=Extent(85000, 446000, 85300, 446200))
+    got = report(far, CONFIG)
+    assert got[0] == Message(
+        "The 6 candidate footprints of <fp> (x 185000..185300, y 446000..446200) do not "
+        "overlap the plots of <plots> (x 85000..85300, y 446000..446200): nothing aligned, "
+        "<al> is empty. Are they of another region or reference system?", "warning")
+    assert [m.level for m in got] == ["warning", "message"]
+
+
+def test_no_candidate_aligned_on_the_plots_warns_with_the_best_similarity():
+    from dataclasses import replace
+
+    from reconstruction.geom.grid import Extent
+
+    near = result(aligned=0, unmatched=6, plots_matched=0)
+    near = replace(near, footprints_extent=Extent(85005, 446000, 85300, 446200),
+                   plots_extent=Extent(85000, 446000, 85300, 446200),
+                   alignment=replace(near.alignment, best_similarity=np.array([0.2, 0.45])))
+    assert report(near, CONFIG)[0] == Message(
+        "None of the 6 candidate footprints of <fp> aligned with a plot of <plots> (best "
+        "similarity 0.45, overlap= asks 0.6): <al> is empty", "warning")

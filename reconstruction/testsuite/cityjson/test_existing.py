@@ -137,6 +137,19 @@ def test_id_rules(sample):
     assert prefixed.report.by_id == 1 and prefixed.report.ids_not_found == 1
 
 
+def test_two_footprints_with_one_id_report_the_second_as_a_duplicate(sample):
+    """The second footprint of a pand_id was counted as "matched no building"
+    (issue 33, item 8): it is a duplicate id, reported as such."""
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    fps = existing.footprints(model)
+    foot = fps.geometry(model.buildings.index(BAG[0]))
+    got = existing.match(model, [foot, foot, BOXES[0]], ids=[BAG[0], BAG[0], None])
+    assert got.building.tolist() == [model.buildings.index(BAG[0]), -1, -1]
+    assert (got.report.by_id, got.report.unmatched, got.report.ids_not_found) == (1, 1, 0)
+    assert (got.report.duplicate_ids, got.report.duplicates_unmatched,
+            got.report.duplicate_examples) == (1, 1, (BAG[0],))
+
+
 def test_a_footprint_that_overlaps_too_little_is_generated(sample):
     model = existing.read_model(os.path.join(sample, FORMS[0]))
     fps = existing.footprints(model)

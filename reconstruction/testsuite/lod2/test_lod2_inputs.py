@@ -122,3 +122,63 @@ def test_roofs_changed_by_the_rules_are_not_counted_as_fallbacks():
     assert result.roof_types[4] == "hip"
     assert result.report.by_rule >= 1
     assert result.report.fell_back == len({f.footprint for f in result.report.fallbacks}) == 0
+
+
+def streets_grid(values, west=0.0, north=20.0):
+    return Grid(np.asarray(values, dtype=float), north=north, west=west, nsres=1.0, ewres=1.0)
+
+
+def test_a_streets_raster_with_its_classes_near_the_footprints_passes():
+    from reconstruction.geom.grid import Extent
+
+    grid = streets_grid([[1, 4], [np.nan, 1]])
+    li.check_streets_near(grid, (3, 4), "cls", 10.0, Extent(0, 0, 5, 5))
+
+
+def test_a_streets_raster_of_another_area_says_it_has_no_data_near_the_footprints():
+    """It said "has no cells of the classes 3, 4" of a raster that has them,
+    only not near the footprints (issue 33, item 7)."""
+    from reconstruction.geom.grid import Extent
+
+    with pytest.raises(InputError, match=r"The streets raster <cls> has no data within 10 m of "
+                                         r"the footprints \(x 0\.\.5, y 0\.\.5\): does it cover "
+                                         r"another area"):
+        li.check_streets_near(streets_grid(np.full((3, 3), np.nan)), (3, 4), "cls", 10.0,
+                              Extent(0, 0, 5, 5))
+
+
+def test_a_streets_raster_without_the_classes_near_the_footprints_names_those_there():
+    from reconstruction.geom.grid import Extent
+
+    with pytest.raises(InputError, match=r"no cells of the classes 3, 4 within 10 m of the "
+                                         r"footprints \(x 0\.\.5, y 0\.\.5\); its cells there "
+                                         r"are of the classes 1, 2$"):
+        li.check_streets_near(streets_grid([[1, 2], [np.nan, 1]]), (3, 4), "cls", 10.0,
+                              Extent(0, 0, 5, 5))
+
+
+def plane_points(xy0, xy1, n, z, seed=0):
+    """n points uniform over the box xy0..xy1 at height z(x, y)."""
+    xy = np.random.default_rng(seed).uniform(xy0, xy1, (n, 2))
+    return np.column_stack([xy, z(xy[:, 0], xy[:, 1])])
+
+
+def test_ground_points_given_as_building_points_are_counted_as_low():
+    """Ground points given as building_points= gave buildings 0.01-1.4 m tall
+    without a word (issue 33, item 8): the report counts the footprints whose
+    points stand less than LOW_BUILDING above the ground."""
+    fps = row(4)
+    ground = plane_points([-10, -10], [34, 22], 20000, lambda x, y: 3.0 + 0.01 * x)
+    noisy = plane_points([0, 0], [24, 12], 4000, lambda x, y: 3.0 + 0.01 * x
+                         + np.random.default_rng(1).uniform(0, 1.2, len(x)), seed=2)
+    r = li.footprint_heights(fps, {}, options=li.HeightOptions(ground_points=ground,
+                                                               building_points=noisy))
+    assert (r.report.points_low, r.report.points_measured) == (4, 4)
+    assert 0 < r.report.points_median_top < li.LOW_BUILDING
+    # real roofs, 9 to 12 m above the ground: none low
+    roofs = plane_points([0, 0], [24, 12], 4000, lambda x, y: 12.0 + 0.01 * x
+                         + np.random.default_rng(1).uniform(0, 3, len(x)), seed=2)
+    r = li.footprint_heights(fps, {}, options=li.HeightOptions(ground_points=ground,
+                                                               building_points=roofs))
+    assert (r.report.points_low, r.report.points_measured) == (0, 4)
+    assert r.report.points_median_top > 9

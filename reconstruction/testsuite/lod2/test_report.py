@@ -4,6 +4,7 @@ from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
+import pytest
 
 from reconstruction.cityjson.copied import CopyReport
 from reconstruction.cityjson.existing import MatchReport
@@ -45,6 +46,57 @@ def test_config_messages():
     assert config_messages(replace(CONFIG, output=OutputRequest("o"), map_ignored=True)) == [
         W("The location has no EPSG code and crs= is not given: the CityJSON file has no "
           "reference system"), W("map= is drawn only in the picture of render=: ignored")]
+
+
+@pytest.mark.parametrize("path,fmt,ending,named", [
+    ("x.json", "cityjsonseq", ".json", "cityjson"),
+    ("x.city.jsonl", "cityjson", ".jsonl", "cityjsonseq"),
+])
+def test_an_output_named_like_the_other_format_is_written_with_a_warning(path, fmt, ending,
+                                                                         named):
+    """format=cityjsonseq output=x.json, or the default format with
+    output=x.city.jsonl, were written without a word (issue 33, item 8)."""
+    from reconstruction.lod2.report import FORMAT_NAMES
+
+    got = config_messages(replace(CONFIG, output=replace(OUTPUT, path=path, format=fmt)))
+    assert len(got) == 1 and got[0].level == "warning"
+    assert got[0].text.startswith("output= '{}' ends in {} but format={} writes ".format(
+        path, ending, fmt))
+    assert got[0].text.endswith("written as asked (give format={} for {})".format(
+        named, FORMAT_NAMES[named]))
+
+
+@pytest.mark.parametrize("path,fmt", [("x.city.json", "cityjson"), ("x.JSONL", "cityjsonseq"),
+                                      ("x.cj", "cityjsonseq"), ("x", "cityjson")])
+def test_an_output_named_like_its_format_or_neither_gets_no_warning(path, fmt):
+    assert config_messages(replace(CONFIG, output=replace(OUTPUT, path=path, format=fmt))) == []
+
+
+def test_a_map_picture_far_from_the_footprints_warns_with_both_boxes():
+    """map= far from the model was drawn apart without a word (issue 33, item 7)."""
+    from reconstruction.geom.grid import Extent, MapImage
+    from reconstruction.lod2.report import map_messages
+
+    image = MapImage(np.zeros((2, 2, 3), dtype=np.uint8), (185000, 185400, 446000, 446300))
+    assert map_messages(image, Extent(85000, 446000, 85300, 446200)) == [
+        W("The map of map= (x 185000..185400, y 446000..446300) does not overlap the footprints "
+          "(x 85000..85300, y 446000..446200): the picture draws them apart (a map of another "
+          "area or reference system?)")]
+    assert map_messages(image, Extent(185300, 446200, 185600, 446500)) == []
+    assert map_messages(image, None) == []
+
+
+def test_building_points_low_on_most_footprints_warn_they_may_be_ground_points():
+    """Issue 33, item 8: more than half the footprints with points under 2 m."""
+    config = replace(CONFIG, heights=HeightConfig(building_points="bpts"))
+    low = HeightReport("points", with_points=5, points_low=3, points_measured=5,
+                       points_median_top=0.84, sources={"points": 5})
+    assert height_messages(low, config)[1:3] == [
+        N("5 footprints have building points"),
+        W("The building points of <bpts> stand less than 2 m above the ground on 3 of 5 "
+          "footprints (median 0.84 m): are they ground points?")]
+    half = replace(low, points_low=2, points_measured=4)
+    assert [m.level for m in height_messages(half, config)] == ["message", "message", "verbose"]
 
 
 def test_existing_and_height_input_messages():
@@ -146,6 +198,17 @@ def test_report_of_a_run():
     quiet = OutputReport(generated=1, copied=0, candidates=1, copy=CopyReport(),
                          match=MatchReport(1, 0, 0, 0, 0))
     assert [m.level for m in lod2_report(_run(quiet), CONFIG)] == ["message", "message"]
+
+
+def test_footprints_with_the_id_of_an_earlier_one_are_reported_as_duplicates():
+    """Issue 33, item 8: not as "matched no building"."""
+    written = OutputReport(generated=2, copied=1, candidates=3, copy=CopyReport(),
+                           match=MatchReport(3, 1, 0, 0, 0, duplicate_ids=2,
+                                             duplicates_unmatched=2,
+                                             duplicate_examples=("NL.1",)))
+    assert lod2_report(_run(written), CONFIG)[2:] == [
+        W("2 aligned footprints have the building id of an earlier footprint (e.g. NL.1): "
+          "the building is copied once, for the first; 2 of them are generated")]
 
 
 def test_the_validity_report():

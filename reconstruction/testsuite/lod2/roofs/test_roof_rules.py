@@ -110,3 +110,46 @@ def test_bad_rules_are_refused(text, message):
 def test_a_missing_rules_file_is_an_input_error(tmp_path):
     with pytest.raises(InputError, match="Cannot read"):
         roof_rules.read_rules(str(tmp_path / "none.csv"))
+
+
+def test_an_excel_csv_with_a_byte_order_mark_and_crlf_is_read_silently(tmp_path):
+    """Excel's "CSV UTF-8" starts with a BOM and ends lines with CRLF: a normal
+    input, read as the plain file (issue 33, item 8)."""
+    path = tmp_path / "excel.csv"
+    path.write_bytes(b"\xef\xbb\xbf" + THESIS_CSV.replace("\n", "\r\n").encode("utf-8"))
+    assert roof_rules.read_rules(str(path)) == roof_rules.parse_rules(THESIS_CSV)
+    assert roof_rules.parse_rules("\ufeff" + THESIS_CSV) == roof_rules.parse_rules(THESIS_CSV)
+
+
+def test_a_json_rules_file_with_a_byte_order_mark_is_read(tmp_path):
+    path = tmp_path / "rules.json"
+    rows = [{"from": None, "to": None, "shape": "n", "weights": {"flat": 100}}]
+    path.write_bytes(b"\xef\xbb\xbf" + json.dumps({"rules": rows}).encode("utf-8"))
+    assert roof_rules.read_rules(str(path)).rules[0].weights == (("flat", 100.0),)
+
+
+@pytest.mark.parametrize("data,message", [
+    # Latin-1 (an "é" in a comment): not UTF-8
+    (("# période\n" + THESIS_CSV).encode("latin-1"), r"not UTF-8 text \(byte 0xe9"),
+    (b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR", "not UTF-8 text"),
+    (b"from,to\x00\x00shape\n", "binary file"),
+])
+def test_a_rules_file_of_another_encoding_is_one_input_error_naming_it(tmp_path, data, message):
+    path = tmp_path / "rules.csv"
+    path.write_bytes(data)
+    with pytest.raises(InputError, match=message) as error:
+        roof_rules.read_rules(str(path))
+    assert str(path) in str(error.value) and "UTF-8" in str(error.value)
+
+
+@pytest.mark.parametrize("text,message", [
+    (THESIS_CSV.replace(",1915,4,", ",1849.5,4,").replace(",1915,n,", ",1849.5,n,")
+     .replace("1916,,", "1850,,"), r"a year must be a whole number, not <1849\.5>"),
+    ('{"rules": [{"from": null, "to": null, "shape": "n", '
+     '"weights": {"flat": 99, "hip": true}}]}', "a weight must be a number of percent, not true"),
+    ('{"rules": [{"from": null, "to": false, "shape": "n", "weights": {"flat": 100}}]}',
+     "a year must be a number, not false"),
+])
+def test_a_fractional_year_or_a_boolean_weight_says_what_is_wrong(text, message):
+    with pytest.raises(InputError, match=message):
+        roof_rules.parse_rules(text)
