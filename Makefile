@@ -27,6 +27,8 @@ MODULE_TOPDIR ?= $(shell grass --config path 2>/dev/null)
 # targets below install it first and then call make again.
 ifneq ($(wildcard $(MODULE_TOPDIR)/include/Make/Dir.make),)
 include $(MODULE_TOPDIR)/include/Make/Dir.make
+# the manual pages' man versions in ASCII (tools/html2man.py says why)
+include tools/man.make
 endif
 
 default: parsubdirs htmldir

@@ -180,6 +180,7 @@ def test_manual_readable_without_a_browser(by_hand):
     out = _grass([by_hand["mapset"], "--exec", "g.manual", "-m", "v.histo.lod2"], env)
     assert out.returncode == 0, out.stderr
     assert "v.histo.lod2" in out.stdout and "NAME" in out.stdout
+    assert "\\x" not in out.stdout  # test_docs.py checks every page's text
     assert (by_hand["addons"] / "docs" / "html" / "v.histo.lod2.html").is_file()
 
 

@@ -27,9 +27,17 @@ if [ ! -x "$venv/bin/python3" ] \
 fi
 wanted="$(cat "$root/requirements.txt" "$root/constraints.txt")"
 if [ "$(cat "$venv/.histo-requirements" 2>/dev/null)" != "$wanted" ]; then
-  echo "installing the pinned Python packages into $venv"
+  count() { grep -c '^[A-Za-z0-9]' "$1"; }
+  echo "installing the $(count "$root/requirements.txt") Python packages of requirements.txt" \
+    "($(count "$root/constraints.txt") more pinned by constraints.txt for their dependencies)" \
+    "into $venv: about 1.1 GB once installed (vtk half of it), a few minutes the first time"
   rm -f "$venv/.histo-requirements"
-  "$venv/bin/python3" -m pip install -q --disable-pip-version-check \
+  # pip's own progress (a line per package, download bars) on a terminal; in
+  # a log (CI) only these lines and pip's errors
+  quiet=-q
+  if [ -t 1 ]; then quiet=; fi
+  "$venv/bin/python3" -m pip install $quiet --disable-pip-version-check \
     -r "$root/requirements.txt" -c "$root/constraints.txt"
   printf '%s\n' "$wanted" > "$venv/.histo-requirements"
+  echo "installed: $venv holds $(du -sh "$venv" | cut -f1)"
 fi

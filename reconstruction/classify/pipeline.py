@@ -59,7 +59,8 @@ class ClassifyInputs:
       outer window: yields ``(tile index, id)`` as each finishes (closed when
       the run stops);
     - ``say(messages)``: prints progress :class:`~reconstruction.core.messages.Message` s
-      as they happen; ``percent(done, total)``: the progress of the tiles.
+      as they happen; ``percent(done, total)``: the progress of the
+      segmentations of a map classified whole, of the tiles of a sheet.
     """
 
     grid: Grid
@@ -102,7 +103,7 @@ def run(inputs, config: ClassifyConfig) -> ClassifyResult:
         with contextlib.closing(runs):
             return classify_map(bands, runs, lambda name: inputs.read_segments(name, None),
                                 training, config, grid, message=_sayer(inputs.say, "message"),
-                                verbose=_sayer(inputs.say, "verbose"))
+                                verbose=_sayer(inputs.say, "verbose"), percent=inputs.percent)
     return _classify_sheet(inputs, windows, tiles, side, chains, training, config)
 
 

@@ -173,14 +173,20 @@ def _ignore(text):
     pass
 
 
+def _no_percent(done, total):
+    pass
+
+
 def classify_map(bands, segmentations, read_segments, training, config, grid,
-                 message=_ignore, verbose=_ignore):
+                 message=_ignore, verbose=_ignore, percent=_no_percent):
     """Classify a scanned map: tuned segmentation, ensemble vote, removal.
 
     ``bands``: the map's bands (arrays on ``grid``, nan = no data);
     ``segmentations``: an iterable of ``(k, id)`` as the segmentation of
     ``config.pairs[k]`` is ready, ``read_segments(id)`` its segment array.
-    ``message`` and ``verbose`` receive progress texts. Returns a
+    ``message`` and ``verbose`` receive progress texts, ``percent(done,
+    total)`` the segmentations done of all the pairs' (the longest wait of
+    the module, silent otherwise but with -v). Returns a
     :class:`ClassifyResult`.
     """
     start = time.perf_counter()
@@ -189,12 +195,13 @@ def classify_map(bands, segmentations, read_segments, training, config, grid,
     pairs = config.pairs
     criteria = [None] * len(pairs)
     ids = [None] * len(pairs)
-    for k, segmentation in segmentations:
+    for done, (k, segmentation) in enumerate(segmentations, 1):
         criteria[k] = cl.segmentation_criteria(read_segments(segmentation), bands)
         ids[k] = segmentation
         if len(pairs) > 1:
             verbose("threshold={} minsize={}: VW={:.4f} Moran's I={:.4f}".format(
                 pairs[k][0], pairs[k][1], *criteria[k]))
+            percent(done, len(pairs))
     tuning = cl.tune(criteria, config.alpha)
     best = tuning.best
     message("Chosen segmentation: threshold={} minsize={} (F={:.3f})".format(

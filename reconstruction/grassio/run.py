@@ -12,6 +12,7 @@ stage's report (:class:`~reconstruction.core.messages.Message` lines).
 
 import os
 import signal
+import sys
 import threading
 
 import grass.script as gs
@@ -116,7 +117,14 @@ def run_main(main, *args):
     line (:func:`failure_message`) and exit code 1, never a traceback;
     temporary maps and files are removed (atexit). Any other exception is a
     bug and keeps its traceback.
+
+    Standard output is flushed line by line: what a module prints there
+    (``-g`` figures, ``-v`` counts, ``-p`` tables) comes out where it is
+    printed among its messages (standard error, unbuffered) also when both
+    go to one log file, not only on a terminal.
     """
+    if hasattr(sys.stdout, "reconfigure"):
+        sys.stdout.reconfigure(line_buffering=True)
     if threading.current_thread() is threading.main_thread():
         _MODULE_PID.append(os.getpid())
         signal.signal(signal.SIGTERM, _terminate)

@@ -108,8 +108,10 @@ def segment_tiles(inputs, pair, tiles, grid, config):
 def window_criteria(inputs, windows, grid, config, chains, criterion):
     """Every pair's (VW, Moran's I) in each window of a tuning sample:
     ``criteria[w][k]`` = ``criterion(segments, bands)``, after i.segment
-    (``chains`` as in :func:`run_segmentations`) in each window's region."""
+    (``chains`` as in :func:`run_segmentations`) in each window's region.
+    The percent shown counts the segmentations, every pair in every window."""
     criteria = []
+    total = len(windows) * len(config.pairs)
     for w, window in enumerate(windows):
         env = window_env(grid, window)
         bands = [read_raster(name, np.float64, env) for name in inputs]
@@ -118,9 +120,9 @@ def window_criteria(inputs, windows, grid, config, chains, criterion):
         for k, name in run_segmentations(inputs, config, chains, env):
             row[k] = criterion(read_raster(name, np.int32, env), bands)
             done.append(name)
+            gs.percent(w * len(config.pairs) + len(done), total, 1)
         gs.run_command("g.remove", type="raster", name=",".join(done), flags="f", quiet=True)
         for name in done:
             forget_temp_map("raster", name)
         criteria.append(row)
-        gs.percent(w + 1, len(windows), 1)
     return criteria

@@ -154,13 +154,14 @@ def test_segmentation_chains_grow_once_per_threshold():
     assert classify.segmentation_chains(pairs, exhaustive=True) == [[(i, None)] for i in range(4)]
 
 
-def _inputs(bands, segmentations, xy, columns, said):
+def _inputs(bands, segmentations, xy, columns, said, percent=None):
     return pipeline.ClassifyInputs(
         grid=GRID, training_xy=xy, training_columns=columns, training_map="train",
         read_bands=lambda tile: bands if tile is None else None,
         read_segments=lambda name, tile: segmentations[name] if tile is None else None,
         segment=lambda chains: (run for run in [(1, "bad"), (0, "good")]),
-        window_criteria=None, segment_tiles=None, say=said.extend)
+        window_criteria=None, segment_tiles=None, say=said.extend,
+        **({} if percent is None else {"percent": percent}))
 
 
 def test_run_classifies_a_map_of_one_tile_whole_and_says_what_it_does():
@@ -182,6 +183,28 @@ def test_run_classifies_a_map_of_one_tile_whole_and_says_what_it_does():
     assert said[0].text == "Segmenting with 2 parameter pairs..."
     assert [step for step, _ in result.timed("output", 1.0).timing] == [
         "segmentation", "classification", "removal", "output"]
+
+
+def test_run_tells_the_progress_of_the_segmentations_of_a_map_classified_whole():
+    """One percent step as each pair's segmentation is read (issue 33, item 10:
+    the module was silent while i.segment ran for every pair); the result is
+    the same as without."""
+    bands, segmentations, xy, columns = _map()
+    config = read_config(options(threshold="0.1,0.2", threshold_step="0.1", minsize="1,1",
+                                 remove="3", classifiers="rf,knn"))
+    said, steps = [], []
+    result = pipeline.run(_inputs(bands, segmentations, xy, columns, said,
+                                  lambda done, total: steps.append((done, total))), config)
+    assert steps == [(1, 2), (2, 2)]
+    quiet = pipeline.run(_inputs(bands, segmentations, xy, columns, []), config)
+    assert result.classes.tolist() == quiet.classes.tolist() and result.chosen == quiet.chosen
+    # one pair: nothing to tune, nothing to count
+    steps.clear()
+    config = read_config(options(threshold="0.1", minsize="1", remove="3", classifiers="rf,knn"))
+    classify.classify_map(bands, [(0, "good")], segmentations.get,
+                          classify.read_training(xy, columns, "label", "class", config, GRID),
+                          config, GRID, percent=lambda done, total: steps.append((done, total)))
+    assert steps == []
 
 
 def test_run_checks_the_training_points_first():

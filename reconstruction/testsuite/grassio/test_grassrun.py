@@ -38,6 +38,34 @@ def test_run_main_passes_arguments_and_returns_the_result(run):
     assert run.run_main(lambda options, flags: (options["a"], flags["b"]), {"a": 1}, {"b": 2}) == (1, 2)
 
 
+def test_standard_output_keeps_its_place_among_the_messages_in_a_log(run, grass_session):
+    """A module's printed figures and its messages to one pipe, as `make demo
+    > log 2>&1` has them: in the order the module wrote them (issue 33, item
+    10: block-buffered, the figures came out at the exit, after every later
+    message)."""
+    import subprocess
+    import sys
+
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(
+        os.path.abspath(__file__)))))
+    script = ("import sys\n"
+              "from reconstruction import grassio\n"
+              "from reconstruction.core.messages import note\n"
+              "def main():\n"
+              "    print('figure=1')\n"
+              "    grassio.say([note('said after the figure')])\n"
+              "    return 0\n"
+              "sys.exit(grassio.run_main(main))\n")
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
+        [root, os.path.join(grass_session["gisbase"], "etc", "python")]))
+    env.pop("PYTHONUNBUFFERED", None)
+    out = subprocess.run([sys.executable, "-c", script], env=env, stdout=subprocess.PIPE,
+                         stderr=subprocess.STDOUT, text=True, timeout=60)
+    assert out.returncode == 0, out.stdout
+    lines = out.stdout.splitlines()
+    assert lines.index("figure=1") < lines.index("said after the figure"), lines
+
+
 def test_input_error_is_one_error_line(run, capfd):
     from reconstruction.core.errors import InputError
 
