@@ -13,6 +13,11 @@ from .model import RoofGroup
 
 #: a facade of more steps (a side) is no crow-stepped gable: the roof falls back to a gable
 MAX_STEPS = 64
+#: the crown's corners stand on the profile at least this share of a step
+#: height below its apex: on a straight gable the crown is then at least one
+#: step's run wide (the run of the gable over one step height), the step below
+#: it at least half a run
+CROWN_DROP = 0.5
 #: about the largest memory (bytes) of the facade arrays of one batch
 BATCH_BYTES = 64 * 2 ** 20
 
@@ -133,7 +138,12 @@ def stepped_arrays(xy, ends, body, steps, thickness):
             sel = same[first:first + rows]
             g = len(sel)
             Q = int(q) - 1
-            zq = np.arange(1, Q + 1, dtype=float)[None, :] * s[sel, None] - margin[sel, None]
+            # a step's corners stand where the profile is a margin below its
+            # tread; the crown's (the top step's) at most CROWN_DROP steps below
+            # the apex, lest the profile reach the tread's margin just below the
+            # apex and make the crown a needle
+            zq = np.minimum(np.arange(1, Q + 1, dtype=float)[None, :] * s[sel, None]
+                            - margin[sel, None], (H[sel] - CROWN_DROP * s[sel])[:, None])
             uL = _interp_rows(zq, np.take_along_axis(pz[sel], rising[sel], axis=1),
                               np.take_along_axis(pu[sel], rising[sel], axis=1))
             uR = _interp_rows(zq, np.take_along_axis(pz[sel], falling[sel], axis=1),
