@@ -15,7 +15,8 @@ import shapely
 from ..core.contract import SOURCE_PROCEDURAL
 from ..geom.overlaps import OverlapRule, group_conflicts, resolve_overlaps
 from ..geom.polygons import polygon_parts, repair
-from .convex_rings import MIN_AREA, ccw_ring, is_convex, is_sliver_ring, signed_area, to_polygons
+from .convex_rings import (MIN_AREA, SNAP, ccw_ring, is_convex, is_sliver_ring,
+                           sharp_corners, signed_area, square_wedges, to_polygons)
 from .decomposition import convex_parts
 from .plots import (CLIP_AREA, MIN_STREET, OVERLAP_TOLERANCE, overlay, polygonal,
                     street_length)
@@ -183,17 +184,21 @@ def calibrate(aligned, aligned_plots, plots, cats, length, depth, min_samples=5,
     return (float(f[0]), float(f[1])), (float(d[0]), float(d[1])), len(facades)
 
 
-def clip_generated(footprints, aligned, exterior_of, seam_of=None):
+def clip_generated(footprints, aligned, exterior_of, seam_of=None, plot_of=None):
     """Clip or drop generated footprints that overlap aligned footprints.
 
     What is left of a generated footprint outside the aligned ones is kept
-    as convex pieces (its convex parts when it is concave) that are no
-    slivers, have street access and keep at least a quarter of the
-    footprint's area; a footprint with no such piece is dropped.
-    ``footprints`` has parallel ``geometries``, ``source`` and ``plot``
-    (a :class:`reconstruction.subdivide.stage.Subdivision`); ``exterior_of``
-    maps a plot category to its :func:`reconstruction.subdivide.plots.exterior_lines`
-    (and ``seam_of`` to its :func:`reconstruction.subdivide.plots.seams`).
+    as convex pieces (its convex parts when it is concave) with their
+    corners under ``MIN_ANGLE`` cut square (an aligned footprint crossing a
+    generated one at a shallow angle leaves a wedge; the plot's own sharp
+    corners stay) that are no slivers, have street access and keep at least
+    a quarter of the footprint's area; a footprint with no such piece is
+    dropped. ``footprints`` has parallel ``geometries``, ``source`` and
+    ``plot`` (a :class:`reconstruction.subdivide.stage.Subdivision`);
+    ``exterior_of`` maps a plot category to its
+    :func:`reconstruction.subdivide.plots.exterior_lines` (``seam_of`` to
+    its :func:`reconstruction.subdivide.plots.seams`, ``plot_of`` to the
+    plot itself).
     Returns ``(pieces, clipped, dropped)``: the Polygons that replace each
     clipped or dropped footprint (none for a dropped one), by index, and
     the two counts.
@@ -215,15 +220,20 @@ def clip_generated(footprints, aligned, exterior_of, seam_of=None):
         if overlay(shapely.intersection, fp, union).area <= CLIP_AREA:
             continue
         pieces = []
-        for rest in polygon_parts(overlay(shapely.difference, fp, union)):
+        # snap-rounded: an aligned corner a rounding error from the footprint's
+        # edge would leave a notch whose tip nearly touches that edge, which no
+        # chord decomposes (a concave piece)
+        for rest in polygon_parts(shapely.difference(fp, union, grid_size=SNAP)):
             if rest.area < max(MIN_AREA, 0.25 * fp.area):
                 continue
             if is_convex(rest):
                 pieces.append(ccw_ring(rest.exterior.coords))
             else:
                 pieces.extend(convex_parts(rest))
+        keep = sharp_corners(plot_of[footprints.plot[f]]) if plot_of else ()
+        pieces = [square_wedges(r, keep) for r in pieces]
         pieces = [r for r in pieces
-                  if not is_sliver_ring(r) and abs(signed_area(r)) >= 0.25 * fp.area]
+                  if r and not is_sliver_ring(r) and abs(signed_area(r)) >= 0.25 * fp.area]
         access = street_length(pieces, exterior_of[footprints.plot[f]],
                                (seam_of or {}).get(footprints.plot[f]))
         pieces = [r for r, a in zip(pieces, access) if a >= MIN_STREET]

@@ -237,7 +237,8 @@ def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_thre
     rings = [i for i, g in enumerate(result.geometries) if isinstance(g, list)]
     for i, poly in zip(rings, to_polygons([result.geometries[i] for i in rings])):
         result.geometries[i] = poly
-    pieces, clipped, dropped = clip_generated(result, aligned_geoms, exterior_of, seam_of)
+    pieces, clipped, dropped = clip_generated(result, aligned_geoms, exterior_of, seam_of,
+                                              dict(zip(cats, geoms)))
     if pieces:
         result = result.replaced(pieces)
     noded = node_footprints(result.geometries)

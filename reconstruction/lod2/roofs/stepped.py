@@ -13,6 +13,11 @@ from .model import RoofGroup
 
 #: a facade of more steps (a side) is no crow-stepped gable: the roof falls back to a gable
 MAX_STEPS = 64
+#: the crown's corners stand on the profile at least this share of a step
+#: height below its apex: on a straight gable the crown is then at least one
+#: step's run wide (the run of the gable over one step height), the step below
+#: it at least half a run
+CROWN_DROP = 0.5
 #: about the largest memory (bytes) of the facade arrays of one batch
 BATCH_BYTES = 64 * 2 ** 20
 
@@ -54,6 +59,52 @@ def _interp_rows(x, xp, fp):
     return np.interp(x + off, (xp + off).ravel(), fp.ravel())
 
 
+def _on_profile(rings, counts, profile, profile_u, points_u, points, width):
+    """The body roof's faces ``rings`` (g, F, K) with ``counts`` (g, F) entries,
+    with the ``points`` (roof vertex numbers, one row of (2Q,) or (g, 2Q)) at
+    ``points_u`` (g, 2Q) along the inner edge (ascending) inserted into the
+    profile edges they lie on.
+
+    ``profile``: (g, K + 2) the profile's vertex numbers left to right (the
+    inner edge's ends first and last, padded with the last) at ``profile_u``
+    (g, K + 2). Each profile edge is an edge of one face of the body's roof;
+    the points on it go into that face between its ends, in its direction.
+    Returns ``(faces, counts)``, faces (g, F, ``width``).
+    """
+    g, F, K = rings.shape
+    S = profile.shape[1] - 1
+    pos = np.arange(K)
+    valid = pos < counts[..., None]
+    nxt = np.take_along_axis(rings, np.where(pos + 1 < counts[..., None], pos + 1, 0), axis=2)
+    left, right = profile[:, None, None, :-1], profile[:, None, None, 1:]
+    v, w = rings[..., None], nxt[..., None]
+    forward = (v == left) & (w == right) & valid[..., None]
+    backward = (v == right) & (w == left) & valid[..., None]
+    on = forward | backward
+    seg = np.argmax(on, axis=3)                                    # (g, F, K)
+    # the points on each profile edge: a run of the ascending points
+    edge = (profile_u[:, None, :] < points_u[:, :, None]).sum(axis=2) - 1     # (g, 2Q)
+    per = np.zeros((g, S), dtype=np.int64)
+    np.add.at(per, (np.arange(g)[:, None], edge), 1)
+    first = np.cumsum(per, axis=1) - per
+    rows = np.arange(g)[:, None, None]
+    add = np.where(on.any(axis=3), per[rows, seg], 0)
+    up = np.take_along_axis(forward, seg[..., None], axis=3)[..., 0]
+    at = pos + np.cumsum(add, axis=2) - add                        # each entry's new place
+    out = np.zeros((g, F, width), dtype=np.int64)
+    gi, fi, ki = np.nonzero(valid)
+    out[gi, fi, at[gi, fi, ki]] = rings[gi, fi, ki]
+    gi, fi, ki = np.nonzero(add)
+    c = add[gi, fi, ki]
+    r = np.repeat(np.arange(len(c)), c)
+    k = np.arange(len(r)) - np.repeat(np.cumsum(c) - c, c)       # 0 .. c - 1 in each run
+    pick = np.where(up[gi, fi, ki][r], k, c[r] - 1 - k)          # in the face's direction
+    points = np.broadcast_to(points, points_u.shape)
+    out[gi[r], fi[r], at[gi, fi, ki][r] + 1 + k] = \
+        points[gi[r], first[gi[r], seg[gi, fi, ki][r]] + pick]
+    return out, counts + add.sum(axis=2)
+
+
 def stepped_arrays(xy, ends, body, steps, thickness):
     """Crow-stepped gable roofs over convex footprints with the same number of
     vertices, as arrays.
@@ -71,9 +122,19 @@ def stepped_arrays(xy, ends, body, steps, thickness):
     number of steps (at most :data:`MAX_STEPS`; in batches of about
     :data:`BATCH_BYTES`), whose ``index`` are rows of the input; their vertices
     past the footprint are the body roof's (its base, then its nodes), then
-    the facade corners; ``wall_mid`` is set where the inner edge's ends lie
-    on the edges next to the street edge. Rows whose facade cannot be built
-    (steps too narrow, no gable profile) are in no group.
+    the facade corners, then the points of the gable profile under the
+    inner corners; ``wall_mid`` is set where the inner edge's ends lie on the
+    edges next to the street edge. Rows whose facade cannot be built (steps
+    too narrow, no gable profile) are in no group.
+
+    The back face (between the profile and the steps) has a vertex on the
+    profile under each inner corner, and the body roof's faces have them on
+    their profile edges: without them the face's strip along the profile,
+    one margin high, had no vertex below its inner corners but the
+    profile's ends and apex, and its triangulation (val3dity's, after the
+    millimetre rounding) had slivers of three nearly collinear inner corners
+    whose normals deviate by more than 20 degrees on facades of some twenty
+    steps or more.
     """
     xy = np.asarray(xy, dtype=float)
     G, n, _ = xy.shape
@@ -127,20 +188,26 @@ def stepped_arrays(xy, ends, body, steps, thickness):
         same = np.nonzero(ok & (nsteps == q))[0]
         # about 8 arrays of (rows, faces, face size) numbers of 8 bytes
         m_q = 2 + 4 * (int(q) - 1)
-        size = (4 + m_q + ring_idx.shape[1]) * max(m_q + 2 + ring_idx.shape[2], 4) * 64
+        size = (4 + m_q + ring_idx.shape[1]) * max(m_q + 2 + 2 * int(q) + ring_idx.shape[2],
+                                                   4) * 64
         rows = max(1, BATCH_BYTES // size)
         for first in range(0, len(same), rows):
             sel = same[first:first + rows]
             g = len(sel)
             Q = int(q) - 1
-            zq = np.arange(1, Q + 1, dtype=float)[None, :] * s[sel, None] - margin[sel, None]
+            # a step's corners stand where the profile is a margin below its
+            # tread; the crown's (the top step's) at most CROWN_DROP steps below
+            # the apex, lest the profile reach the tread's margin just below the
+            # apex and make the crown a needle
+            zq = np.minimum(np.arange(1, Q + 1, dtype=float)[None, :] * s[sel, None]
+                            - margin[sel, None], (H[sel] - CROWN_DROP * s[sel])[:, None])
             uL = _interp_rows(zq, np.take_along_axis(pz[sel], rising[sel], axis=1),
                               np.take_along_axis(pu[sel], rising[sel], axis=1))
             uR = _interp_rows(zq, np.take_along_axis(pz[sel], falling[sel], axis=1),
                               np.take_along_axis(pu[sel], falling[sel], axis=1))
             seq = np.concatenate([lo[sel, None], uL, uR[:, ::-1], hi[sel, None]], axis=1)
             wide = np.all(np.diff(seq, axis=1) >= 0.02, axis=1)
-            sel, uL, uR = sel[wide], uL[wide], uR[wide]
+            sel, uL, uR, zq = sel[wide], uL[wide], uR[wide], zq[wide]
             g = len(sel)
             if g == 0:
                 continue
@@ -168,17 +235,25 @@ def stepped_arrays(xy, ends, body, steps, thickness):
             bk = fxy + (nrm[sel] * thickness)[:, None]
             fxy[:, 0], fxy[:, -1] = a[sel], b[sel]
             bk[:, 0], bk[:, -1] = qa[sel], qb[sel]
-            # roof vertices: footprint, body roof (its base, then its nodes), facade
-            R = 2 * n + C + 2 * m
+            # the profile under the inner corners, left to right (see _on_profile)
+            under_u = np.concatenate([uL, uR[:, ::-1]], axis=1)
+            under_z = np.concatenate([zq, zq[:, ::-1]], axis=1)
+            # roof vertices: footprint, body roof (its base, then its nodes),
+            # facade, the profile under its inner corners
+            R = 2 * n + C + 2 * m + 2 * Q
             roof = np.zeros((g, R, 3))
             roof[:, :n, :2] = xy[sel]
             roof[:, n:2 * n, :2] = bxy[sel]
             roof[:, 2 * n:2 * n + C] = nodes[sel]
             base = 2 * n + C
             roof[:, base:base + m, :2] = fxy
-            roof[:, base + m:, :2] = bk
+            roof[:, base + m:base + 2 * m, :2] = bk
             roof[:, base:base + m, 2] = cz[:, 1:-1]
-            roof[:, base + m:, 2] = cz[:, 1:-1]
+            roof[:, base + m:base + 2 * m, 2] = cz[:, 1:-1]
+            roof[:, base + 2 * m:, :2] = (a[sel, None] + under_u[..., None] * t[sel, None]
+                                          + (nrm[sel] * thickness)[:, None])
+            roof[:, base + 2 * m:, 2] = under_z
+            under = base + 2 * m + np.arange(2 * Q)
             e = ends[sel]
             ia, ib = e, (e + 1) % n
             i_qa, i_qb = n, n + 1
@@ -191,22 +266,28 @@ def stepped_arrays(xy, ends, body, steps, thickness):
             P = ring_idx.shape[1]
             Kb = ring_idx.shape[2]
             F = 4 + (m - 1) + (P - 1)
-            Kf = max(m + 2 + K, Kb, 4)
+            Kf = max(m + 2 + K + 2 * Q, Kb + 2 * Q, 4)
             faces = np.zeros((g, F, Kf), dtype=np.int64)
             fcnt = np.zeros((g, F), dtype=np.int64)
             # front facade, seen from the street
             faces[:, 0, :m + 2] = front[:, ::-1]
             fcnt[:, 0] = m + 2
-            # back face (towards the ridge): the gable profile (right to left), then the outline
+            # back face (towards the ridge): the gable profile with the points
+            # under the inner corners (right to left), then the outline
             Tg = T[sel]
-            reverse = np.clip(Tg[:, None] - 1 - np.arange(K), 0, K - 1)
-            prof_rev = np.where(np.arange(K)[None, :] < Tg[:, None],
-                                np.take_along_axis(top_k[sel], reverse, axis=1), 0) + 2 * n
+            Tu = Tg + 2 * Q
+            along = np.concatenate([up[sel], under_u], axis=1)        # inf past the T nodes
+            ids = np.concatenate([top_k[sel] + 2 * n, np.broadcast_to(under, (g, 2 * Q))],
+                                 axis=1)
+            prof_rev = np.take_along_axis(
+                ids, np.argsort(np.where(np.isfinite(along), -along, np.inf), axis=1,
+                                kind="stable"), axis=1)
             pos = np.arange(Kf)[None, :]
-            outline = back[np.arange(g)[:, None], np.clip(pos - Tg[:, None], 0, m + 1)]
-            faces[:, 1] = np.where(pos < Tg[:, None],
-                                   prof_rev[:, np.minimum(np.arange(Kf), K - 1)], outline)
-            fcnt[:, 1] = Tg + m + 2
+            outline = back[np.arange(g)[:, None], np.clip(pos - Tu[:, None], 0, m + 1)]
+            faces[:, 1] = np.where(pos < Tu[:, None],
+                                   prof_rev[:, np.minimum(np.arange(Kf), K + 2 * Q - 1)],
+                                   outline)
+            fcnt[:, 1] = Tu + m + 2
             # side faces of the slab
             faces[:, 2, :4] = np.stack([ia, front[:, 1], back[:, 1], np.full(g, i_qa)], axis=1)
             faces[:, 3, :4] = np.stack([ib, np.full(g, i_qb), back[:, -2], front[:, -2]], axis=1)
@@ -220,9 +301,12 @@ def stepped_arrays(xy, ends, body, steps, thickness):
             # beyond the inner edge are the footprint's
             k = ring_idx[sel, 1:]
             mapped = np.where((k >= 2) & (k < n), (e[:, None, None] + k) % n, n + k)
-            faces[:, 4 + m - 1:, :Kb] = mapped
-            bc = cnt[sel, 1:]
-            fcnt[:, 4 + m - 1:] = np.where(bc >= 3, bc, 0)
+            bc = np.where(cnt[sel, 1:] >= 3, cnt[sel, 1:], 0)
+            profile_ids = np.concatenate([np.full((g, 1), i_qa), 2 * n + top_k[sel],
+                                          np.full((g, 1), i_qb)], axis=1)
+            profile_ids[np.arange(K + 2)[None, :] > Tg[:, None]] = i_qb
+            faces[:, 4 + m - 1:], fcnt[:, 4 + m - 1:] = _on_profile(
+                mapped, bc, profile_ids, pu[sel], under_u, under, Kf)
             wall_mid = np.full((g, n), -1, dtype=np.int64)
             wall_mid[np.arange(g), (e - 1) % n] = i_qa
             wall_mid[np.arange(g), ib] = i_qb
