@@ -53,6 +53,7 @@ import numpy as np
 
 from ..core import crs
 from ..core.errors import InputError
+from . import checks
 from . import geometry as citygeometry
 from . import seq as cityjsonseq
 
@@ -94,6 +95,9 @@ class ExistingModel:
     metadata: dict = field(default_factory=dict)
     extensions: dict = None
     sequence: bool = False
+    #: buildings left out because they are broken: id -> the problem
+    #: (:func:`reconstruction.cityjson.checks.broken_buildings`)
+    skipped: dict = field(default_factory=dict)
 
     @property
     def epsg(self):
@@ -191,10 +195,10 @@ def read_model(path, types=("Building",)):
             rest = f.readline() if isinstance(doc, dict) else ""
             while rest != "" and not rest.strip():
                 rest = f.readline()
-            offsets, sequence = None, False
+            offsets, counts, sequence = None, None, False
             if rest:
                 f.seek(0)
-                doc, offsets = cityjsonseq.read_features(f, path)
+                doc, offsets, counts = cityjsonseq.read_features(f, path)
                 sequence = True
             elif doc is None:
                 f.seek(0)
@@ -203,15 +207,20 @@ def read_model(path, types=("Building",)):
             raise _not_cityjson(path, "not a text file") from None
         except json.JSONDecodeError as error:
             raise _not_cityjson(path, "not JSON: {}".format(error)) from None
-        return model_of(doc, path, offsets, sequence, types)
+        return model_of(doc, path, offsets, sequence, types, counts)
 
 
 @citygeometry.gc_paused()
-def model_of(doc, path="<model>", offsets=None, sequence=False, types=("Building",)):
+def model_of(doc, path="<model>", offsets=None, sequence=False, types=("Building",),
+             counts=None):
     """An :class:`ExistingModel` of a CityJSON document (dict), upgraded from 1.1.
 
     ``offsets``: vertex offset per top-level object id (CityJSONSeq features
-    keep their own indices), None for one document.
+    keep their own indices), None for one document; ``counts``: with
+    ``offsets``, the number of vertices of each one's feature. A broken
+    transform or vertices raise InputError; broken buildings are left out
+    of ``buildings`` and named in ``skipped``
+    (:mod:`reconstruction.cityjson.checks`).
     """
     if not isinstance(doc, dict) or doc.get("type") != "CityJSON":
         kind = doc.get("type") if isinstance(doc, dict) else type(doc).__name__
@@ -221,29 +230,33 @@ def model_of(doc, path="<model>", offsets=None, sequence=False, types=("Building
         raise _not_cityjson(path, "no CityObjects or vertices")
     if version != VERSION:
         _upgrade(doc)                   # 1.1
-    transform = doc.get("transform") or {}
+    transform = doc.get("transform")
+    checks.check_transform(path, transform)
+    transform = transform or {}
     scale = np.asarray(transform.get("scale", [1.0, 1.0, 1.0]), dtype=float)
     translate = np.asarray(transform.get("translate", [0.0, 0.0, 0.0]), dtype=float)
     objects = doc["CityObjects"]
-    if doc["vertices"]:
-        vertices = np.asarray(doc["vertices"], dtype=np.int64 if transform else float)
-    else:
-        vertices = np.zeros((0, 3), dtype=np.int64)
-    if vertices.ndim != 2 or vertices.shape[1] != 3:
-        raise _not_cityjson(path, "its vertices are not x, y, z triples")
+    vertices = checks.vertices_array(path, doc["vertices"], bool(transform))
     wanted = set(types)
     buildings = [oid for oid, obj in objects.items()
-                 if not obj.get("parents") and obj.get("type") in wanted]
+                 if isinstance(obj, dict) and not obj.get("parents") and obj.get("type") in wanted]
     if offsets is None:
         offset = np.zeros(len(buildings), dtype=np.int64)
+        count = np.full(len(buildings), len(vertices), dtype=np.int64)
     else:
         offset = np.array([offsets.get(b, 0) for b in buildings], dtype=np.int64)
+        count = np.array([counts.get(b, 0) for b in buildings], dtype=np.int64)
+    skipped = checks.broken_buildings(objects, buildings, count)
+    if skipped:
+        keep = [b for b, oid in enumerate(buildings) if oid not in skipped]
+        buildings, offset = [buildings[b] for b in keep], offset[keep]
     metadata = doc.get("metadata") or {}
     return ExistingModel(path=path, version=version,
                          reference_system=metadata.get("referenceSystem"),
                          scale=scale, translate=translate, objects=objects, vertices=vertices,
                          buildings=buildings, offset=offset, metadata=metadata,
-                         extensions=doc.get("extensions"), sequence=sequence)
+                         extensions=doc.get("extensions"), sequence=sequence,
+                         skipped=skipped)
 
 
 # ---------------------------------------------------------------------------

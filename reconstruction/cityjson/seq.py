@@ -335,21 +335,24 @@ def features(f, path="<stream>"):
 @citygeometry.gc_paused()
 def read_features(f, path="<stream>"):
     """All features of a CityJSONSeq as one document whose objects keep their
-    feature's indices, and the vertex offset of every object's feature."""
+    feature's indices, the vertex offset of every object's feature and the
+    number of its feature's vertices (its indices must stay below it)."""
     head, lines = features(f, path)
-    objects, vertices, offsets = {}, [], {}
+    objects, vertices, offsets, counts = {}, [], {}, {}
     for feature in lines:
         offset = len(vertices)
-        vertices.extend(feature.get("vertices") or [])
+        own = feature.get("vertices") or []
+        vertices.extend(own)
         for oid, obj in feature["CityObjects"].items():
             if oid in objects:
                 raise InputError("'{}': the city object <{}> is in two features".format(path, oid))
             objects[oid] = obj
             offsets[oid] = offset
+            counts[oid] = len(own)
     doc = dict(head)
     doc["CityObjects"] = objects
     doc["vertices"] = vertices
-    return doc, offsets
+    return doc, offsets, counts
 
 
 @citygeometry.gc_paused()
@@ -357,7 +360,7 @@ def collect(f, path="<stream>"):
     """The CityJSON document (dict) of a CityJSONSeq text file: the features'
     objects with indices into one vertex list, shared vertices once and
     unused ones left out."""
-    doc, offsets = read_features(f, path)
+    doc, offsets, _ = read_features(f, path)
     geoms, shift, where = [], [], []
     for oid, obj in doc["CityObjects"].items():
         for k, g in enumerate(obj.get("geometry", ())):

@@ -37,7 +37,7 @@ from . import inputs as lod2_inputs
 from . import output as lod2_output
 from .neighbourhood import Plots
 from .report import (build_messages, built_messages, config_messages, existing_messages,
-                     footprint_messages, ground_points_messages, height_messages,
+                     existing_model_messages, footprint_messages, ground_points_messages, height_messages,
                      map_messages, matched_heights_messages, plots_messages, street_edge_messages,
                      street_messages)
 from .solids import validation
@@ -104,6 +104,7 @@ def run(inputs, config):
         say(existing_messages(config.existing))
         with doing("reading the existing model '{}'".format(config.existing.path)):
             model = lod2_output.read_existing(config.existing, config.location_epsg)
+        say(existing_model_messages(model))
 
     geoms, columns = inputs.footprints()
     if not geoms:

@@ -6,7 +6,8 @@ buildings copied, the -v report's fallbacks and invalid solids);
 The other functions give the messages of each step, which
 :func:`reconstruction.lod2.run` hands to the script's printer as the step is
 done (a progress message before the work it announces), in this order:
-:func:`config_messages`, :func:`existing_messages`, :func:`map_messages`,
+:func:`config_messages`, :func:`existing_messages`,
+:func:`existing_model_messages`, :func:`map_messages`,
 :func:`ground_points_messages`, :func:`matched_heights_messages`,
 :func:`plots_messages`, :func:`height_messages`,
 :func:`street_messages`, :func:`street_edge_messages`,
@@ -62,6 +63,26 @@ def map_messages(image, footprints):
 def existing_messages(request):
     """Before the existing model (:class:`~reconstruction.lod2.config.ExistingRequest`) is read."""
     return [note("Reading the existing model '{}'...".format(request.path))]
+
+
+#: broken buildings of an existing model named in its warning
+SKIPPED_NAMED = 3
+
+
+def existing_model_messages(model):
+    """After the existing model (an :class:`~reconstruction.cityjson.existing.ExistingModel`)
+    is read: the broken buildings left out (issue 33), the first few named
+    with their problem."""
+    skipped = model.skipped
+    if not skipped:
+        return []
+    named = ["<{}>: {}".format(oid, problem) for oid, problem in
+             list(skipped.items())[:SKIPPED_NAMED]]
+    more = len(skipped) - len(named)
+    return [warning("{} buildings of the existing model '{}' are broken and left out (not "
+                    "copied; the footprints they would match are generated): {}{}".format(
+                        len(skipped), model.path, "; ".join(named),
+                        "; and {} more".format(more) if more else ""))]
 
 
 def ground_points_messages(config):
