@@ -9,6 +9,7 @@ map, with one ``ERROR:`` line and no traceback.
 """
 
 import contextlib
+import json
 import os
 import shutil
 import signal
@@ -434,3 +435,89 @@ def test_an_input_of_another_mapset_may_share_its_output_name(small):
         env = gs.gisenv()
         shutil.rmtree(os.path.join(env["GISDBASE"], env["LOCATION_NAME"], other),
                       ignore_errors=True)
+
+
+# ---------------------------------------------------------------------------
+# Issue 33, items 1 and 2: a broken existing model
+# ---------------------------------------------------------------------------
+
+def house_model(broken=None, sequence=False, transform=None):
+    """The existing model of the first three ``houses`` of ``small`` (12 x 12 m
+    cubes in BuildingParts, as the 3D BAG has them): house k is building
+    "h<k>"; ``broken``: house -> function changing its objects (ids, objects,
+    its vertices' count) in place."""
+    faces = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
+    semantics = {"surfaces": [{"type": "GroundSurface"}, {"type": "RoofSurface"},
+                              {"type": "WallSurface"}], "values": [[0, 1, 2, 2, 2, 2]]}
+    head = {"type": "CityJSON", "version": "2.0",
+            "transform": transform or {"scale": [0.001] * 3, "translate": [X0, Y0, 0.0]},
+            "CityObjects": {}, "vertices": []}
+    features = []
+    for k in range(3):
+        x, y = (k * 60 + 2) * 1000, 2000
+        vertices = [[x + dx, y + dy, z] for z in (0, 6000)
+                    for dx, dy in ((0, 0), (12000, 0), (12000, 12000), (0, 12000))]
+        shift = 0 if sequence else 8 * k
+        objects = {"h{}".format(k): {"type": "Building", "children": ["h{}-0".format(k)]},
+                   "h{}-0".format(k): {"type": "BuildingPart", "parents": ["h{}".format(k)],
+                                       "geometry": [{"type": "Solid", "lod": "2.2",
+                                                     "boundaries": [[[[i + shift for i in f]]
+                                                                     for f in faces]],
+                                                     "semantics": semantics}]}}
+        if broken and k in broken:
+            broken[k](objects)
+        features.append((objects, vertices))
+    if sequence:
+        lines = [head] + [{"type": "CityJSONFeature", "id": "h{}".format(k), "CityObjects": o,
+                           "vertices": v} for k, (o, v) in enumerate(features)]
+        return "\n".join(json.dumps(line) for line in lines) + "\n"
+    for objects, vertices in features:
+        head["CityObjects"].update(objects)
+        head["vertices"].extend(vertices)
+    return json.dumps(head)
+
+
+def _index(value):
+    def change(objects):
+        part = [o for o in objects.values() if o["type"] == "BuildingPart"][0]
+        part["geometry"][0]["boundaries"][0][1][0][0] = value
+    return change
+
+
+def _no_child(objects):
+    del objects[[k for k in objects if k.endswith("-0")][0]]
+
+
+@pytest.mark.parametrize("sequence", [False, True])
+def test_a_broken_building_of_the_existing_model_is_left_out_and_named(small, tmp_path,
+                                                                       sequence):
+    """House 1's roof points past its vertices (in a sequence: at the next
+    feature's), house 2 has lost its part: both are named, their footprints
+    generated; house 0 is copied and checked (-v counts it)."""
+    path = tmp_path / ("bag.city.jsonl" if sequence else "bag.city.json")
+    path.write_text(house_model({1: _index(8 if sequence else 24), 2: _no_child}, sequence))
+    out = tmp_path / "m.json"
+    code, stdout, err = run_module("v.histo.lod2", flags="v", input="houses", output=str(out),
+                                   existing=str(path))
+    assert code == 0, err
+    assert "Traceback" not in err
+    said = " ".join(err.split())
+    assert "2 buildings of the existing model" in said and "broken and left out" in said
+    assert "<h1>: <h1-0>, geometry 0 (Solid, lod 2.2): vertex index {} is past its {} " \
+           "vertices".format(8 if sequence else 24, 8 if sequence else 24) in said
+    assert "<h2>: its child \"h2-0\" is not in the model" in said
+    assert "1 of 4 aligned footprints copied" in said
+    rep = dict(line.split("=", 1) for line in stdout.splitlines() if "=" in line)
+    assert (rep["solids"], rep["valid"], rep["copied_solids"], rep["copied_valid"]) == \
+        ("4", "4", "1", "1")
+    doc = json.loads(out.read_text())
+    buildings = [k for k, o in doc["CityObjects"].items() if o["type"] == "Building"]
+    assert len(buildings) == 4 and "h0" in buildings and "h1" not in buildings
+
+
+def test_an_existing_model_of_scale_zero_is_refused(small, tmp_path):
+    path = tmp_path / "bag.city.json"
+    path.write_text(house_model(transform={"scale": [0, 0, 0], "translate": [X0, Y0, 0]}))
+    fails("v.histo.lod2", "the scale of its transform must be three positive numbers",
+          input="houses", output=str(tmp_path / "m.json"), existing=str(path))
+    assert os.listdir(str(tmp_path)) == ["bag.city.json"]

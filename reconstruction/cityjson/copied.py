@@ -19,7 +19,8 @@ from typing import Optional
 
 import numpy as np
 
-from ..geom.rings import corners, unique_rows
+from ..geom.rings import corners, offsets, unique_rows
+from ..geom.solidset import SolidSet
 from . import geometry as citygeometry
 
 SCALE = 0.001
@@ -161,6 +162,56 @@ class CopiedBuildings:
                     objs[oid]["geometry"] = [next(new) for _ in obj["geometry"]]
             out.append(objs)
         return out
+
+
+@dataclass(frozen=True)
+class CopiedSolids:
+    """The copied Solid geometries as a :class:`~reconstruction.geom.solidset.SolidSet`
+    (each solid's own vertices, millimetres), to be validated as the
+    generated ones are; ``labels``: per solid, "<object id> (lod L)";
+    ``unchecked``: Solids left out of ``solids`` because they have inner
+    shells or faces with holes (the set holds outer rings of one shell)."""
+    solids: SolidSet
+    labels: list
+    unchecked: int
+
+
+def copied_solids(copied):
+    """The :class:`CopiedSolids` of ``copied`` (a :class:`CopiedBuildings`
+    on the millimetre grid)."""
+    if abs(copied.scale - 0.001) > 1e-12:
+        raise ValueError("copied solids are checked on the millimetre grid")
+    lay, rows = copied.walked()
+    labels_of = [(oid, g.get("lod")) for tree in copied.trees for oid, obj in tree.items()
+                 for g in obj.get("geometry", ())]
+    empty = SolidSet(np.zeros((0, 3), dtype=np.int64), np.zeros(0, dtype=np.int64),
+                     np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.int64))
+    group = [g for g in lay.groups if len(g[3]) == citygeometry.DEPTH["Solid"] and
+             all(copied.geometries()[k].get("type") == "Solid" for k in g[0][:1])]
+    if not group:
+        return CopiedSolids(empty, [], 0)
+    positions, first_leaf, _, (shells, surfaces, rings) = group[0]
+    shell_start, surface_start = offsets(shells), offsets(surfaces)
+    holed = np.bincount(np.repeat(np.arange(len(surfaces)), surfaces), weights=rings != 1,
+                        minlength=len(surfaces)) > 0
+    one = np.nonzero(shells == 1)[0]
+    checked = one[~holed[shell_start[one]]]
+    # the faces of the checked solids: the surfaces of their shell, one ring each
+    shell = shell_start[checked]
+    face_count = surfaces[shell]
+    face_surface = np.repeat(surface_start[shell], face_count) + (
+        np.arange(face_count.sum()) - np.repeat(offsets(face_count)[:-1], face_count))
+    leaf = first_leaf + offsets(rings)[face_surface]
+    sizes = lay.offsets[leaf + 1] - lay.offsets[leaf]
+    entry = np.repeat(lay.offsets[leaf], sizes) + (
+        np.arange(sizes.sum()) - np.repeat(offsets(sizes)[:-1], sizes))
+    solid_of_entry = np.repeat(np.repeat(np.arange(len(checked)), face_count), sizes)
+    count = max(len(copied.vertices), 1)
+    uniq, inv = np.unique(solid_of_entry * count + rows[entry], return_inverse=True)
+    ss = SolidSet(copied.vertices[uniq % count], inv.ravel().astype(np.int64),
+                  offsets(sizes), offsets(face_count))
+    labels = ["<{}> (lod {})".format(*labels_of[positions[k]]) for k in checked.tolist()]
+    return CopiedSolids(ss, labels, len(shells) - len(checked))
 
 
 def _chosen_lods(present, lods):

@@ -98,6 +98,12 @@ class OutputReport:
     drawn: Optional[int] = None
     candidates: int = 0
     notes: tuple = ()
+    #: with -v, the validation of the copied Solids
+    #: (:func:`reconstruction.cityjson.copied.copied_solids`): per solid checked,
+    #: (its label, None or the reasons it is invalid)
+    copied_checked: Optional[tuple] = None
+    #: with -v, the copied Solids not checked (inner shells, faces with holes)
+    copied_unchecked: int = 0
 
 
 def footprint_ids(columns, name):
@@ -307,15 +313,22 @@ def _joined(results):
                            results[0].report if results else None)
 
 
-def _copied(match, footprints, fmt):
-    """The copied buildings and the report of what was matched and copied."""
+def _copied(match, footprints, fmt, validate=False):
+    """The copied buildings and the report of what was matched and copied
+    (with ``validate``, their Solids checked as the generated ones are)."""
     count = len(footprints.geometries)
     copied = copy_matched(match, footprints, count, fmt)
-    return copied, OutputReport(generated=0, copied=len(copied), copy=copied.report,
-                                match=match.matches.report, candidates=len(match.candidates))
+    report = OutputReport(generated=0, copied=len(copied), copy=copied.report,
+                          match=match.matches.report, candidates=len(match.candidates))
+    if validate:
+        solids = citycopy.copied_solids(copied)
+        report = replace(report, copied_unchecked=solids.unchecked, copied_checked=tuple(
+            zip(solids.labels, validation.validate(solids.solids))))
+    return copied, report
 
 
-def write_model(result, footprints, request, match=None, doing=nullcontext, say=None):
+def write_model(result, footprints, request, match=None, doing=nullcontext, say=None,
+                validate=False):
     """Write the model of a :class:`~reconstruction.lod2.stage.Lod2Result` (and the
     buildings ``match`` copies, an :class:`ExistingMatch` or None) as
     ``request`` (:class:`OutputRequest`) says; returns an :class:`OutputReport`.
@@ -325,13 +338,14 @@ def write_model(result, footprints, request, match=None, doing=nullcontext, say=
     interruption while either is written leaves both files as they were.
     ``doing(what)``: a context manager naming each step for the error of a
     failure (v.histo.lod2: :class:`reconstruction.grassio.doing`); ``say``
-    prints a step's messages (:mod:`reconstruction.lod2.report`)."""
+    prints a step's messages (:mod:`reconstruction.lod2.report`);
+    ``validate``: the copied Solids are checked (:attr:`OutputReport.copied_checked`)."""
     fmt = request.format
     copied, report = None, OutputReport(generated=len(result.ids))
     if match is not None:
         before = len(result.ids)
         result = without_footprints(result, match.copied(len(footprints.geometries)))
-        copied, report = _copied(match, footprints, fmt)
+        copied, report = _copied(match, footprints, fmt, validate)
         report = replace(report, generated=len(result.ids), replaced=before - len(result.ids))
     drawn = drawn_footprints(footprints.geometries) if request.render else None
     with safefile.together() as files:
@@ -386,11 +400,12 @@ def write_in_steps(prepared, config, footprints, request, match=None, doing=null
     Returns the whole run's :class:`~reconstruction.lod2.stage.Lod2Result`
     (:func:`reconstruction.lod2.stage.summary`: no solids), the
     :class:`OutputReport` and, with ``validate``, the validation of every
-    solid (:func:`reconstruction.lod2.solids.validation.validate`, step by step)."""
+    solid (:func:`reconstruction.lod2.solids.validation.validate`, step by
+    step; the copied ones in the report, as :func:`write_model` does)."""
     copied, report = None, OutputReport(generated=0)
     count = len(footprints.geometries)
     if match is not None:
-        copied, report = _copied(match, footprints, request.format)
+        copied, report = _copied(match, footprints, request.format, validate)
     drawn = drawn_footprints(footprints.geometries) if request.render else None
     steps, kept, invalid = [], [], [] if validate else None
     with safefile.together() as files:

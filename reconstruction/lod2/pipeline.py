@@ -138,7 +138,8 @@ def run(inputs, config):
         return Lod2Run(result, written, invalid)
     result = lod2_output.build(prepared, config, match)
     say(built_messages(result.report))
-    written = lod2_output.write_model(result, footprints, output, match, doing, say)
+    written = lod2_output.write_model(result, footprints, output, match, doing, say,
+                                      config.validate)
     return Lod2Run(result, written, validation.validate(result.solids) if config.validate
                    else None)
 

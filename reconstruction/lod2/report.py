@@ -243,6 +243,11 @@ def report(result, config):
             out.append(note("Footprint cat {}: {} roof invalid ({}), fell back".format(
                 f.footprint, f.kind, f.reason)))
         out.extend(note("Invalid solid: {}".format(r)) for r in result.invalid if r is not None)
+        out.extend(note("Invalid copied solid {}: {}".format(label, r))
+                   for label, r in written.copied_checked or () if r is not None)
+        if written.copied_unchecked:
+            out.append(note("{} copied solids have inner shells or faces with holes and are not "
+                            "checked".format(written.copied_unchecked)))
     return out
 
 
@@ -252,17 +257,21 @@ def drawing_messages(path):
     return [verbose("Drawing the picture '{}'...".format(path))]
 
 def validity_lines(result):
-    """The -v report's lines (standard output): counts and percent valid,
-    fallbacks, dropped and simplified buildings, buildings per roof type;
-    none without -v."""
+    """The -v report's lines (standard output): counts and percent valid
+    (of the generated solids, one per footprint built, and of the copied
+    Solids checked), fallbacks, dropped and simplified buildings, the copied
+    solids checked and valid, buildings per roof type; none without -v."""
     if result.invalid is None:
         return []
     model, check = result.model, result.invalid
-    valid = sum(r is None for r in check)
-    total = model.report.rings
+    copied = [r for _, r in result.written.copied_checked or ()]
+    valid = sum(r is None for r in check) + sum(r is None for r in copied)
+    total = model.report.rings + len(copied)
     lines = ["solids={}".format(total), "valid={}".format(valid),
              "percent_valid={:.2f}".format(100.0 * valid / total if total else 100.0),
              "fallbacks={}".format(len(model.report.fallbacks)),
              "dropped={}".format(model.report.dropped),
-             "simplified={}".format(model.report.simplified)]
+             "simplified={}".format(model.report.simplified),
+             "copied_solids={}".format(len(copied)),
+             "copied_valid={}".format(sum(r is None for r in copied))]
     return lines + ["roof_{}={}".format(k, v) for k, v in model.roof_counts().items()]

@@ -192,3 +192,21 @@ def test_the_fast_check_agrees_with_the_walk():
     assert list(existing.model_of(doc).skipped) == ["b"]
     doc = single([("a", None), ("b", bent(lambda b: b[0].__setitem__(3, 5)))])
     assert "13 where a list is expected" in existing.model_of(doc).skipped["b"]
+
+
+def test_copied_solids_are_validated_as_the_generated_ones():
+    from reconstruction.lod2.solids import validation
+
+    flipped = bent(lambda b: b[0][1][0].reverse())          # the roof turned inwards
+    holed = bent(lambda b: b[0][2].append([0, 1, 5]))        # a wall with an inner ring
+    doc = single([("a", None), ("b", flipped), ("c", holed)])
+    model = existing.model_of(doc)
+    for keep in (True, False):
+        solids = citycopy.copied_solids(citycopy.copy_buildings(model, [0, 1, 2],
+                                                                keep_numbering=keep))
+        assert solids.labels == ["<a-0> (lod 2.2)", "<b-0> (lod 2.2)"]
+        assert solids.unchecked == 1
+        reasons = validation.validate(solids.solids)
+        assert reasons[0] is None and reasons[1] is not None
+        # each solid's own vertices, on the millimetre grid
+        assert len(solids.solids.vertices) == 16

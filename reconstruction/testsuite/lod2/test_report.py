@@ -220,8 +220,23 @@ def test_the_validity_report():
         N("Invalid solid: 104 (shell not closed)")]
     assert validity_lines(run) == [
         "solids=3", "valid=2", "percent_valid=66.67", "fallbacks=1", "dropped=1",
-        "simplified=2", "roof_flat=0", "roof_hip=1", "roof_gable=2", "roof_mansard=0",
-        "roof_stepped=0"]
+        "simplified=2", "copied_solids=0", "copied_valid=0", "roof_flat=0", "roof_hip=1",
+        "roof_gable=2", "roof_mansard=0", "roof_stepped=0"]
     empty = replace(run, model=replace(run.model, report=replace(run.model.report, rings=0)),
                     invalid=[])
     assert validity_lines(empty)[:3] == ["solids=0", "valid=0", "percent_valid=100.00"]
+
+
+def test_copied_solids_are_counted_with_the_generated():
+    """-v counts the copied Solids checked with the generated ones (issue 33, item 1)."""
+    written = OutputReport(generated=3, copied=2, copy=CopyReport(), copied_unchecked=1,
+                           copied_checked=(("<a-0> (lod 2.2)", None),
+                                           ("<b-0> (lod 2.2)", "non-planar face (> 1 mm)")))
+    run = _run(written, invalid=[None, None, None])
+    lines = validity_lines(run)
+    assert lines[:3] == ["solids=5", "valid=4", "percent_valid=80.00"]
+    assert "copied_solids=2" in lines and "copied_valid=1" in lines
+    said = lod2_report(run, CONFIG)
+    assert N("Invalid copied solid <b-0> (lod 2.2): non-planar face (> 1 mm)") in said
+    assert N("1 copied solids have inner shells or faces with holes and are not "
+             "checked") in said
