@@ -521,3 +521,29 @@ def test_an_existing_model_of_scale_zero_is_refused(small, tmp_path):
     fails("v.histo.lod2", "the scale of its transform must be three positive numbers",
           input="houses", output=str(tmp_path / "m.json"), existing=str(path))
     assert os.listdir(str(tmp_path)) == ["bag.city.json"]
+
+
+# ---------------------------------------------------------------------------
+# Issue 33, items 5 and 8: reference systems that cannot be the location's
+# ---------------------------------------------------------------------------
+
+@pytest.mark.parametrize("crs, message", [
+    ("4326", "crs=EPSG:4326 is a geographic reference system"),
+    ("3857", "crs=EPSG:3857 does not agree with the location's EPSG:28992")])
+def test_a_crs_that_is_not_the_locations_is_refused(small, tmp_path, crs, message):
+    fails("v.histo.lod2", message, input="houses", output=str(tmp_path / "m.json"), crs=crs)
+    assert os.listdir(str(tmp_path)) == []
+
+
+def test_a_model_in_longitude_and_latitude_that_claims_rd_is_refused(small, tmp_path):
+    path = tmp_path / "bag.city.json"
+    doc = json.loads(house_model(transform={"scale": [1e-7, 1e-7, 0.001],
+                                            "translate": [4.36, 52.01, 0.0]}))
+    doc["metadata"] = {"referenceSystem": "https://www.opengis.net/def/crs/EPSG/0/7415"}
+    path.write_text(json.dumps(doc))
+    gs, grassio = small
+    houses, _ = grassio.read_features("houses", "area")
+    grassio.write_features("bag_houses", houses, {"pand_id": ["h0", "h1", "h2", "h3"]})
+    fails("v.histo.lod2", "look like longitude and latitude", input="bag_houses",
+          output=str(tmp_path / "m.json"), existing=str(path), id_column="pand_id")
+    assert os.listdir(str(tmp_path)) == ["bag.city.json"]

@@ -53,6 +53,7 @@ import numpy as np
 
 from ..core import crs
 from ..core.errors import InputError
+from ..geom.grid import Extent
 from . import checks
 from . import geometry as citygeometry
 from . import seq as cityjsonseq
@@ -104,6 +105,14 @@ class ExistingModel:
         """The EPSG code of the reference system (None when absent or not EPSG)."""
         return crs.epsg_code(self.reference_system)
 
+    def place(self):
+        """The :class:`~reconstruction.geom.grid.Extent` of its vertices (x, y; None without any)."""
+        if not len(self.vertices):
+            return None
+        lo = self.vertices.min(axis=0) * self.scale + self.translate
+        hi = self.vertices.max(axis=0) * self.scale + self.translate
+        return Extent(float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
+
     def coordinates(self, index):
         """Coordinates (float, metres) of the vertices ``index`` (global: offset included)."""
         return self.vertices[np.asarray(index, dtype=np.int64)] * self.scale + self.translate
@@ -124,8 +133,14 @@ class ExistingModel:
 
 
 def check_reference_system(model, location_epsg):
-    """InputError unless the model's reference system agrees with the location's EPSG code."""
+    """InputError unless the model's reference system agrees with the location's
+    EPSG code, and is not geographic (the location is in metres)."""
     code = model.epsg
+    if code is not None and crs.geographic(code):
+        raise InputError(
+            "The reference system of the existing model '{}' is EPSG:{}, a geographic one "
+            "(degrees of longitude and latitude): reproject the model to the location's "
+            "system first (e.g. with cjio's crs_reproject)".format(model.path, code))
     if code is None or location_epsg is None:
         return
     if not crs.same_place(code, location_epsg):
@@ -401,7 +416,7 @@ class MatchReport:
     earlier footprint's id already took (one footprint per building: these
     too were tried by geometry), not counted in ``unmatched`` when they
     matched nothing, ``duplicates_unmatched`` of them; ``duplicate_examples``:
-    the first three of these ids."""
+    the first three of these ids; ``far_ids``: see below."""
     footprints: int
     by_id: int
     by_geometry: int
@@ -410,6 +425,10 @@ class MatchReport:
     duplicate_ids: int = 0
     duplicates_unmatched: int = 0
     duplicate_examples: tuple = ()
+    #: footprints whose id named a building farther than :data:`FAR_ID_MATCH`
+    #: from them (not taken: tried by geometry), and the first one's id and distance
+    far_ids: int = 0
+    far_example: tuple = ()
 
 
 @dataclass
@@ -486,6 +505,37 @@ def _by_id(model, ids, prefix):
         out[i] = b
         missing += b < 0
     return out, missing
+
+
+#: a building matched by id lies within this distance (map units) of its
+#: footprint, or the match is not taken: the same building in the same
+#: place, perhaps drawn a little apart; a model whose coordinates are not
+#: what its reference system says (longitude and latitude in a model that
+#: claims EPSG:7415) would otherwise be copied tens of kilometres away
+FAR_ID_MATCH = 100.0
+
+
+def _far_from_footprints(polygons, building, fps, reach=FAR_ID_MATCH):
+    """Per footprint, its distance to the footprint of its building
+    (``building``: index per footprint, -1 for none; nan where either has no
+    footprint)."""
+    import shapely
+
+    n = len(building)
+    distance = np.full(n, np.nan)
+    owner_fp = np.full(len(fps.area), -1, dtype=np.int64)
+    matched = np.nonzero(building >= 0)[0]
+    owner_fp[building[matched]] = matched
+    part = np.nonzero(owner_fp[fps.owner] >= 0)[0]
+    if not len(part):
+        return distance
+    fp = owner_fp[fps.owner[part]]
+    mine = np.asarray(polygons, dtype=object)
+    d = shapely.distance(mine[fp], fps.polygons[part])
+    best = np.full(n, np.inf)
+    np.fmin.at(best, fp, d)
+    distance[np.isfinite(best)] = best[np.isfinite(best)]
+    return distance
 
 
 def _intersection_areas(a, b, tolerance=1e-3):
@@ -573,6 +623,15 @@ def match(model, polygons, ids=None, prefix=None, min_overlap=0.5, fps=None):
                 duplicate[i] = True
             else:
                 seen.add(int(building[i]))
+    far, far_example = np.zeros(n, dtype=bool), ()
+    if (building >= 0).any():
+        fps = fps if fps is not None else footprints(model)
+        distance = _far_from_footprints(polygons, building, fps)
+        far = distance > FAR_ID_MATCH           # nan: not far
+        if far.any():
+            first = int(np.nonzero(far)[0][0])
+            far_example = (_id_text(ids[first]), float(distance[first]))
+            building[far] = -1
     by_id = building >= 0
     overlap = np.full(n, np.nan)
     todo = np.nonzero(~by_id)[0]
@@ -589,5 +648,6 @@ def match(model, polygons, ids=None, prefix=None, min_overlap=0.5, fps=None):
                          ids_not_found=int(missing), duplicate_ids=int(duplicate.sum()),
                          duplicates_unmatched=int(((building < 0) & duplicate).sum()),
                          duplicate_examples=tuple(dict.fromkeys(
-                             _id_text(ids[i]) for i in np.nonzero(duplicate)[0].tolist()))[:3])
+                             _id_text(ids[i]) for i in np.nonzero(duplicate)[0].tolist()))[:3],
+                         far_ids=int(far.sum()), far_example=far_example)
     return Matches(building=building, by_id=by_id, overlap=overlap, report=report, model=model)

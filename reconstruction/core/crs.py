@@ -5,7 +5,10 @@
 - :func:`epsg_code`: the code of a CityJSON ``referenceSystem`` (URL, URN,
   ``EPSG:7415``), :func:`crs_url` the URL of a code;
 - :func:`horizontal_epsg` and :func:`same_place`: a compound system (7415,
-  RD New + NAP heights) and its horizontal part (28992) locate points alike.
+  RD New + NAP heights) and its horizontal part (28992) locate points alike;
+- :func:`geographic`: a system in degrees (4326), which a location in
+  metres cannot be written in; :func:`looks_geographic`: a box that could
+  be longitude and latitude.
 
 PROJ's own database (``proj.db``, which GRASS, GDAL and PROJ install: no
 extra dependency) is asked through Python's sqlite3. Where it cannot be
@@ -117,6 +120,37 @@ def same_place(a, b):
     if a is None or b is None:
         return True
     return horizontal_epsg(a) == horizontal_epsg(b)
+
+
+#: geographic reference systems (degrees), where PROJ's database is absent
+GEOGRAPHIC = frozenset({4326, 4258, 4269, 4230, 4289, 4313, 4979, 4937, 4171, 4283})
+
+
+@functools.lru_cache(maxsize=64)
+def geographic(code):
+    """True when EPSG ``code`` (or the horizontal part of a compound system)
+    is geographic: its coordinates are degrees of longitude and latitude,
+    not metres (PROJ's database, else :data:`GEOGRAPHIC`)."""
+    if code is None:
+        return False
+    code = horizontal_epsg(int(code))
+    path = proj_db()
+    if path:
+        try:
+            with sqlite3.connect("file:{}?mode=ro".format(path), uri=True) as db:
+                row = db.execute("SELECT type FROM geodetic_crs WHERE auth_name = 'EPSG' AND "
+                                 "code = ?", (str(code),)).fetchone()
+            return row is not None and str(row[0]).startswith("geographic")
+        except sqlite3.Error:
+            pass
+    return code in GEOGRAPHIC
+
+
+def looks_geographic(extent):
+    """Whether coordinates of the box ``extent`` (an object with x0, y0, x1,
+    y1) could be longitude and latitude: within +-180 and +-90."""
+    return (extent is not None and -180 <= extent.x0 <= extent.x1 <= 180
+            and -90 <= extent.y0 <= extent.y1 <= 90)
 
 
 #: what CityJSON 2.0 wants of a ``referenceSystem`` (metadata.schema.json)

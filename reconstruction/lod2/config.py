@@ -16,7 +16,7 @@ from dataclasses import dataclass, field, fields
 from typing import Optional, Union
 
 from ..cityjson import geometry as citygeometry
-from ..core.crs import crs_url
+from ..core.crs import crs_url, epsg_code, geographic, same_place
 from ..core.errors import InputError
 from ..core.options import parse_list, parse_number, parse_range, processes
 from ..geom.grid import MapImage
@@ -159,6 +159,26 @@ class Lod2Config:
     validate: bool = False
 
 
+def check_crs(code, location_epsg):
+    """InputError unless the EPSG ``code`` of crs= can label the location's
+    coordinates, which are written as they are (in metres: v.histo.lod2
+    needs a projected location): not a geographic system, and where the
+    location's code is known, that system or a compound one of it (7415
+    for 28992)."""
+    if code is None:
+        return
+    if geographic(code):
+        raise InputError("Option crs=EPSG:{} is a geographic reference system (degrees of "
+                         "longitude and latitude), but the model's coordinates are the "
+                         "location's, in metres: give the location's system{}".format(
+                             code, " (EPSG:{})".format(location_epsg) if location_epsg else ""))
+    if location_epsg is not None and not same_place(code, location_epsg):
+        raise InputError("Option crs=EPSG:{} does not agree with the location's EPSG:{}: the "
+                         "coordinates are written as they are, not reprojected; give the "
+                         "location's system or a compound system of it (e.g. 7415, RD New + "
+                         "NAP heights, for 28992)".format(code, location_epsg))
+
+
 def read_config(options, flags, location_epsg=None, street_labels=None):
     """The :class:`Lod2Config` of v.histo.lod2's ``options`` and ``flags``
     (g.parser's dicts); ``location_epsg``: the location's EPSG code (None:
@@ -182,6 +202,8 @@ def read_config(options, flags, location_epsg=None, street_labels=None):
         except ValueError:
             raise InputError("Option crs= must be an EPSG code (e.g. 7415, EPSG:7415) or an OGC "
                              "URL, not <{}>".format(options["crs"])) from None
+        if options["crs"]:
+            check_crs(epsg_code(crs), location_epsg)
     output, existing = _requests(options, crs, title="LoD2 model from <{}>".format(
         options["input"]))
     heights = HeightConfig(

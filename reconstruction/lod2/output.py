@@ -35,9 +35,10 @@ from ..cityjson import copied as citycopy
 from ..cityjson import merge as citymerge
 from ..cityjson import model as cityjson
 from ..cityjson import seq as cityjsonseq
-from ..core import safefile
+from ..core import crs, safefile
 from ..core.contract import PLOT, SOURCE, SOURCE_ALIGNED
 from ..core.errors import InputError
+from ..geom.grid import Extent
 from ..geom.solidset import concat, semantics, take
 from . import render
 from . import stage as lod2
@@ -146,7 +147,29 @@ def match_existing(model, request, footprints, ids=None):
     chosen = None if ids is None else [ids[i] for i in todo.tolist()]
     matches = existing.match(model, polygons, ids=chosen, prefix=request.prefix,
                              min_overlap=request.min_overlap)
+    check_placed(model, matches.report, Extent.of(polygons))
     return ExistingMatch(model, request, todo, matches)
+
+
+def check_placed(model, report, footprints):
+    """InputError when every building an id named lies far from its
+    footprint and nothing matched otherwise (issue 33, item 8): the model's
+    coordinates are not where its reference system says (longitude and
+    latitude in a model that claims EPSG:7415), and copying it would put
+    the buildings tens of kilometres away. ``footprints``: their Extent."""
+    if not report.far_ids or report.by_id or report.by_geometry:
+        return
+    place = model.place()
+    said = "EPSG:{}".format(model.epsg) if model.epsg else "the location's system"
+    raise InputError(
+        "The buildings of the existing model '{}' that the building ids name lie far from "
+        "their footprints ({} of them; <{}> {:.0f} m away): the model ({}) does not cover the "
+        "footprints ({}){}; is it in {}, as it says?".format(
+            model.path, report.far_ids, report.far_example[0], report.far_example[1],
+            place.text() if place else "no vertices",
+            footprints.text() if footprints else "none",
+            ", and its coordinates look like longitude and latitude"
+            if crs.looks_geographic(place) else "", said))
 
 
 def attribute_columns(match, count, names=None):

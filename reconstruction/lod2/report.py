@@ -16,6 +16,7 @@ done (a progress message before the work it announces), in this order:
 
 import numpy as np
 
+from ..cityjson.existing import FAR_ID_MATCH
 from ..core.messages import note, verbose, warning
 from . import street_edges as se
 from .config import EXTENSIONS, format_of_name
@@ -223,6 +224,12 @@ def report(result, config):
                                "first; {} of them are generated".format(
                                    m.duplicate_ids, ", ".join(m.duplicate_examples),
                                    m.duplicates_unmatched)))
+        if m.far_ids:
+            out.append(warning("{} building ids name buildings of the existing model more than "
+                               "{:.0f} m from their footprints (e.g. {}, {:.0f} m away): not "
+                               "copied, tried by geometry".format(
+                                   m.far_ids, FAR_ID_MATCH, m.far_example[0],
+                                   m.far_example[1])))
         if m.unmatched:
             out.append(warning("{} aligned footprints matched no building of the existing model "
                                "and are generated".format(m.unmatched)))

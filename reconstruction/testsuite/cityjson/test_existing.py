@@ -124,9 +124,15 @@ def test_ids_that_match_nothing_merge_by_geometry(sample):
     assert cityjson.consistency_errors(json.loads(text)) == []
 
 
+def near(model):
+    """A footprint over the whole model: any id match is near its building."""
+    place = model.place()
+    return shapely.box(place.x0, place.y0, place.x1, place.y1)
+
+
 def test_id_rules(sample):
     model = existing.read_model(os.path.join(sample, FORMS[0]))
-    polygons = [shapely.box(0, 0, 1, 1)] * 4
+    polygons = [near(model)] * 4
     full = ["NL.IMBAG.Pand.0503100000028341", "0503100000028341", 503100000031927.0,
             "503100000031927"]
     got = existing.match(model, polygons, ids=full)
@@ -135,6 +141,27 @@ def test_id_rules(sample):
     prefixed = existing.match(model, polygons[:2], ids=["0503100000028341", "503100000031927"],
                               prefix="NL.IMBAG.Pand.")
     assert prefixed.report.by_id == 1 and prefixed.report.ids_not_found == 1
+
+
+def test_an_id_match_far_from_its_footprint_is_not_taken(sample):
+    """Issue 33, item 8: a model in longitude and latitude that says it is in
+    EPSG:7415 would be copied 85 km away; the match by id is refused, counted,
+    and the footprint tried by geometry."""
+    model = existing.read_model(os.path.join(sample, FORMS[0]))
+    fps = existing.footprints(model)
+    own = fps.geometry(0)
+    width = own.bounds[2] - own.bounds[0]
+    ids = [model.buildings[0]]
+    for gap, building in ((existing.FAR_ID_MATCH + 1, -1), (existing.FAR_ID_MATCH - 1, 0)):
+        moved = shapely.affinity.translate(own, xoff=width + gap)
+        got = existing.match(model, [moved], ids=ids)
+        assert got.building.tolist() == [building]
+        assert got.report.far_ids == (building < 0) and got.report.unmatched == (building < 0)
+    assert got.report.far_example == ()
+    got = existing.match(model, [shapely.affinity.translate(own, xoff=width + 2e5)], ids=ids)
+    assert got.report.far_example == (ids[0], pytest.approx(2e5))
+    # the same footprint far from its building matches by geometry where it overlaps one
+    assert existing.match(model, [own], ids=["NL.IMBAG.Pand.elsewhere"]).building.tolist() == [0]
 
 
 def test_two_footprints_with_one_id_report_the_second_as_a_duplicate(sample):
@@ -164,7 +191,7 @@ def test_a_footprint_that_overlaps_too_little_is_generated(sample):
 
 def test_measured_heights_of_the_matched_buildings(sample):
     model = existing.read_model(os.path.join(sample, FORMS[0]))
-    got = existing.match(model, [shapely.box(0, 0, 1, 1)] * 2, ids=[BAG[1], None])
+    got = existing.match(model, [near(model)] * 2, ids=[BAG[1], None])
     h = got.heights
     assert h.ground[0] == pytest.approx(-0.077) and np.isnan(h.ground[1])
     assert (h.roof_50p[0], h.roof_70p[0], h.roof_max[0]) == (9.3, 10.49, 13.44)

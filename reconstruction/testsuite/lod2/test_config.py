@@ -130,3 +130,23 @@ def test_parse_helpers():
     assert lod2_config.parse_classes("water,street", {"Water": 3, "street": 4}) == (3, 4)
     with pytest.raises(InputError, match="canal"):
         lod2_config.parse_classes("canal", {"water": 3})
+
+
+@pytest.mark.parametrize("crs,epsg,message", [
+    ("4326", 28992, "crs=EPSG:4326 is a geographic reference system"),
+    ("EPSG:4979", None, "crs=EPSG:4979 is a geographic reference system"),
+    ("https://www.opengis.net/def/crs/EPSG/0/4258", 28992, "geographic"),
+    ("3857", 28992, "crs=EPSG:3857 does not agree with the location's EPSG:28992"),
+    ("31370", 28992, "does not agree"),
+])
+def test_a_crs_that_cannot_label_the_locations_coordinates_is_refused(crs, epsg, message):
+    """Issue 33, item 5: the coordinates are written as they are; a label in
+    degrees, or of another place than the location's, would be wrong."""
+    with pytest.raises(InputError, match=message):
+        config(epsg=epsg, crs=crs)
+
+
+@pytest.mark.parametrize("crs,epsg", [("7415", 28992), ("28992", 28992), ("EPSG:7415", None),
+                                      ("3812", None)])
+def test_the_locations_crs_or_a_compound_one_is_taken(crs, epsg):
+    assert config(epsg=epsg, crs=crs).output.reference_system.endswith("/" + crs.split(":")[-1])

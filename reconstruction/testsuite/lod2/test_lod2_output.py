@@ -219,7 +219,7 @@ def test_a_cityjsonseq_built_and_written_in_steps_is_the_one_written_at_once(
     config = lod2.Lod2Config()
     monkeypatch.setattr(solids, "STEP", 4)      # (vertex numbering follows the steps)
     result = lod2_output.build(lod2_output.without_copied(prepared, match), config, match)
-    at_once = lod2_output.write_model(result, footprints, request, match)
+    at_once = lod2_output.write_model(result, footprints, request, match, validate=True)
     streamed = replace(request, path=str(tmp_path / "steps.city.jsonl"))
     summary, report, invalid = lod2_output.write_in_steps(
         lod2_output.without_copied(prepared, match), config, footprints, streamed, match,
@@ -227,6 +227,7 @@ def test_a_cityjsonseq_built_and_written_in_steps_is_the_one_written_at_once(
     with open(request.path, "rb") as a, open(streamed.path, "rb") as b:
         assert a.read() == b.read()
     assert report == at_once and (report.generated, report.copied) == (24, 1)
+    assert report.copied_checked == (("<{}-0> (lod 2.2)".format(BAG[0]), None),)
     assert summary.ids == result.ids and list(summary.roof_types) == list(result.roof_types)
     assert summary.report == result.report and summary.roof_counts() == result.roof_counts()
     assert invalid == [None] * 24
@@ -289,3 +290,29 @@ def test_render_draws_at_most_max_drawn_buildings_and_says_so(tmp_path, monkeypa
         report = lod2_output.write_in_steps(prepared, lod2.Lod2Config(), footprints, request)[1]
     assert seen == [5] and report.drawn == 5 and report.generated == 12
     assert os.path.getsize(tmp_path / "m.png") > 1000
+
+
+def test_a_model_in_longitude_and_latitude_that_claims_rd_is_refused():
+    """Issue 33, item 8: every id names a building 85 km away and nothing
+    matched by geometry: the model is not where it says; nothing is copied."""
+    from reconstruction.testsuite.cityjson.test_checks import single
+
+    doc = single([("a", None), ("b", None)], scale=[1e-6, 1e-6, 0.001],
+                 translate=[4.36, 52.01, 0.0])
+    doc["metadata"] = {"referenceSystem": "https://www.opengis.net/def/crs/EPSG/0/7415"}
+    model = existing.model_of(doc, "lonlat.city.json")
+    polygons = [shapely.box(85000, 446000, 85004, 446004), shapely.box(85010, 446000, 85014,
+                                                                        446004)]
+    footprints = lod2.Footprints(polygons, source=["aligned"] * 2)
+    with pytest.raises(InputError) as error:
+        lod2_output.match_existing(model, lod2_output.ExistingRequest("m"), footprints,
+                                   ids=["a", "b"])
+    said = str(error.value)
+    assert "lie far from their footprints (2 of them" in said
+    assert "look like longitude and latitude" in said and "EPSG:7415" in said
+    # one id match near its footprint: the far one is only warned about
+    near = [shapely.box(4.36, 52.01, 4.364, 52.014)] + polygons[1:]
+    match = lod2_output.match_existing(model, lod2_output.ExistingRequest("m"),
+                                       lod2.Footprints(near, source=["aligned"] * 2),
+                                       ids=["a", "b"])
+    assert match.matches.report.by_id == 1 and match.matches.report.far_ids == 1

@@ -240,3 +240,12 @@ def test_copied_solids_are_counted_with_the_generated():
     assert N("Invalid copied solid <b-0> (lod 2.2): non-planar face (> 1 mm)") in said
     assert N("1 copied solids have inner shells or faces with holes and are not "
              "checked") in said
+
+
+def test_id_matches_far_from_their_footprints_are_warned_about():
+    written = OutputReport(generated=2, copied=0, candidates=2, copy=CopyReport(),
+                           match=MatchReport(2, 0, 0, 2, 0, far_ids=2,
+                                             far_example=("NL.1", 85123.4)))
+    assert W("2 building ids name buildings of the existing model more than 100 m from their "
+             "footprints (e.g. NL.1, 85123 m away): not copied, tried by geometry") in \
+        lod2_report(_run(written), CONFIG)
