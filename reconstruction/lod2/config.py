@@ -16,7 +16,7 @@ from dataclasses import dataclass, field, fields
 from typing import Optional, Union
 
 from ..cityjson import geometry as citygeometry
-from ..core.crs import crs_url, epsg_code, geographic, same_place
+from ..core.crs import crs_url, epsg_code, geographic
 from ..core.errors import InputError
 from ..core.options import parse_list, parse_number, parse_range, processes
 from ..geom.grid import MapImage
@@ -161,22 +161,15 @@ class Lod2Config:
 
 def check_crs(code, location_epsg):
     """InputError unless the EPSG ``code`` of crs= can label the location's
-    coordinates, which are written as they are (in metres: v.histo.lod2
-    needs a projected location): not a geographic system, and where the
-    location's code is known, that system or a compound one of it (7415
-    for 28992)."""
-    if code is None:
-        return
-    if geographic(code):
+    coordinates, which are written as they are, in metres (v.histo.lod2
+    needs a projected location): a geographic system cannot. (Another
+    projected system than the location's is only warned about:
+    :func:`reconstruction.lod2.report.config_messages`.)"""
+    if code is not None and geographic(code):
         raise InputError("Option crs=EPSG:{} is a geographic reference system (degrees of "
                          "longitude and latitude), but the model's coordinates are the "
                          "location's, in metres: give the location's system{}".format(
                              code, " (EPSG:{})".format(location_epsg) if location_epsg else ""))
-    if location_epsg is not None and not same_place(code, location_epsg):
-        raise InputError("Option crs=EPSG:{} does not agree with the location's EPSG:{}: the "
-                         "coordinates are written as they are, not reprojected; give the "
-                         "location's system or a compound system of it (e.g. 7415, RD New + "
-                         "NAP heights, for 28992)".format(code, location_epsg))
 
 
 def read_config(options, flags, location_epsg=None, street_labels=None):

@@ -17,6 +17,7 @@ done (a progress message before the work it announces), in this order:
 import numpy as np
 
 from ..cityjson.existing import FAR_ID_MATCH
+from ..core import crs
 from ..core.messages import note, verbose, warning
 from . import street_edges as se
 from .config import EXTENSIONS, format_of_name
@@ -37,6 +38,11 @@ def config_messages(config):
     if config.output.reference_system is None:
         out.append(warning("The location has no EPSG code and crs= is not given: the CityJSON "
                            "file has no reference system"))
+    code = crs.epsg_code(config.output.reference_system)
+    if code is not None and not crs.same_place(code, config.location_epsg):
+        out.append(warning("crs=EPSG:{} is not the location's EPSG:{} (nor a compound system of "
+                           "it): the coordinates are written as they are, not reprojected, and "
+                           "labelled EPSG:{}".format(code, config.location_epsg, code)))
     named = format_of_name(config.output.path)
     if named is not None and named != config.output.format:
         out.append(warning("output= '{}' ends in {} but format={} writes {}: written as asked "

@@ -136,8 +136,7 @@ def test_parse_helpers():
     ("4326", 28992, "crs=EPSG:4326 is a geographic reference system"),
     ("EPSG:4979", None, "crs=EPSG:4979 is a geographic reference system"),
     ("https://www.opengis.net/def/crs/EPSG/0/4258", 28992, "geographic"),
-    ("3857", 28992, "crs=EPSG:3857 does not agree with the location's EPSG:28992"),
-    ("31370", 28992, "does not agree"),
+    ("9705", 28992, "geographic"),              # WGS 84 + MSL height: compound, in degrees
 ])
 def test_a_crs_that_cannot_label_the_locations_coordinates_is_refused(crs, epsg, message):
     """Issue 33, item 5: the coordinates are written as they are; a label in
@@ -146,7 +145,14 @@ def test_a_crs_that_cannot_label_the_locations_coordinates_is_refused(crs, epsg,
         config(epsg=epsg, crs=crs)
 
 
-@pytest.mark.parametrize("crs,epsg", [("7415", 28992), ("28992", 28992), ("EPSG:7415", None),
-                                      ("3812", None)])
-def test_the_locations_crs_or_a_compound_one_is_taken(crs, epsg):
-    assert config(epsg=epsg, crs=crs).output.reference_system.endswith("/" + crs.split(":")[-1])
+@pytest.mark.parametrize("crs,epsg,warned", [
+    ("7415", 28992, False), ("28992", 28992, False), ("EPSG:7415", None, False),
+    ("3812", None, False), ("31370", 28992, True), ("3857", 28992, True)])
+def test_a_projected_crs_is_taken_and_another_than_the_locations_warned_about(crs, epsg,
+                                                                               warned):
+    from reconstruction.lod2.report import config_messages
+
+    c = config(epsg=epsg, crs=crs)
+    assert c.output.reference_system.endswith("/" + crs.split(":")[-1])
+    said = [m.text for m in config_messages(c)]
+    assert any("is not the location's" in t for t in said) == warned
