@@ -40,22 +40,34 @@ def proj_db():
     return None
 
 
+#: what :func:`_ask` gives where PROJ's database is absent or cannot be read
+_UNKNOWN = object()
+
+
+def _ask(query, code, database=None):
+    """The first row of ``query`` (one ``?``: the EPSG code) in PROJ's
+    database (``database``, else the one found), None when it has no row,
+    :data:`_UNKNOWN` where there is no database to ask."""
+    database = database or proj_db()
+    if not database:
+        return _UNKNOWN
+    try:
+        db = sqlite3.connect("file:{}?mode=ro".format(database), uri=True)
+        try:
+            return db.execute(query, (str(int(code)),)).fetchone()
+        finally:
+            db.close()
+    except sqlite3.Error:
+        return _UNKNOWN
+
+
 def known(code, database=None):
     """True when EPSG ``code`` (an int) names a reference system in proj.db;
     without proj.db (``database`` None and none found), whether it is plausible."""
-    database = database or proj_db()
-    if database:
-        try:
-            db = sqlite3.connect("file:{}?mode=ro".format(database), uri=True)
-            try:
-                row = db.execute("SELECT 1 FROM crs_view WHERE auth_name = 'EPSG' AND code = ?",
-                                 (str(int(code)),)).fetchone()
-            finally:
-                db.close()
-            return row is not None
-        except sqlite3.Error:
-            pass
-    return PLAUSIBLE[0] <= int(code) <= PLAUSIBLE[1]
+    row = _ask("SELECT 1 FROM crs_view WHERE auth_name = 'EPSG' AND code = ?", code, database)
+    if row is _UNKNOWN:
+        return PLAUSIBLE[0] <= int(code) <= PLAUSIBLE[1]
+    return row is not None
 
 
 def crs_url(epsg):
@@ -99,17 +111,12 @@ def horizontal_epsg(code):
     """
     if code is None:
         return None
-    path = proj_db()
-    if path:
+    row = _ask("SELECT horiz_crs_auth_name, horiz_crs_code FROM compound_crs WHERE "
+               "auth_name = 'EPSG' AND code = ?", code)
+    if row is not _UNKNOWN and row is not None and row[0] == "EPSG":
         try:
-            with sqlite3.connect("file:{}?mode=ro".format(path), uri=True) as db:
-                row = db.execute("SELECT horiz_crs_auth_name, horiz_crs_code FROM compound_crs "
-                                 "WHERE auth_name = 'EPSG' AND code = ?", (str(code),)).fetchone()
-            if row is not None and row[0] == "EPSG":
-                return int(row[1])
-            if row is None:
-                return COMPOUND.get(int(code), int(code))
-        except (sqlite3.Error, ValueError):
+            return int(row[1])
+        except ValueError:
             pass
     return COMPOUND.get(int(code), int(code))
 
@@ -134,16 +141,10 @@ def geographic(code):
     if code is None:
         return False
     code = horizontal_epsg(int(code))
-    path = proj_db()
-    if path:
-        try:
-            with sqlite3.connect("file:{}?mode=ro".format(path), uri=True) as db:
-                row = db.execute("SELECT type FROM geodetic_crs WHERE auth_name = 'EPSG' AND "
-                                 "code = ?", (str(code),)).fetchone()
-            return row is not None and str(row[0]).startswith("geographic")
-        except sqlite3.Error:
-            pass
-    return code in GEOGRAPHIC
+    row = _ask("SELECT type FROM geodetic_crs WHERE auth_name = 'EPSG' AND code = ?", code)
+    if row is _UNKNOWN:
+        return code in GEOGRAPHIC
+    return row is not None and str(row[0]).startswith("geographic")
 
 
 def looks_geographic(extent):
