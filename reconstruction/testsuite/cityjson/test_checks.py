@@ -4,6 +4,11 @@ with one InputError, or the broken building left out and named."""
 import copy
 import io
 import json
+import os
+import tempfile
+
+import numpy as np
+from hypothesis import given, settings, strategies as st
 
 import pytest
 import shapely
@@ -210,3 +215,45 @@ def test_copied_solids_are_validated_as_the_generated_ones():
         assert reasons[0] is None and reasons[1] is not None
         # each solid's own vertices, on the millimetre grid
         assert len(solids.solids.vertices) == 16
+
+
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.tuples(st.floats(4, 30), st.floats(4, 30), st.sampled_from(
+    ["flat", "hip", "gable", "mansard", "stepped"])), min_size=1, max_size=6),
+    st.booleans())
+def test_generated_solids_read_back_and_copied_check_as_they_were_built(rects, sequence):
+    """Property: buildings as v.histo.lod2 writes them, read back as an
+    existing model and copied, are all checkable and check as they did when
+    built; the check of the model leaves none out."""
+    from reconstruction.cityjson import model as cityjson
+    from reconstruction.cityjson import seq as cityjsonseq
+    from reconstruction.lod2 import stage as lod2
+    from reconstruction.lod2.solids import validation
+
+    n = len(rects)
+    polygons = [shapely.box(85000 + 40 * k, 446000, 85000 + 40 * k + w, 446000 + d)
+                for k, (w, d, _) in enumerate(rects)]
+    result = lod2.build(lod2.prepare(
+        lod2.Footprints(polygons, cats=list(range(1, n + 1)), source=["2pm"] * n),
+        lod2.Heights(eaves=np.full(n, 7.0), attic=np.full(n, 4.0)),
+        lod2.RoofRequests(types=np.array([r for _, _, r in rects], dtype=object),
+                          years=np.full(n, np.nan))))
+    built = validation.validate(result.solids)
+    if sequence:
+        out = io.BytesIO()
+        cityjsonseq.write(out, result.solids, result.semantics, result.ids, {}, 28992)
+        with tempfile.TemporaryDirectory() as folder:
+            path = os.path.join(folder, "m.city.jsonl")
+            with open(path, "wb") as f:
+                f.write(out.getvalue())
+            model = existing.read_model(path)
+    else:
+        model = existing.model_of(json.loads(cityjson.citymodel_text(
+            result.solids, result.semantics, result.ids, {}, 28992)))
+    assert model.skipped == {} and len(model.buildings) == len(result.ids)
+    solids = citycopy.copied_solids(citycopy.copy_buildings(model, range(len(model.buildings)),
+                                                            keep_numbering=not sequence))
+    assert solids.unchecked == 0 and len(solids.labels) == len(result.ids)
+    assert [r is None for r in validation.validate(solids.solids)] == [r is None for r in built]
