@@ -134,13 +134,18 @@ def validate(ss, tol=PLANARITY_TOL):
         cov = np.add.reduceat(r[:, :, None] * r[:, None, :], first, axis=0)
         _, vecs = np.linalg.eigh(cov)
         fit = np.repeat(vecs[:, :, 0], k, axis=0)
-        lsq = np.maximum.reduceat(np.abs(np.einsum("ij,ij->i", r, fit)), first)
-        # a face within tol of its Newell plane is within tol of a plane,
-        # though its least-squares plane may be a little farther from one
-        # vertex (a millimetre-rounded crow-stepped facade: 0.7 mm from the
-        # Newell plane, 1.1 mm from the least-squares one): planar, as long
-        # as val3dity's own test (the least-squares plane) passes too
-        far = (lsq > tol) & ((maxdist[fit_faces] > tol) | (lsq > VAL3DITY_PLANARITY))
+        signed = np.einsum("ij,ij->i", r, fit)
+        high, low = np.maximum.reduceat(signed, first), np.minimum.reduceat(signed, first)
+        lsq = np.maximum(high, -low)
+        # a face is planar within tol when some plane is that near all its
+        # vertices: its Newell plane, or the least-squares plane's parallel
+        # halfway between its farthest vertices on either side. A
+        # millimetre-rounded crow-stepped facade can be 0.7-1.1 mm from its
+        # Newell and its least-squares planes but within 0.9 mm of that
+        # parallel; planar, as long as val3dity's own test (the
+        # least-squares plane itself, within its 1 cm) passes too
+        near = (maxdist[fit_faces] <= tol) | ((high - low) / 2 <= tol)
+        far = (lsq > tol) & (~near | (lsq > VAL3DITY_PLANARITY))
         flag(face_solid[fit_faces[far]], "non-planar face (> 1 mm)")
     z = ss.vertices[:, 2]
     fz_max = np.maximum.reduceat(z[ss.rings], ss.face_start[:-1])

@@ -121,12 +121,14 @@ def test_a_facade_of_nineteen_steps_has_no_sliver_on_its_back_face():
     assert (len(roof.faces[0]) - 4) // 4 + 1 == 19
 
 
-@pytest.mark.parametrize("seed,index", [(0, 13921)])
+@pytest.mark.parametrize("seed,index", [(0, 13921), (2, 8351), (2, 16021)])
 def test_a_rounded_facade_within_a_millimetre_of_its_plane_is_planar(seed, index):
     """Issue 33, item 6: a crow-stepped facade rounded to the millimetre grid
-    lies within 1 mm of its Newell plane but a little farther from its
-    least-squares plane; it is planar (val3dity's 1 cm on that plane holds)
-    and its roof stays stepped. (The rectangles of the benchmark's seeds.)"""
+    lies a little more than 1 mm from its Newell or its least-squares plane
+    but within 1 mm of a plane (the least-squares plane's parallel halfway
+    between its farthest vertices); it is planar (val3dity's 1 cm on the
+    least-squares plane holds) and its roof stays stepped. (Rectangles of
+    the benchmark's seeds 0 and 2.)"""
     uniforms = np.random.default_rng(seed).random((index + 1, DRAWS))
     footprints, eaves, attic, roof_uniforms = rectangles(uniforms)
     one = slice(index, index + 1)
