@@ -66,6 +66,43 @@
 # % answer: 1
 # % description: Seed of the random facade lengths and depths (same seed, same footprints)
 # %end
+# %option
+# % key: year
+# % type: integer
+# % required: no
+# % label: Year of the map (a dynamic chain): the footprints get a building identity
+# % description: Column building: the BAG id of an aligned footprint, the earlier identity of a kept one, else building_<year>_<cat>
+# % guisection: Epochs
+# %end
+# %option G_OPT_V_INPUT
+# % key: previous
+# % required: no
+# % label: Footprints of the earlier epoch (v.histo.subdivide year= of an earlier map)
+# % description: Kept where the plots did not change; needs previous_plots= and year=
+# % guisection: Epochs
+# %end
+# %option G_OPT_V_INPUT
+# % key: previous_plots
+# % required: no
+# % label: Plots of the earlier epoch (the input= of its v.histo.subdivide)
+# % guisection: Epochs
+# %end
+# %option
+# % key: tolerance
+# % type: double
+# % required: no
+# % answer: 3
+# % label: Largest distance between the outlines of a plot drawn unchanged on two maps (map units)
+# % description: With previous=: after the later map's offset is taken out
+# % guisection: Epochs
+# %end
+# %option G_OPT_DB_COLUMN
+# % key: id_column
+# % required: no
+# % label: BAG id column of the aligned footprints (default: identificatie, identifica or pand_id)
+# % description: The building identity of an aligned footprint (with year=)
+# % guisection: Epochs
+# %end
 # %flag
 # % key: c
 # % description: Do not decompose concave plots into convex parts (case 5); footprints may then be concave
@@ -77,6 +114,9 @@
 # %end
 # %rules
 # % requires: -a, aligned
+# % requires: previous, previous_plots
+# % requires: previous, year
+# % requires: previous_plots, previous
 # %end
 
 import os
@@ -105,10 +145,13 @@ def main(options, flags):
     from reconstruction.core.errors import InputError
 
     grassio.register_cleanup()
-    grassio.check_outputs(options, vectors=("output",), inputs={"vector": ("input", "aligned")})
+    grassio.check_outputs(options, vectors=("output",),
+                          inputs={"vector": ("input", "aligned", "previous", "previous_plots")})
     config = subdivide.read_config(options, flags)
     grassio.require_projected()
-    for name, what in ((config.plots, "plots"), (config.aligned, "aligned footprints")):
+    for name, what in ((config.plots, "plots"), (config.aligned, "aligned footprints"),
+                       (config.previous, "the earlier epoch's footprints"),
+                       (config.previous_plots, "the earlier epoch's plots")):
         if name:
             grassio.require_vector(name)
             if grassio.vector_counts(name).get("areas", 0) == 0:
@@ -123,7 +166,14 @@ def main(options, flags):
     if config.aligned:
         with grassio.doing("reading the aligned footprints <{}>".format(config.aligned)):
             aligned, aligned_columns = grassio.read_features(config.aligned, "area")
-    inputs = subdivide.read_inputs(plots, cats, aligned, aligned_columns, config)
+    previous = None
+    if config.previous:
+        with grassio.doing("reading the earlier epoch <{}>".format(config.previous)):
+            previous = subdivide.read_previous(
+                *subdivide.plots_with_category(
+                    *grassio.read_features(config.previous_plots, "area"), config.previous_plots),
+                *grassio.read_features(config.previous, "area"), config)
+    inputs = subdivide.read_inputs(plots, cats, aligned, aligned_columns, config, previous)
     grassio.say(subdivide.announce(inputs, config))
     result = subdivide.run(inputs, config)
     if not result.geometries:

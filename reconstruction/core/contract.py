@@ -37,3 +37,21 @@ HEIGHTS_COLUMN = "column"
 #: every column name above (the values are not column names): none may be an SQL
 #: keyword (reconstruction/core/names.py, tested)
 COLUMNS = (PLOT, SOURCE, CASE, AREA, SIMILARITY, GROUND, EAVES, ATTIC, HEIGHT_SOURCE)
+
+# ---------------------------------------------------------------------------
+# A dynamic chain: several map epochs of one town (issue 28)
+# ---------------------------------------------------------------------------
+
+#: a footprint's building identity over the epochs (v.histo.subdivide year=): kept
+#: from the earlier epoch, the BAG id of an aligned footprint, or a new one
+BUILDING = "building"
+#: how a footprint's plot changed since the earlier epoch (v.histo.subdivide previous=)
+PLOT_CHANGE = "plot_change"
+#: the BAG id columns of current footprints, as registers and the thesis's data name it
+BAG_ID_COLUMNS = ("identificatie", "identifica", "pand_id")
+#: the identity of a footprint made in the epoch of ``year``, the ``number``-th footprint
+NEW_BUILDING = "building_{year}_{number}"
+
+#: the columns of a dynamic chain, among :data:`COLUMNS` (no SQL keywords either)
+EPOCH_COLUMNS = (BUILDING, PLOT_CHANGE)
+COLUMNS = COLUMNS + EPOCH_COLUMNS

@@ -114,3 +114,34 @@ def repair(geometries):
     for i, group in groups.items():
         out[i] = group[0] if len(group) == 1 else shapely.union_all(group)
     return out, invalid
+
+
+
+def _corners_only(ring, tolerance):
+    """The vertices of a closed ring (an ``(n, 2)`` array, first = last) that are corners:
+    each vertex within ``tolerance`` of the line through its neighbours left out, until
+    none is."""
+    xy = np.asarray(ring, dtype=float)[:-1, :2]
+    while len(xy) > 3:
+        before, after = np.roll(xy, 1, axis=0), np.roll(xy, -1, axis=0)
+        d = after - before
+        cross = np.abs(d[:, 0] * (xy[:, 1] - before[:, 1]) - d[:, 1] * (xy[:, 0] - before[:, 0]))
+        straight = cross <= tolerance * np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-300)
+        if not straight.any():
+            break
+        k = int(np.argmax(straight))        # one at a time: neighbours change
+        xy = np.delete(xy, k, axis=0)
+    return xy
+
+
+def same_outline(a, b, tolerance=1e-6):
+    """Whether polygons ``a`` and ``b`` have the same outline: the same corners within
+    ``tolerance``, whatever vertex their rings start at; a vertex on a straight edge
+    (a neighbour's vertex inserted into a shared edge, as GRASS's topology and
+    :func:`~reconstruction.subdivide.noding.node_footprints` do) is no corner."""
+    if a is None or b is None:
+        return a is b
+    a, b = (shapely.normalize(shapely.Polygon(
+        _corners_only(g.exterior.coords, tolerance),
+        [_corners_only(h.coords, tolerance) for h in g.interiors])) for g in (a, b))
+    return bool(shapely.equals_exact(a, b, tolerance))

@@ -20,20 +20,24 @@ the footprints and their table) and :func:`report` (the messages;
 - ``cases``: the five cases on one plot; ``decomposition``: convex parts;
 - ``aligned_footprints``: aligned footprints placed in their plots;
 - ``convex_rings``: small convex geometry; ``noding``: shared vertices;
-- ``invariants``: the guarantees of the footprints, as a check.
+- ``invariants``: the guarantees of the footprints, as a check;
+- ``previous``: a dynamic chain's earlier epoch, its footprints kept where
+  the plots did not change.
 """
 
 from . import aligned_footprints, cases, config, convex_rings, decomposition, invariants, noding
-from . import pipeline, plots, stage
+from . import pipeline, plots, previous, stage
 from .config import SubdivisionConfig, read_config
 from .invariants import invariant_violations
 from .pipeline import (SubdivisionInputs, SubdivisionResult, plots_with_category, read_inputs,
-                       run)
+                       read_previous, run)
+from .previous import PreviousEpoch
 from .report import announce, report
 from .stage import Subdivision, subdivide
 
-__all__ = ["Subdivision", "SubdivisionConfig", "SubdivisionInputs", "SubdivisionResult",
+__all__ = ["PreviousEpoch", "Subdivision", "SubdivisionConfig", "SubdivisionInputs", "SubdivisionResult",
            "aligned_footprints", "announce", "cases", "config", "convex_rings", "decomposition",
            "invariant_violations", "invariants", "noding", "pipeline", "plots",
-           "plots_with_category", "read_config", "read_inputs", "report", "run", "stage",
+           "plots_with_category", "previous", "read_config", "read_inputs", "read_previous",
+           "report", "run", "stage",
            "subdivide"]

@@ -184,7 +184,7 @@ def calibrate(aligned, aligned_plots, plots, cats, length, depth, min_samples=5,
     return (float(f[0]), float(f[1])), (float(d[0]), float(d[1])), len(facades)
 
 
-def clip_generated(footprints, aligned, exterior_of, seam_of=None, plot_of=None):
+def clip_generated(footprints, aligned, exterior_of, seam_of=None, plot_of=None, clippable=None):
     """Clip or drop generated footprints that overlap aligned footprints.
 
     What is left of a generated footprint outside the aligned ones is kept
@@ -198,7 +198,8 @@ def clip_generated(footprints, aligned, exterior_of, seam_of=None, plot_of=None)
     ``exterior_of`` maps a plot category to its
     :func:`reconstruction.subdivide.plots.exterior_lines` (``seam_of`` to
     its :func:`reconstruction.subdivide.plots.seams`, ``plot_of`` to the
-    plot itself).
+    plot itself); ``clippable``: which footprints may be clipped (default: the
+    generated ones).
     Returns ``(pieces, clipped, dropped)``: the Polygons that replace each
     clipped or dropped footprint (none for a dropped one), by index, and
     the two counts.
@@ -213,7 +214,8 @@ def clip_generated(footprints, aligned, exterior_of, seam_of=None, plot_of=None)
         hits.setdefault(int(f), []).append(int(a))
     replace = {}
     for f, idx in hits.items():
-        if footprints.source[f] != SOURCE_PROCEDURAL:
+        if not (footprints.source[f] == SOURCE_PROCEDURAL if clippable is None
+                else clippable[f]):
             continue
         fp = footprints.geometries[f]
         union = shapely.union_all([present[i] for i in idx])

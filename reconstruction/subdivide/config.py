@@ -5,6 +5,7 @@ from typing import Optional, Tuple
 
 from ..core.errors import InputError
 from ..core.options import parse_number, parse_range
+from ..epochs.plots import TOLERANCE
 
 
 @dataclass(frozen=True)
@@ -18,6 +19,15 @@ class SubdivisionConfig:
     (None: the mean area of the aligned footprints, else 100); ``seed``;
     ``decompose``: concave plots cut into convex parts (no -c);
     ``calibrate``: length and depth learnt from the aligned footprints (-a).
+
+    A dynamic chain (issue 28): ``year``, the map's year (None: a single
+    map; with it the footprints get a building identity);
+    ``previous`` and ``previous_plots``: the earlier epoch's footprints and
+    plots maps (empty: none), kept where the plots did not change;
+    ``tolerance``: the largest distance between the outlines of a plot
+    drawn twice unchanged (map units); ``id_column``: the aligned
+    footprints' BAG id column (empty: the first of
+    :data:`~reconstruction.core.contract.BAG_ID_COLUMNS` present).
     """
 
     plots: str
@@ -29,6 +39,11 @@ class SubdivisionConfig:
     seed: int = 1
     decompose: bool = True
     calibrate: bool = False
+    year: Optional[int] = None
+    previous: str = ""
+    previous_plots: str = ""
+    tolerance: float = TOLERANCE
+    id_column: str = ""
 
 
 def _range(text, key):
@@ -45,9 +60,21 @@ def read_config(options, flags):
     area_threshold = None
     if options["area_threshold"]:
         area_threshold = parse_number(options["area_threshold"], "area_threshold", minimum=0)
+    year = None
+    if options.get("year"):
+        year = parse_number(options["year"], "year", cast=int)
+    if options.get("previous") and year is None:
+        raise InputError("Option previous= needs year=, the year of this map (the identity of "
+                         "its new buildings)")
+    if bool(options.get("previous")) != bool(options.get("previous_plots")):
+        raise InputError("Options previous= and previous_plots= go together: the earlier "
+                         "epoch's footprints and its plots")
     return SubdivisionConfig(
         plots=options["input"], output=options["output"], aligned=options["aligned"] or "",
         length=_range(options["length"], "length"), depth=_range(options["depth"], "depth"),
         area_threshold=area_threshold,
         seed=parse_number(options["seed"] or 1, "seed", cast=int),
-        decompose=not flags["c"], calibrate=flags["a"])
+        decompose=not flags["c"], calibrate=flags["a"], year=year,
+        previous=options.get("previous") or "", previous_plots=options.get("previous_plots") or "",
+        tolerance=parse_number(options.get("tolerance") or TOLERANCE, "tolerance", minimum=0),
+        id_column=options.get("id_column") or "")

@@ -14,6 +14,7 @@ from typing import Optional
 from ..core import contract
 from ..core.errors import InputError
 from ..core.options import integer_column
+from .previous import PreviousEpoch, identities
 from .stage import Subdivision, subdivide
 
 
@@ -34,6 +35,10 @@ class SubdivisionInputs:
     aligned_plots: Optional[list] = None
     aligned_columns: Optional[dict] = None
     plot_column_missing: bool = False
+    #: the earlier epoch (:class:`~.previous.PreviousEpoch`, previous=), None without
+    previous: Optional[PreviousEpoch] = None
+    #: the BAG id of every aligned footprint (None: none), for their building identity
+    aligned_ids: Optional[list] = None
 
 
 @dataclass(frozen=True)
@@ -61,25 +66,87 @@ def plots_with_category(geometries, columns, name):
     return [geometries[i] for i in keep], [int(columns["cat"][i]) for i in keep]
 
 
-def read_inputs(plots, cats, aligned, aligned_columns, config):
+def _named(columns, name):
+    """The column of ``columns`` called ``name`` in any case (its values), or None."""
+    names = {k.lower(): k for k in columns}
+    return columns[names[name.lower()]] if name.lower() in names else None
+
+
+def bag_ids(columns, name, map_name):
+    """The BAG ids of a footprints map's table (as text, None where empty): column
+    ``name`` (InputError when missing), or the first of
+    :data:`~reconstruction.core.contract.BAG_ID_COLUMNS` present; None for none."""
+    if name:
+        values = _named(columns, name)
+        if values is None:
+            raise InputError("Column <{}> (id_column=) not found in vector map <{}>".format(
+                name, map_name))
+    else:
+        values = next((v for v in (_named(columns, c) for c in contract.BAG_ID_COLUMNS)
+                       if v is not None), None)
+    if values is None:
+        return None
+    return [None if v is None or str(v).strip() == "" else str(v).strip() for v in values]
+
+
+def read_previous(plots, cats, footprints, columns, config):
+    """The :class:`~.previous.PreviousEpoch` of the earlier epoch's maps read: its plots
+    (with their categories) and its footprints with their table. A footprint's
+    identity is its ``building`` column, else the BAG id of an aligned one,
+    else ``building_<cat>`` (what v.histo.lod2 names a footprint's building)."""
+    keep = [i for i, g in enumerate(footprints) if g is not None]
+    footprints = [footprints[i] for i in keep]
+    columns = {k: [v[i] for i in keep] for k, v in columns.items()}
+    n = len(footprints)
+    plot = _named(columns, contract.PLOT)
+    plot = integer_column(plot, contract.PLOT, config.previous) if plot is not None else [None] * n
+    source = _named(columns, contract.SOURCE) or [contract.SOURCE_PROCEDURAL] * n
+    case = _named(columns, contract.CASE) or [None] * n
+    bag = bag_ids(columns, config.id_column, config.previous) or [None] * n
+    named = _named(columns, contract.BUILDING)
+    footprint_cats = columns.get("cat") or list(range(1, n + 1))
+    identity = []
+    for k in range(n):
+        if named is not None and named[k] not in (None, ""):
+            identity.append(str(named[k]))
+        elif source[k] == contract.SOURCE_ALIGNED and bag[k] is not None:
+            identity.append(bag[k])
+        else:
+            identity.append("building_{}".format(footprint_cats[k]))
+    return PreviousEpoch(plots, cats, footprints, plot, identity, list(source),
+                         [int(c) if c is not None else 0 for c in case], bag, columns)
+
+
+def read_inputs(plots, cats, aligned, aligned_columns, config, previous=None):
     """The :class:`SubdivisionInputs` of the maps read: the aligned footprints' plot
-    column (``plot``, any case) read as whole numbers (InputError otherwise)."""
+    column (``plot``, any case) read as whole numbers (InputError otherwise), and
+    with ``year=`` their BAG ids; ``previous``: the earlier epoch
+    (:func:`read_previous`), or None."""
     if aligned is None:
-        return SubdivisionInputs(plots, cats, aligned_columns=aligned_columns or {})
+        return SubdivisionInputs(plots, cats, aligned_columns=aligned_columns or {},
+                                 previous=previous)
+    ids = bag_ids(aligned_columns, config.id_column, config.aligned) if config.year else None
     names = {k.lower(): k for k in aligned_columns}
     if contract.PLOT not in names:
-        return SubdivisionInputs(plots, cats, aligned, None, aligned_columns, True)
+        return SubdivisionInputs(plots, cats, aligned, None, aligned_columns, True, previous,
+                                 ids)
     aligned_plots = integer_column(aligned_columns[names[contract.PLOT]], contract.PLOT,
                                    config.aligned)
-    return SubdivisionInputs(plots, cats, aligned, aligned_plots, aligned_columns)
+    return SubdivisionInputs(plots, cats, aligned, aligned_plots, aligned_columns, False,
+                             previous, ids)
 
 
-def _aligned_columns(columns, indices, own):
-    """The aligned footprints' own columns, one value per output footprint (NULL for 2PM)."""
+def _aligned_columns(columns, indices, own, previous=None, kept=None):
+    """The aligned footprints' own columns, one value per output footprint (NULL for 2PM);
+    a footprint kept from the ``previous`` epoch (``kept`` index) takes its own
+    value of a column of that name."""
     out = {}
+    earlier = {k.lower(): v for k, v in (previous.columns if previous else {}).items()}
     for name, values in columns.items():
         if name.lower() not in own:
-            out[name] = [values[i] if i >= 0 else None for i in indices]
+            before = earlier.get(name.lower())
+            out[name] = [values[i] if i >= 0 else before[k] if before is not None and k >= 0
+                         else None for i, k in zip(indices, kept or [-1] * len(indices))]
     return out
 
 
@@ -92,7 +159,8 @@ def run(inputs, config):
         inputs.plots, inputs.cats, length=config.length, depth=config.depth,
         area_threshold=config.area_threshold, seed=config.seed, decompose=config.decompose,
         aligned=inputs.aligned, aligned_plots=inputs.aligned_plots,
-        calibrate_ranges=config.calibrate)
+        calibrate_ranges=config.calibrate, previous=inputs.previous,
+        aligned_ids=inputs.aligned_ids or (), tolerance=config.tolerance)
     done = time.perf_counter()
     table = {
         contract.PLOT: result.plot,
@@ -100,7 +168,14 @@ def run(inputs, config):
         contract.SOURCE: result.source,
         contract.AREA: [round(a, 3) for a in result.area],
     }
+    if config.year is not None:
+        table[contract.BUILDING] = identities(result, inputs.previous, inputs.aligned_ids or [],
+                                              config.year)
+    if inputs.previous is not None:
+        change = result.report.previous.change
+        table[contract.PLOT_CHANGE] = [change.get(p) for p in result.plot]
     if result.geometries:
         own = {"cat"} | set(table)
-        table.update(_aligned_columns(inputs.aligned_columns or {}, result.aligned, own))
+        table.update(_aligned_columns(inputs.aligned_columns or {}, result.aligned, own,
+                                      inputs.previous, result.kept))
     return SubdivisionResult(result, table, (started, done))

@@ -50,6 +50,28 @@ def _repairs(rep, config):
     return out
 
 
+def previous_messages(rep, config):
+    """What a dynamic chain's earlier epoch (previous=) gave: how the plots changed since,
+    the map's offset and the footprints kept."""
+    kept = rep.previous
+    if kept is None:
+        return []
+    counts = kept.matches.counts()
+    dx, dy = kept.matches.offset
+    out = [note("Plots since <{}>: {}; {} gone (map offset {:.2f},{:.2f})".format(
+        config.previous_plots, ", ".join("{} {}".format(n, k) for k, n in counts.items()
+                                         if k != "gone"), counts["gone"], dx, dy)),
+           note("{} footprints kept from <{}> ({} in unchanged plots)".format(
+               rep.kept, config.previous, sum(p in kept.done for p in kept.plot)))]
+    if kept.realigned:
+        out.append(note("{} earlier aligned footprints aligned again (the current ones "
+                        "stand in for them)".format(kept.realigned)))
+    if rep.kept_clipped or rep.kept_dropped:
+        out.append(note("Kept footprints overlapping this epoch's aligned ones: {} clipped, "
+                        "{} dropped".format(rep.kept_clipped, rep.kept_dropped)))
+    return out
+
+
 def report(result, config, started=None, finished=None):
     """The messages of a :class:`~.pipeline.SubdivisionResult` run with ``config``.
 
@@ -60,7 +82,7 @@ def report(result, config, started=None, finished=None):
     """
     subdivision = result.subdivision
     rep = subdivision.report
-    messages = _repairs(rep, config)
+    messages = _repairs(rep, config) + previous_messages(rep, config)
     if not subdivision.geometries:
         return messages
     if started is not None and finished is not None:
@@ -68,9 +90,10 @@ def report(result, config, started=None, finished=None):
         messages.append(verbose("Timing (s): read {:.2f}, subdivide {:.2f}, write {:.2f}".format(
             began - started, done - began, finished - done)))
     counts = {c: subdivision.case.count(c) for c in sorted(set(subdivision.case))}
-    messages.append(note("{} footprints written to <{}> ({} generated, {} aligned); by case: "
+    messages.append(note("{} footprints written to <{}> ({} generated, {} aligned{}); by case: "
                          "{}".format(len(subdivision.geometries), config.output, rep.generated,
-                                     len(subdivision.geometries) - rep.generated,
+                                     len(subdivision.geometries) - rep.generated - rep.kept,
+                                     ", {} kept".format(rep.kept) if rep.previous else "",
                                      ", ".join("{}: {}".format(c, n)
                                                for c, n in counts.items()))))
     return messages

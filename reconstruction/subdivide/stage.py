@@ -79,6 +79,7 @@ from .invariants import invariant_violations
 from .noding import node_footprints
 from .plots import (CHECK_GRID, CLIP_AREA, MIN_STREET, OVERLAP_TOLERANCE, PlotRepairs,
                     exterior_lines, front, frontage, neighbour_index, prepare_plots, seams)
+from .previous import KeptFootprints, keep_previous
 
 # the stage's names, importable from here as before the split into files
 __all__ = [
@@ -120,6 +121,10 @@ class SubdivisionReport:
     generated_dropped: int = 0
     footprints: int = 0
     generated: int = 0
+    previous: Optional[KeptFootprints] = None
+    kept: int = 0
+    kept_clipped: int = 0
+    kept_dropped: int = 0
 
 
 @dataclass(frozen=True)
@@ -138,20 +143,23 @@ class Subdivision:
     source: list = field(default_factory=list)
     aligned: list = field(default_factory=list)
     report: Optional[SubdivisionReport] = None
+    kept: list = field(default_factory=list)
 
-    def add(self, geometry, plot, case, source=SOURCE_PROCEDURAL, aligned=-1):
+    def add(self, geometry, plot, case, source=SOURCE_PROCEDURAL, aligned=-1, kept=-1):
         self.geometries.append(geometry)
         self.plot.append(plot)
         self.case.append(case)
         self.source.append(source)
         self.aligned.append(aligned)
+        self.kept.append(kept)
 
     def replaced(self, pieces):
         """A new Subdivision where footprint ``i`` is replaced by the geometries ``pieces[i]``."""
         out = Subdivision(report=self.report)
         for i, g in enumerate(self.geometries):
             for piece in pieces.get(i, [g]):
-                out.add(piece, self.plot[i], self.case[i], self.source[i], self.aligned[i])
+                out.add(piece, self.plot[i], self.case[i], self.source[i], self.aligned[i],
+                        self.kept[i])
         return out
 
     @property
@@ -173,7 +181,8 @@ def _positive_range(values, name):
 
 
 def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_threshold=None,
-              seed=0, decompose=True, aligned=None, aligned_plots=None, calibrate_ranges=False):
+              seed=0, decompose=True, aligned=None, aligned_plots=None, calibrate_ranges=False,
+              previous=None, aligned_ids=(), tolerance=None):
     """Footprints of all plots.
 
     ``plots``: shapely geometries (invalid ones are repaired, overlapping ones
@@ -185,6 +194,11 @@ def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_thre
     aligned footprints, else 100. ``calibrate_ranges`` replaces ``length``
     and ``depth`` by ranges learnt from the aligned footprints that front the
     street, not from back buildings (:func:`calibrate`).
+    ``previous``: the earlier epoch of a dynamic chain
+    (:class:`~reconstruction.subdivide.previous.PreviousEpoch`), whose
+    footprints are kept where the plots did not change
+    (:func:`~reconstruction.subdivide.previous.keep_previous`, plots matched
+    within ``tolerance``; ``aligned_ids``: the BAG id of each aligned footprint).
     Returns a :class:`Subdivision`; bad parameters raise
     :class:`~reconstruction.core.errors.InputError`.
     """
@@ -218,6 +232,13 @@ def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_thre
         for part in polygon_parts(g):
             if part.area > OVERLAP_TOLERANCE:
                 result.add(part, aligned_plots[i], CASE_ALIGNED, SOURCE_ALIGNED, i)
+    kept = None
+    if previous is not None:
+        kept = keep_previous(previous, geoms, cats, [b for b, g in zip(aligned_ids, aligned_geoms)
+                                                     if g is not None and b is not None],
+                             **({} if tolerance is None else {"tolerance": tolerance}))
+        for k, cat in zip(kept.index, kept.plot):
+            result.add(previous.footprints[k], cat, previous.case[k], previous.source[k], kept=k)
     seed = 0 if seed is None else int(seed)
     exterior_of, seam_of = {}, {}
     neighbours = neighbour_index(geoms)
@@ -225,6 +246,8 @@ def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_thre
         exterior_of[cat] = exterior_lines(geom)
         # no street along a seam with a touching plot: no building locked in there
         seam_of[cat] = seams(geoms, neighbours, k)
+        if kept is not None and cat in kept.done:
+            continue                # unchanged since the earlier epoch: its footprints kept
         rng = plot_rng(seed, cat)
         plot_front = front(geom, [geoms[j] for j in neighbours[k]]) if neighbours[k] else None
         for poly, case in subdivide_plot(geom, length, depth, area_threshold, rng, decompose,
@@ -237,14 +260,32 @@ def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_thre
     rings = [i for i, g in enumerate(result.geometries) if isinstance(g, list)]
     for i, poly in zip(rings, to_polygons([result.geometries[i] for i in rings])):
         result.geometries[i] = poly
-    pieces, clipped, dropped = clip_generated(result, aligned_geoms, exterior_of, seam_of,
-                                              dict(zip(cats, geoms)))
+    plot_of = dict(zip(cats, geoms))
+    is_kept = [k >= 0 for k in result.kept]
+    pieces, clipped, dropped = clip_generated(
+        result, aligned_geoms, exterior_of, seam_of, plot_of,
+        clippable=[s == SOURCE_PROCEDURAL or k for s, k in zip(result.source, is_kept)])
+    kept_clipped = sum(is_kept[f] and bool(p) for f, p in pieces.items())
+    kept_dropped = sum(is_kept[f] and not p for f, p in pieces.items())
     if pieces:
         result = result.replaced(pieces)
+    if kept is not None:        # the new footprints give way to the kept ones
+        fixed = [g for g, k in zip(result.geometries, result.kept) if k >= 0]
+        more, more_clipped, more_dropped = clip_generated(
+            result, fixed, exterior_of, seam_of, plot_of,
+            clippable=[s == SOURCE_PROCEDURAL and k < 0
+                       for s, k in zip(result.source, result.kept)])
+        clipped, dropped = clipped + more_clipped, dropped + more_dropped
+        if more:
+            result = result.replaced(more)
+    clipped, dropped = clipped - kept_clipped, dropped - kept_dropped
     noded = node_footprints(result.geometries)
     return replace(result, geometries=noded, report=SubdivisionReport(
         plots=plot_repairs, aligned=aligned_repairs, length=length, depth=depth,
         area_threshold=float(area_threshold), aligned_without_plot=without_plot,
         calibrated=calibrated, calibration_samples=samples, generated_clipped=clipped,
         generated_dropped=dropped, footprints=len(noded),
-        generated=sum(s == SOURCE_PROCEDURAL for s in result.source)))
+        generated=sum(s == SOURCE_PROCEDURAL and k < 0
+                      for s, k in zip(result.source, result.kept)),
+        previous=kept, kept=sum(k >= 0 for k in result.kept), kept_clipped=kept_clipped,
+        kept_dropped=kept_dropped))

@@ -8,6 +8,8 @@ down or stay inside its own package:
 - ``geom`` (rings, polygons, overlaps, grids, solid sets) imports ``core``;
 - ``cityjson`` and ``grassio`` import ``core`` and ``geom``; ``grassio`` is
   the only package that imports GRASS (``grass.script``, ``grass.exceptions``);
+- ``epochs`` (several dated maps of one town: plots matched between epochs)
+  imports ``core`` and ``geom``;
 - the stages ``classify``, ``generalize``, ``align``, ``subdivide``, ``lod2``
   import the packages above and their own modules, never another stage.
 
@@ -34,10 +36,11 @@ LAYERS = {
     "geom": {"core"},
     "cityjson": {"core", "geom"},
     "grassio": {"core", "geom"},
+    "epochs": {"core", "geom"},
 }
 STAGES = ("classify", "generalize", "align", "subdivide", "lod2")
 for _stage in STAGES:
-    LAYERS[_stage] = {"core", "geom", "cityjson", "grassio"}
+    LAYERS[_stage] = {"core", "geom", "cityjson", "grassio", "epochs"}
 
 GRASS_PACKAGE = "grassio"
 
@@ -48,6 +51,8 @@ LAZY = {
     "shapely",                 # 50 ms; r.histo.classify and the CityJSON writers never need it
     "shapely.geometry",
     "scipy.spatial",           # Delaunay, cKDTree: only the stages that search neighbours
+    "scipy.sparse",            # connected groups of plots: only with an earlier epoch
+    "scipy.sparse.csgraph",
     "sklearn.ensemble",        # scikit-learn: 0.5 s, only r.histo.classify's classifiers
     "sklearn.neighbors",
     "sklearn.pipeline",
