@@ -14,6 +14,7 @@ from typing import Optional
 from ..core import contract
 from ..core.errors import InputError
 from ..core.options import integer_column
+from ..geom.polygons import polygon_parts
 from .previous import PreviousEpoch, identities
 from .stage import Subdivision, subdivide
 
@@ -94,8 +95,13 @@ def read_previous(plots, cats, footprints, columns, config):
     (with their categories) and its footprints with their table. A footprint's
     identity is its ``building`` column, else the BAG id of an aligned one,
     else ``building_<cat>`` (what v.histo.lod2 names a footprint's building)."""
-    keep = [i for i, g in enumerate(footprints) if g is not None]
-    footprints = [footprints[i] for i in keep]
+    # one footprint per polygon (GRASS hands back single polygons as MultiPolygons)
+    keep, parts = [], []
+    for i, g in enumerate(footprints):
+        for part in polygon_parts(g) if g is not None else []:
+            keep.append(i)
+            parts.append(part)
+    footprints = parts
     columns = {k: [v[i] for i in keep] for k, v in columns.items()}
     n = len(footprints)
     plot = _named(columns, contract.PLOT)
@@ -136,17 +142,23 @@ def read_inputs(plots, cats, aligned, aligned_columns, config, previous=None):
                              previous, ids)
 
 
-def _aligned_columns(columns, indices, own, previous=None, kept=None):
-    """The aligned footprints' own columns, one value per output footprint (NULL for 2PM);
-    a footprint kept from the ``previous`` epoch (``kept`` index) takes its own
-    value of a column of that name."""
-    out = {}
+def _own_columns(columns, indices, own, previous=None, kept=None):
+    """The aligned footprints' own columns, one value per output footprint (NULL for 2PM),
+    and those of the ``previous`` epoch's footprints: a footprint kept from it
+    (``kept`` index) takes its own value of a column of that name."""
     earlier = {k.lower(): v for k, v in (previous.columns if previous else {}).items()}
-    for name, values in columns.items():
-        if name.lower() not in own:
-            before = earlier.get(name.lower())
-            out[name] = [values[i] if i >= 0 else before[k] if before is not None and k >= 0
-                         else None for i, k in zip(indices, kept or [-1] * len(indices))]
+    names = {k.lower(): k for k in earlier}
+    names.update({k.lower(): k for k in columns})
+    now = {k.lower(): v for k, v in columns.items()}
+    kept = kept or [-1] * len(indices)
+    out = {}
+    for low, name in names.items():
+        if low in own:
+            continue
+        values, before = now.get(low), earlier.get(low)
+        out[name] = [values[i] if values is not None and i >= 0
+                     else before[k] if before is not None and k >= 0 else None
+                     for i, k in zip(indices, kept)]
     return out
 
 
@@ -176,6 +188,6 @@ def run(inputs, config):
         table[contract.PLOT_CHANGE] = [change.get(p) for p in result.plot]
     if result.geometries:
         own = {"cat"} | set(table)
-        table.update(_aligned_columns(inputs.aligned_columns or {}, result.aligned, own,
-                                      inputs.previous, result.kept))
+        table.update(_own_columns(inputs.aligned_columns or {}, result.aligned, own,
+                                  inputs.previous, result.kept))
     return SubdivisionResult(result, table, (started, done))

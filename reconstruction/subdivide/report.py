@@ -60,7 +60,8 @@ def previous_messages(rep, config):
     dx, dy = kept.matches.offset
     out = [note("Plots since <{}>: {}; {} gone (map offset {:.2f},{:.2f})".format(
         config.previous_plots, ", ".join("{} {}".format(n, k) for k, n in counts.items()
-                                         if k != "gone"), counts["gone"], dx, dy)),
+                                         if k != "gone" and n) or "none", counts["gone"],
+        dx, dy)),
            note("{} footprints kept from <{}> ({} in unchanged plots)".format(
                rep.kept, config.previous, sum(p in kept.done for p in kept.plot)))]
     if kept.realigned:
