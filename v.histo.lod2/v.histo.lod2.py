@@ -307,6 +307,14 @@
 # % guisection: Existing model
 # %end
 
+# %option G_OPT_F_INPUT
+# % key: previous
+# % required: no
+# % label: Model of the earlier epoch (a dynamic chain: the v.histo.lod2 output of the earlier map)
+# % description: A footprint whose building column names one of its buildings, with the same outline, keeps that building (its solid, roof and heights) unless this epoch measures other heights
+# % guisection: Epochs
+# %end
+
 # %option
 # % key: format
 # % type: string
@@ -396,7 +404,7 @@ def main(options, flags):
 
     grassio.require_projected()      # (a missing input map: when reading it)
     grassio.check_outputs(options, files=("output", "render"),
-                          inputs={"file": ("rules", "existing")})
+                          inputs={"file": ("rules", "existing", "previous")})
     config = lod2.read_config(options, flags, grassio.location_epsg(), street_labels(options,
                                                                                   flags))
 

@@ -44,6 +44,7 @@ Matching (:func:`match`), by id first, then by geometry:
   of at least ``min_overlap``. Each building matches at most one footprint.
 """
 
+import dataclasses
 import json
 import os
 from dataclasses import dataclass, field
@@ -272,6 +273,43 @@ def model_of(doc, path="<model>", offsets=None, sequence=False, types=("Building
                          buildings=buildings, offset=offset, metadata=metadata,
                          extensions=doc.get("extensions"), sequence=sequence,
                          skipped=skipped)
+
+
+def _on_grid_of(model, other):
+    """``other``'s vertices stored as ``model`` stores its own: on its grid (integers of
+    its scale and translate), exactly where the two grids agree."""
+    if other.vertices.dtype.kind == "i" and model.vertices.dtype.kind == "i" and np.allclose(
+            other.scale, model.scale, rtol=0, atol=1e-12):
+        shift = (other.translate - model.translate) / model.scale
+        if np.allclose(shift, np.rint(shift), rtol=0, atol=1e-6):
+            return other.vertices + np.rint(shift).astype(np.int64)
+    xyz = other.vertices * other.scale + other.translate
+    if model.vertices.dtype.kind == "i":
+        return np.rint((xyz - model.translate) / model.scale).astype(np.int64)
+    return xyz
+
+
+def combined(first, second):
+    """One :class:`ExistingModel` holding the buildings of two (``first``'s, then
+    ``second``'s), on ``first``'s grid and in its reference system: e.g. the 3D BAG and
+    the earlier epoch's model, copied from as one. Object ids must differ
+    (InputError naming one that does not)."""
+    shared = set(first.objects).intersection(second.objects)
+    if shared:
+        raise InputError("The models '{}' and '{}' both hold a city object <{}>".format(
+            first.path, second.path, min(shared)))
+    vertices = _on_grid_of(first, second)
+    if vertices.dtype != first.vertices.dtype:
+        vertices = vertices.astype(np.result_type(vertices, first.vertices))
+    return dataclasses.replace(
+        first, path="{} + {}".format(first.path, second.path),
+        objects={**first.objects, **second.objects},
+        vertices=np.concatenate([first.vertices, vertices.astype(first.vertices.dtype)]),
+        buildings=list(first.buildings) + list(second.buildings),
+        offset=np.concatenate([first.offset, second.offset + len(first.vertices)]),
+        extensions={**(second.extensions or {}), **(first.extensions or {})} or None,
+        sequence=first.sequence or second.sequence,
+        skipped={**first.skipped, **second.skipped})
 
 
 # ---------------------------------------------------------------------------

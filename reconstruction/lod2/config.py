@@ -151,6 +151,8 @@ class Lod2Config:
     output: Optional[OutputRequest] = None
     #: None: no existing model
     existing: Optional[ExistingRequest] = None
+    #: the earlier epoch's model (previous=, a dynamic chain: issue 28), None: none
+    previous: Optional[str] = None
     #: map= given without render= (ignored, with a warning)
     map_ignored: bool = False
     #: the location's EPSG code (the existing model's must agree)
@@ -217,7 +219,8 @@ def read_config(options, flags, location_epsg=None, street_labels=None):
         source_column=options["source_column"], id_column=options["id_column"],
         heights=heights, streets=None if flags["s"] else _streets(options, street_labels),
         output=output, existing=existing, map_ignored=bool(options["map"] and not output.render),
-        location_epsg=location_epsg, validate=bool(flags["v"]))
+        location_epsg=location_epsg, validate=bool(flags["v"]),
+        previous=options.get("previous") or None)
 
 
 def _streets(options, labels):

@@ -60,6 +60,12 @@ class ExistingMatch:
     request: ExistingRequest
     candidates: np.ndarray
     matches: existing.Matches
+    #: with previous= (a dynamic chain, :func:`reconstruction.lod2.previous.with_previous`):
+    #: the earlier epoch's buildings kept (copied too; ids), whether there is no
+    #: existing model besides, and the existing model's own candidates (their count)
+    kept_previous: frozenset = frozenset()
+    only_previous: bool = False
+    existing_candidates: Optional[int] = None
     #: per footprint count, the arrays of building() and copied()
     _building: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
@@ -105,6 +111,9 @@ class OutputReport:
     copied_checked: Optional[tuple] = None
     #: with -v, the copied Solids not checked (inner shells, faces with holes)
     copied_unchecked: int = 0
+    #: buildings of the earlier epoch kept (previous=: copied from its model, not
+    #: counted in ``copied``)
+    kept: int = 0
 
 
 def footprint_ids(columns, name):
@@ -341,8 +350,11 @@ def _copied(match, footprints, fmt, validate=False):
     (with ``validate``, their Solids checked as the generated ones are)."""
     count = len(footprints.geometries)
     copied = copy_matched(match, footprints, count, fmt)
-    report = OutputReport(generated=0, copied=len(copied), copy=copied.report,
-                          match=match.matches.report, candidates=len(match.candidates))
+    kept = sum(i in match.kept_previous for i in copied.ids)
+    report = OutputReport(generated=0, copied=len(copied) - kept, kept=kept, copy=copied.report,
+                          match=None if match.only_previous else match.matches.report,
+                          candidates=len(match.candidates) if match.existing_candidates is None
+                          else match.existing_candidates)
     if validate:
         solids = citycopy.copied_solids(copied)
         report = replace(report, copied_unchecked=solids.unchecked, copied_checked=tuple(
@@ -393,19 +405,22 @@ def write_model(result, footprints, request, match=None, doing=nullcontext, say=
                     copied = copy_matched(match, footprints, len(footprints.geometries),
                                           among=drawn)
             report = _render(pieces or _single_text(result, copied, request), picture_file,
-                             request, copied, report, drawn, doing, say)
+                             request, copied, report, drawn, doing, say,
+                             match.kept_previous if match is not None else frozenset())
     return report
 
 
-def _render(pieces, path, request, copied, report, drawn, doing, say):
+def _render(pieces, path, request, copied, report, drawn, doing, say, kept=frozenset()):
     """Draw the model given as ``pieces`` to ``path`` (the picture's temporary
-    file); the report with what was drawn."""
+    file); the report with what was drawn. ``kept``: the ids of the copied
+    buildings that are the earlier epoch's, drawn as generated ones."""
     if say is not None:
         say(drawing_messages(request.render))
     with doing("drawing the picture '{}'".format(request.render)):
         document = json.loads(cityjson.joined_text(pieces))
         render.render(document, path, request.view, map_image=request.map_image,
-                      copied=copied.ids if copied is not None else ())
+                      copied=[i for i in copied.ids if i not in kept] if copied is not None
+                      else ())
     return replace(report, rendered=request.render,
                    drawn=None if drawn is None else int(drawn.sum()))
 
@@ -459,7 +474,8 @@ def write_in_steps(prepared, config, footprints, request, match=None, doing=null
             if copied is not None and drawn is not None:
                 copied = copy_matched(match, footprints, count, among=drawn)
             report = _render(_single_text(_joined(kept), copied, request), picture_file,
-                             request, copied, report, drawn, doing, say)
+                             request, copied, report, drawn, doing, say,
+                             match.kept_previous if match is not None else frozenset())
     return lod2.summary(steps, prepared.report), report, invalid
 
 

@@ -31,15 +31,18 @@ from contextlib import nullcontext
 from dataclasses import dataclass, replace
 from typing import Callable, ContextManager, Optional
 
+from ..core.contract import BUILDING
 from ..core.errors import InputError
 from ..geom.grid import Extent, Grid, MapImage
 from . import inputs as lod2_inputs
 from . import output as lod2_output
+from . import previous as lod2_previous
+from .config import ExistingRequest
 from .neighbourhood import Plots
 from .report import (build_messages, built_messages, config_messages, existing_messages,
                      existing_model_messages, footprint_messages, ground_points_messages, height_messages,
-                     map_messages, matched_heights_messages, plots_messages, street_edge_messages,
-                     street_messages)
+                     map_messages, matched_heights_messages, plots_messages, previous_messages,
+                     street_edge_messages, street_messages)
 from .solids import validation
 from .stage import Footprints, Lod2Result, prepare, requests_from_columns
 
@@ -113,7 +116,7 @@ def run(inputs, config):
         say(map_messages(output.map_image, Extent.of(geoms)))
     plot = _column(columns, config.plot_column)
     footprints = Footprints(geoms, columns.get("cat"), plot,
-                            _column(columns, config.source_column))
+                            _column(columns, config.source_column), _column(columns, BUILDING))
     match = None if model is None else lod2_output.match_existing(
         model, config.existing, footprints, lod2_output.footprint_ids(columns, config.id_column))
     found = lod2_inputs.footprint_heights(geoms, columns, plot, _height_options(
@@ -121,6 +124,10 @@ def run(inputs, config):
     say(height_messages(found.report, config))
     requests = requests_from_columns(columns, len(geoms), config.roof_type, config.roof_column,
                                      config.map_year, config.year_column)
+    if config.previous is not None:
+        kept = _previous(config, footprints, found, inputs)
+        requests = lod2_previous.with_earlier_roofs(requests, kept)
+        match = lod2_previous.with_previous(match, kept, config.existing, len(geoms))
 
     prepared = prepare(footprints, found.heights, requests, config)
     prepared = lod2_inputs.with_height_source(prepared, found.source)
@@ -142,6 +149,23 @@ def run(inputs, config):
                                       config.validate)
     return Lod2Run(result, written, validation.validate(result.solids) if config.validate
                    else None)
+
+
+def _previous(config, footprints, found, inputs):
+    """The :class:`~reconstruction.lod2.previous.PreviousMatch` of the footprints with
+    the earlier epoch's model (previous=), read and checked as an existing model is."""
+    with inputs.doing("reading the earlier epoch's model '{}'".format(config.previous)):
+        model = lod2_output.read_existing(ExistingRequest(path=config.previous),
+                                          config.location_epsg)
+    identity = footprints.identity
+    if identity is None:
+        raise InputError("Option previous= needs the footprints' {} column (v.histo.subdivide "
+                         "year=): it names each footprint's building".format(BUILDING))
+    heights = found.heights
+    kept = lod2_previous.match_previous(model, identity, footprints.geometries, heights.eaves,
+                                        heights.attic, found.source, config.map_year)
+    inputs.say(previous_messages(config.previous, kept.report))
+    return kept
 
 
 def _height_options(inputs, config, geoms, columns, match=None):

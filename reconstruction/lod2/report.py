@@ -208,13 +208,28 @@ def built_messages(report):
     return out
 
 
+def previous_messages(path, report):
+    """What the earlier epoch's model (previous=) gave: the buildings kept, and those of
+    an earlier identity built anew (:class:`~reconstruction.lod2.previous.PreviousReport`)."""
+    out = [note("Earlier epoch '{}': {} of {} footprints with a building identity keep their "
+                "building".format(path, report.kept, report.footprints))]
+    if report.measured or report.reshaped:
+        out.append(note("Built anew with their earlier roof type: {} measured otherwise in "
+                        "this epoch, {} on another outline".format(report.measured,
+                                                                    report.reshaped)))
+    if report.new:
+        out.append(verbose("{} footprints are new buildings (not in the earlier "
+                           "model)".format(report.new)))
+    return out
+
+
 def report(result, config):
     """The messages of a finished run (a :class:`~reconstruction.lod2.pipeline.Lod2Run`):
     the buildings written (by roof type), those copied from the existing
     model, the picture; with -v the roofs that fell back and the invalid solids."""
     written, counts = result.written, result.model.roof_counts()
     out = [note("{} buildings written to '{}': {}".format(
-        written.generated + written.copied, config.output.path,
+        written.generated + written.copied + written.kept, config.output.path,
         ", ".join("{} {}".format(v, k) for k, v in counts.items() if v)))]
     if written.match is not None:
         m = written.match
@@ -245,6 +260,9 @@ def report(result, config):
         if written.copy.skipped_geometries:
             out.append(warning("{} geometries of copied buildings (templates or unknown types) "
                                "are left out".format(written.copy.skipped_geometries)))
+    if written.kept:
+        out.append(note("{} buildings kept from the earlier epoch's model, as they were".format(
+            written.kept)))
     if written.rendered:
         out.append(note("Picture written to '{}'".format(written.rendered)))
         if written.drawn is not None:

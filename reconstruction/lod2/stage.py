@@ -92,6 +92,9 @@ class Footprints:
     #: per footprint, its building plot and source (written as attributes), or None
     plot: Optional[list] = None
     source: Optional[list] = None
+    #: per footprint, its building identity over the epochs (the ``building``
+    #: column of a dynamic chain), the id of its building; None: ``building_<cat>``
+    identity: Optional[list] = None
 
 
 # ---------------------------------------------------------------------------
@@ -379,8 +382,10 @@ def _result(prepared, built, count, config):
     fsrc = src[kept]
     part = prepared.part
     ids = []
+    identity = prepared.footprints.identity
     for j, i in zip(kept, fsrc):
-        base = "building_{}".format(cats[i])
+        base = "building_{}".format(cats[i]) if identity is None or identity[i] in (None, "") \
+            else str(identity[i])
         ids.append(base if part[j] < 0 else "{}_{}".format(base, part[j] + 1))
 
     def per_building(values):

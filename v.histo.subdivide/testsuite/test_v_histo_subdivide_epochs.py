@@ -3,32 +3,12 @@ GRASS location, two epochs of one town, the identities and kept footprints as GR
 stores them."""
 
 import pytest
-import shapely
-from shapely.geometry import box
 
-from reconstruction.core.contract import (BUILDING, PLOT, PLOT_CHANGE, SOURCE, SOURCE_ALIGNED)
+from epoch_testing import CHANGES, HOUSE, UNCHANGED, write_town
+from reconstruction.core.contract import BUILDING, PLOT, PLOT_CHANGE, SOURCE, SOURCE_ALIGNED
 from reconstruction.geom.polygons import same_outline
 
 pytestmark = pytest.mark.grass
-
-X0, Y0 = 84000.0, 446000.0
-OFFSET = (0.8, -0.6)        # the 1915 sheet is georeferenced a little off the 1880 one
-
-
-def at(geom, dx=0.0, dy=0.0):
-    return shapely.affinity.translate(geom, X0 + dx, Y0 + dy)
-
-
-def plots_1880():
-    return [box(0, 0, 60, 14), box(0, 30, 70, 58), box(100, 0, 160, 60), box(200, 0, 240, 14),
-            box(200, 30, 240, 44), box(100, 80, 160, 94)]
-
-
-def plots_1915():
-    """Plot 1 unchanged, plot 2 split by a passage, plots 3, 5 and 6 unchanged, plot 4
-    gone, a new plot 5; all drawn with the sheet's offset."""
-    return [box(0, 0, 60, 14), box(0, 30, 33, 58), box(37, 30, 70, 58), box(100, 0, 160, 60),
-            box(0, 80, 40, 94), box(200, 30, 240, 44), box(100, 80, 160, 94)]
 
 
 @pytest.fixture
@@ -37,13 +17,7 @@ def town(mapset):
 
     from reconstruction import grassio
 
-    gs.run_command("g.region", n=Y0 + 120, s=Y0 - 10, e=X0 + 260, w=X0 - 10, res=1)
-    grassio.write_features("plots_1880", [at(p) for p in plots_1880()], cats=[1, 2, 3, 4, 5, 6])
-    grassio.write_features("plots_1915", [at(p, *OFFSET) for p in plots_1915()],
-                           cats=[1, 2, 3, 4, 5, 6, 7])
-    grassio.write_features("aligned_1880", [at(box(100, 0, 106, 12))],
-                           {PLOT: [3], "identificatie": ["0503100000000001"],
-                            "bouwjaar": [1700]})
+    write_town(grassio, gs)
     return gs, grassio
 
 
@@ -61,7 +35,7 @@ def test_two_epochs_keep_unchanged_blocks_and_name_every_building(town):
     gs.run_command("v.histo.subdivide", input="plots_1880", aligned="aligned_1880",
                    output="fp_1880", year=1880, seed=1, quiet=True)
     g1, c1 = read(grassio, "fp_1880")
-    assert "0503100000000001" in c1[BUILDING]
+    assert HOUSE in c1[BUILDING]
     assert all(b.startswith("building_1880_") for b, s in zip(c1[BUILDING], c1[SOURCE])
                if s != SOURCE_ALIGNED)
     assert len(set(c1[BUILDING])) == len(c1[BUILDING])
@@ -78,18 +52,17 @@ def test_two_epochs_keep_unchanged_blocks_and_name_every_building(town):
     g2, c2 = read(grassio, "fp_1915")
     old = dict(zip(c1[BUILDING], g1))
     change = dict(zip(c2[PLOT], c2[PLOT_CHANGE]))
-    assert change == {1: "unchanged", 2: "split", 3: "split", 4: "unchanged", 5: "new",
-                      6: "unchanged", 7: "unchanged"}
+    assert change == CHANGES
     # the unchanged blocks keep every footprint, its outline and its identity, the aligned
     # house its BAG id and its columns
-    for before_plot, after_plot in ((1, 1), (3, 4), (5, 6), (6, 7)):
+    for after_plot, before_plot in UNCHANGED.items():
         before = {b for b, p in zip(c1[BUILDING], c1[PLOT]) if p == before_plot}
         after = {b for b, p in zip(c2[BUILDING], c2[PLOT]) if p == after_plot}
         assert before == after
     for b, g in zip(c2[BUILDING], g2):
         if b in old:
             assert same_outline(old[b], g, 1e-6), b
-    k = c2[BUILDING].index("0503100000000001")
+    k = c2[BUILDING].index(HOUSE)
     assert c2[SOURCE][k] == SOURCE_ALIGNED and c2["bouwjaar"][k] == 1700
     # the gone plot's buildings are gone; the new plot's are new
     gone = {b for b, p in zip(c1[BUILDING], c1[PLOT]) if p == 4}
