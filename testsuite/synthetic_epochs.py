@@ -114,8 +114,13 @@ class SyntheticTown:
     def true_plot(self, epoch, index):
         """A plot of ``maps[epoch]`` moved back by the epoch's offset: on true ground."""
         dx, dy = self.offsets[epoch]
-        return shapely.set_precision(
-            affinity.translate(self.maps[epoch].plots[index], -dx, -dy), 0.01)
+        return _moved(self.maps[epoch].plots[index], -dx, -dy)
+
+
+def _moved(geom, dx, dy):
+    """``geom`` moved by (dx, dy) onto the 1 cm grid, its vertices in the same order (an
+    unchanged plot keeps its ring as drawn before, only moved)."""
+    return shapely.transform(geom, lambda xy: np.round(xy + (dx, dy), 2))
 
 
 def _transition_of(event):
@@ -206,11 +211,10 @@ def _new_plot(rng, gardens, free, extent):
     return None
 
 
-def _free_ground(plots, skip, quays, extent):
-    """Where a plot may grow or appear: inside the map, off the quays, clear of the plots."""
-    others = [p for k, p in enumerate(plots) if k not in skip]
+def _free_ground(plots, quays, extent):
+    """Where a plot may grow or appear: inside the map, off the quays, clear of ``plots``."""
     frame = box(5, 5, extent - 5, extent - 5)
-    return frame.difference(quays).difference(unary_union(others).buffer(_CLEARANCE))
+    return frame.difference(quays).difference(unary_union(plots).buffer(_CLEARANCE))
 
 
 def _count(kind, n):
@@ -235,7 +239,7 @@ def _transition(rng, plots, gardens, keep, quays, extent, years):
         return int(rng.integers(y0 + 1, y1))
 
     fate = {}  # earlier index -> (kind, year, [later (poly, kind, angle)], partner or None)
-    gardens = list(gardens)
+    green, gardens = list(gardens), list(gardens)
     # demolished: the ground becomes garden or street
     for i in order[:_count("demolished", n)]:
         fate[i] = ("demolished", year(), [], None)
@@ -273,14 +277,17 @@ def _transition(rng, plots, gardens, keep, quays, extent, years):
             used.update((i, j))
             wanted -= 1
             break
+    # no plot grows or appears on ground cleared in the same years: a demolished
+    # plot's ground is not a plot on the next map
+    cleared = [polys[i] for i, f in fate.items() if f[0] == "demolished"]
     later = _later_polygons(plots, fate, used)
     # extended into the garden or the street
     wanted = _count("extended", n)
     for i in order:
         if not wanted or i in used:
             continue
-        others = [p for p in later if p is not polys[i]]
-        grown = _extend(rng, polys[i], _free_ground(others, (), quays, extent).union(polys[i]))
+        others = [p for p in later if p is not polys[i]] + cleared
+        grown = _extend(rng, polys[i], _free_ground(others, quays, extent).union(polys[i]))
         if grown:
             fate[i] = ("extended", year(), [(grown[0], plots[i][1], plots[i][2])], None)
             used.add(i)
@@ -289,8 +296,8 @@ def _transition(rng, plots, gardens, keep, quays, extent, years):
     # new plots on garden, park or empty land
     added = []
     for _ in range(_count("new", n)):
-        rect = _new_plot(rng, gardens, _free_ground(later + [a for a, _, _ in added], (),
-                                                    quays, extent), extent)
+        taken = later + cleared + [a for a, _, _ in added]
+        rect = _new_plot(rng, green, _free_ground(taken, quays, extent), extent)
         if rect is not None:
             added.append((rect, "single", 0.0))
     later, events, new = _assemble(plots, fate, added, rng, years)
@@ -344,7 +351,7 @@ def _drawn_layout(layout, plots, gardens, offset):
     anchors = [(d, pos + (dy if d == "h" else dx), width)
                for d, pos, width in layout["street_anchors"]]
     return dict(layout,
-                plots=[(shapely.set_precision(move(p), 0.01), k, a) for p, k, a in plots],
+                plots=[(_moved(p, dx, dy), k, a) for p, k, a in plots],
                 gardens=[move(g) for g in gardens], canal=move(layout["canal"]),
                 quays=move(layout["quays"]), canal_line=move(layout["canal_line"]),
                 street_anchors=anchors)
@@ -383,8 +390,7 @@ def _current(rng, town_maps, offsets, true_plots, born, years):
     last = len(town_maps) - 1
     made = sm.current_footprints(rng, town_maps[last], map_year=years[0])
     dx, dy = offsets[last]
-    polygons = [shapely.set_precision(affinity.translate(p, -dx, -dy), 0.01)
-                for p in made.polygons]
+    polygons = [_moved(p, -dx, -dy) for p in made.polygons]
     plot = [(last, k - 1) if k else None for k in made.plot]
     kinds = list(made.kind)
     candidates = [i for i, at in enumerate(plot) if at and len(years) > 1
