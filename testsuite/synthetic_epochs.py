@@ -221,87 +221,117 @@ def _count(kind, n):
     return max(1, int(round(_CHANGE_SHARE[kind] * n)))
 
 
+class _Changes:
+    """The changes of one transition as they are chosen: what becomes of each
+    earlier plot (``fate``: index -> (kind, year, [later (polygon, kind, angle)],
+    merged partner or None)), the new plots and the garden ground."""
+
+    def __init__(self, rng, plots, gardens, keep, quays, extent, years):
+        self.rng, self.plots, self.keep = rng, plots, keep
+        self.polys = [p for p, _, _ in plots]
+        self.quays, self.extent, self.years = quays, extent, years
+        self.green, self.gardens = list(gardens), list(gardens)
+        self.order = [int(i) for i in rng.permutation(len(plots)) if int(i) not in keep]
+        self.fate, self.used, self.added = {}, set(), []
+
+    def year(self):
+        return int(self.rng.integers(self.years[0] + 1, self.years[1]))
+
+    def wanted(self, kind):
+        return _count(kind, len(self.plots))
+
+    def free(self):
+        """The earlier plots no change has taken yet, in random order."""
+        return [i for i in self.order if i not in self.used]
+
+    def settle(self, i, kind, results, partner=None):
+        self.fate[i] = (kind, self.year(), results, partner)
+        self.used.update([i] if partner is None else [i, partner])
+
+    def cleared(self):
+        """Ground of the plots demolished in this transition: no plot grows or appears
+        on it in the same years, so it is garden or street on the next map."""
+        return [self.polys[i] for i, f in self.fate.items() if f[0] == "demolished"]
+
+    def later(self):
+        """The later epoch's polygons so far (and the new ones)."""
+        return _later_polygons(self.plots, self.fate, self.used) + [a for a, _, _ in self.added]
+
+    def merge(self):
+        """Merged: two plots at most _MERGE_GAP apart, joined across the gap."""
+        polys, tree, wanted = self.polys, shapely.STRtree(self.polys), self.wanted("merged")
+        for i in self.free():
+            near = [int(j) for j in tree.query(polys[i].buffer(_MERGE_GAP))]
+            for j in sorted(near, key=lambda j: polys[i].distance(polys[j])):
+                if not wanted or i in self.used:
+                    break
+                if j == i or j in self.used or j in self.keep or \
+                        polys[i].distance(polys[j]) > _MERGE_GAP:
+                    continue
+                joined = _merge(polys[i], polys[j])
+                if joined is None or joined.intersects(self.quays):
+                    continue
+                rest = [polys[k] for k in tree.query(joined.buffer(_CLEARANCE)) if k not in (i, j)]
+                if any(joined.distance(r) < _CLEARANCE for r in rest):
+                    continue
+                big = i if polys[i].area >= polys[j].area else j
+                self.settle(min(i, j), "merged", [(joined,) + tuple(self.plots[big][1:])],
+                            max(i, j))
+                wanted -= 1
+
+    def demolish(self):
+        """Demolished: the ground becomes garden (half of them) or street."""
+        for i in self.free()[:self.wanted("demolished")]:
+            self.settle(i, "demolished", [])
+            if self.rng.random() < 0.5:
+                self.gardens.append(self.polys[i])
+
+    def split(self):
+        """Split: cut across by a new passage."""
+        wanted = self.wanted("split")
+        for i in self.free():
+            parts = _split(self.rng, self.polys[i]) if wanted else None
+            if parts:
+                self.settle(i, "split", [(p,) + tuple(self.plots[i][1:]) for p in parts])
+                wanted -= 1
+
+    def extend(self):
+        """Extended: grown a few metres into the garden or the street."""
+        wanted = self.wanted("extended")
+        for i in self.free():
+            if not wanted:
+                break
+            others = [p for p in self.later() if p is not self.polys[i]] + self.cleared()
+            free = _free_ground(others, self.quays, self.extent).union(self.polys[i])
+            grown = _extend(self.rng, self.polys[i], free)
+            if grown:
+                self.settle(i, "extended", [(grown[0],) + tuple(self.plots[i][1:])])
+                wanted -= 1
+
+    def build_new(self):
+        """New: a plot on garden, park or empty land (not on ground cleared now)."""
+        for _ in range(self.wanted("new")):
+            free = _free_ground(self.later() + self.cleared(), self.quays, self.extent)
+            rect = _new_plot(self.rng, self.green, free, self.extent)
+            if rect is not None:
+                self.added.append((rect, "single", 0.0))
+
+
 def _transition(rng, plots, gardens, keep, quays, extent, years):
     """Change the plots between two epochs.
 
     ``plots``: [(polygon, kind, angle)] of the earlier epoch (true ground,
-    local metres); ``keep``: indices no change may touch. Returns the later
-    epoch's plots, its gardens, the events as (kind, year, [before indices],
-    [after indices]) and which later plots are new.
+    local metres); ``keep``: indices no change may touch; ``years``: the two
+    epochs' years. Merges go first (close pairs are the rarest candidates).
+    Returns the later epoch's plots, its gardens, the events as (kind, year,
+    [before indices], [after indices]) and which later plots are new.
     """
-    y0, y1 = years
-    n = len(plots)
-    polys = [p for p, _, _ in plots]
-    order = [int(i) for i in rng.permutation(n) if int(i) not in keep]
-    used = set()
-
-    def year():
-        return int(rng.integers(y0 + 1, y1))
-
-    fate = {}  # earlier index -> (kind, year, [later (poly, kind, angle)], partner or None)
-    green, gardens = list(gardens), list(gardens)
-    # demolished: the ground becomes garden or street
-    for i in order[:_count("demolished", n)]:
-        fate[i] = ("demolished", year(), [], None)
-        used.add(i)
-        if rng.random() < 0.5:
-            gardens.append(polys[i])
-    # split by a passage
-    wanted = _count("split", n)
-    for i in order:
-        if wanted and i not in used:
-            parts = _split(rng, polys[i])
-            if parts:
-                fate[i] = ("split", year(), [(p, plots[i][1], plots[i][2]) for p in parts], None)
-                used.add(i)
-                wanted -= 1
-    # merged: two plots close together (not more than _MERGE_GAP apart)
-    wanted = _count("merged", n)
-    tree = shapely.STRtree(polys)
-    for i in order:
-        if not wanted or i in used:
-            continue
-        for j in sorted((int(j) for j in tree.query(polys[i].buffer(_MERGE_GAP))),
-                        key=lambda j: polys[i].distance(polys[j])):
-            if j == i or j in used or j in keep or polys[i].distance(polys[j]) > _MERGE_GAP:
-                continue
-            joined = _merge(polys[i], polys[j])
-            if joined is None or joined.intersects(quays):
-                continue
-            rest = [polys[k] for k in tree.query(joined.buffer(_CLEARANCE)) if k not in (i, j)]
-            if any(joined.distance(r) < _CLEARANCE for r in rest):
-                continue
-            big = i if polys[i].area >= polys[j].area else j
-            fate[min(i, j)] = ("merged", year(), [(joined, plots[big][1], plots[big][2])],
-                               max(i, j))
-            used.update((i, j))
-            wanted -= 1
-            break
-    # no plot grows or appears on ground cleared in the same years: a demolished
-    # plot's ground is not a plot on the next map
-    cleared = [polys[i] for i, f in fate.items() if f[0] == "demolished"]
-    later = _later_polygons(plots, fate, used)
-    # extended into the garden or the street
-    wanted = _count("extended", n)
-    for i in order:
-        if not wanted or i in used:
-            continue
-        others = [p for p in later if p is not polys[i]] + cleared
-        grown = _extend(rng, polys[i], _free_ground(others, quays, extent).union(polys[i]))
-        if grown:
-            fate[i] = ("extended", year(), [(grown[0], plots[i][1], plots[i][2])], None)
-            used.add(i)
-            later = _later_polygons(plots, fate, used)
-            wanted -= 1
-    # new plots on garden, park or empty land
-    added = []
-    for _ in range(_count("new", n)):
-        taken = later + cleared + [a for a, _, _ in added]
-        rect = _new_plot(rng, green, _free_ground(taken, quays, extent), extent)
-        if rect is not None:
-            added.append((rect, "single", 0.0))
-    later, events, new = _assemble(plots, fate, added, rng, years)
-    return later, gardens, events, new
+    changes = _Changes(rng, plots, gardens, keep, quays, extent, years)
+    for step in (changes.merge, changes.demolish, changes.split, changes.extend,
+                 changes.build_new):
+        step()
+    later, events, new = _assemble(plots, changes.fate, changes.added, rng, years)
+    return later, changes.gardens, events, new
 
 
 def _later_polygons(plots, fate, used):
@@ -372,12 +402,15 @@ def _since(point, true_plots):
 
 
 def _current_year(rng, since, kind, years):
-    """A construction year that agrees with the history of the ground under a footprint."""
+    """A construction year that agrees with the history of the ground under a footprint:
+    mostly of the period the ground became a plot in (before the first map for
+    ground built up on it), some after the last map (rebuilt), a few unknown.
+    Modern blocks and buildings off the last map's plots are after it."""
     late = (years[-1] + 1, max(years[-1] + 2, NOW + 1))
     if since is None or kind == "rebuilt":
         return int(rng.integers(*late))
     u = rng.random()
-    if u < 0.78:
+    if u < (0.78 if since == 0 else 0.85):
         return int(rng.integers(1550, years[0]) if since == 0 else
                    rng.integers(years[since - 1] + 1, years[since]))
     if u < 0.95:

@@ -217,9 +217,11 @@ def test_current_years_agree_with_the_history_except_the_conflicts(town, small):
         bad = [i for i, (y, s) in enumerate(zip(t.current.years, t.current_since))
                if not _year_agrees(y, s, years)]
         assert bad == t.conflicts
-        # mostly built in the period the ground became a plot in
+        # mostly built in the period the ground became a plot in (modern blocks aside)
         for since in range(len(years)):
-            ys = [y for y, s in zip(t.current.years, t.current_since) if s == since]
+            ys = [y for i, (y, s, kind) in enumerate(zip(t.current.years, t.current_since,
+                                                         t.current.kind))
+                  if s == since and kind != "rebuilt" and i not in t.conflicts]
             if since == 0:
                 assert np.mean([y is not None and y < years[0] for y in ys]) > 0.6
             elif len(ys) >= 5:
@@ -240,6 +242,7 @@ def test_conflicts_are_old_years_on_plots_new_in_the_second_map(town):
 
 def test_current_footprints_stand_in_their_plots(town):
     last = _last(town)
+    plots = _true_plots(town, last)
     assert len(town.current_plot) == len(town.current.polygons) == len(town.current.ids)
     assert len(set(town.current.ids)) == len(town.current.ids)
     for poly, ref, kind, cat in zip(town.current.polygons, town.current_plot, town.current.kind,
@@ -250,7 +253,10 @@ def test_current_footprints_stand_in_their_plots(town):
             continue
         assert ref[0] == last and cat == ref[1] + 1
         share = poly.intersection(town.true_plot(*ref)).area / poly.area
-        assert share > {"straddling": 0.2, "offset": 0.4}.get(kind, 0.95), (kind, share)
+        if kind == "straddling":  # over two plots and the street: the plot that holds most
+            assert share >= max(poly.intersection(p).area / poly.area for p in plots)
+        else:
+            assert share > (0.4 if kind == "offset" else 0.95), (kind, share)
 
 
 def test_demolished_plots_have_no_current_footprints(town):
