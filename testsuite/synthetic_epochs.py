@@ -44,7 +44,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import shapely
 from shapely import affinity
-from shapely.geometry import LineString, Polygon, box
+from shapely.geometry import Polygon, box
 from shapely.ops import unary_union
 
 import synthetic_map as sm
@@ -173,7 +173,7 @@ def _merge(a, b):
 
 def _extend(rng, plot, free):
     """The plot grown by 3-6 m outward from one of its long edges, inside ``free``
-    ground; returns (grown plot, the part added) or None."""
+    ground, or None."""
     ring = shapely.geometry.polygon.orient(plot, 1.0).exterior.simplify(0.05)
     xy = np.asarray(ring.coords)
     edges = sorted(range(len(xy) - 1), key=lambda k: -np.hypot(*(xy[k + 1] - xy[k])))
@@ -189,7 +189,7 @@ def _extend(rng, plot, free):
             continue
         grown = _clean(plot.union(wing))
         if grown is not None:
-            return grown, _clean(grown.difference(plot))
+            return grown
     return None
 
 
@@ -305,7 +305,7 @@ class _Changes:
             free = _free_ground(others, self.quays, self.extent).union(self.polys[i])
             grown = _extend(self.rng, self.polys[i], free)
             if grown:
-                self.settle(i, "extended", [(grown[0],) + tuple(self.plots[i][1:])])
+                self.settle(i, "extended", [(grown,) + tuple(self.plots[i][1:])])
                 wanted -= 1
 
     def build_new(self):
@@ -337,7 +337,7 @@ def _transition(rng, plots, gardens, keep, quays, extent, years):
 def _later_polygons(plots, fate, used):
     """The later epoch's polygons so far: changed results and the plots not used."""
     out = [p for i, (p, _, _) in enumerate(plots) if i not in used]
-    for kind, _, results, _ in fate.values():
+    for _, _, results, _ in fate.values():
         out.extend(p for p, _, _ in results)
     return out
 

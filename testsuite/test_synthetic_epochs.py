@@ -304,7 +304,7 @@ def test_command_line_outside_grass_refuses_but_writes_pictures(tmp_path):
     run = subprocess.run([sys.executable, script, "--size", "200"], env=env,
                          capture_output=True, text=True)
     assert run.returncode != 0 and "GRASS session" in run.stderr
-    run = subprocess.run([sys.executable, script, "--size", "300", "--years", "1900,1950",
+    run = subprocess.run([sys.executable, script, "--size", "200", "--years", "1900,1950",
                           "--png", str(tmp_path / "png"), "--truth", str(tmp_path / "t.json")],
                          env=env, capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
