@@ -178,6 +178,18 @@ def test_changes_do_what_their_kind_says(town):
             assert before[0].intersection(later).area == 0
 
 
+@pytest.mark.parametrize("seed", range(4))
+def test_ground_cleared_in_a_transition_is_no_plot_on_the_next_map(seed):
+    # one plot covering most of the town: it is the one demolished, and nothing may be
+    # built or grown on its ground before the next map
+    only = shapely.box(10, 10, 90, 90)
+    later, gardens, events, new = se._transition(
+        np.random.default_rng(seed), [(only, "single", 0.0)], [], set(), shapely.Polygon(),
+        100.0, (1880, 1915))
+    assert [e[0] for e in events][0] == "demolished"
+    assert all(p.intersection(only).area == 0 for p, _, _ in later)
+
+
 def test_plots_of_every_epoch_valid_inside_and_apart(town):
     for e, smap in enumerate(town.maps):
         frame = shapely.box(smap.west, smap.south, smap.east, smap.north).buffer(-2)
