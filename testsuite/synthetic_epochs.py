@@ -257,27 +257,37 @@ class _Changes:
         """The later epoch's polygons so far (and the new ones)."""
         return _later_polygons(self.plots, self.fate, self.used) + [a for a, _, _ in self.added]
 
+    def close_pairs(self):
+        """Pairs of free plots at most _MERGE_GAP apart, the closest first (ties in
+        random order): plots that (nearly) touch merge before plots across a yard."""
+        polys, free = self.polys, set(self.free())
+        tree = shapely.STRtree(polys)
+        pairs = {}
+        for i in self.free():
+            for j in (int(j) for j in tree.query(polys[i].buffer(_MERGE_GAP))):
+                gap = polys[i].distance(polys[j])
+                if i < j and j in free and gap <= _MERGE_GAP:
+                    pairs[(i, j)] = gap
+        tie = self.rng.permutation(len(pairs))
+        return [pair for _, _, pair in sorted(zip(pairs.values(), tie, pairs))]
+
     def merge(self):
         """Merged: two plots at most _MERGE_GAP apart, joined across the gap."""
         polys, tree, wanted = self.polys, shapely.STRtree(self.polys), self.wanted("merged")
-        for i in self.free():
-            near = [int(j) for j in tree.query(polys[i].buffer(_MERGE_GAP))]
-            for j in sorted(near, key=lambda j: polys[i].distance(polys[j])):
-                if not wanted or i in self.used:
-                    break
-                if j == i or j in self.used or j in self.keep or \
-                        polys[i].distance(polys[j]) > _MERGE_GAP:
-                    continue
-                joined = _merge(polys[i], polys[j])
-                if joined is None or joined.intersects(self.quays):
-                    continue
-                rest = [polys[k] for k in tree.query(joined.buffer(_CLEARANCE)) if k not in (i, j)]
-                if any(joined.distance(r) < _CLEARANCE for r in rest):
-                    continue
-                big = i if polys[i].area >= polys[j].area else j
-                self.settle(min(i, j), "merged", [(joined,) + tuple(self.plots[big][1:])],
-                            max(i, j))
-                wanted -= 1
+        for i, j in self.close_pairs():
+            if not wanted:
+                break
+            if i in self.used or j in self.used:
+                continue
+            joined = _merge(polys[i], polys[j])
+            if joined is None or joined.intersects(self.quays):
+                continue
+            rest = [polys[k] for k in tree.query(joined.buffer(_CLEARANCE)) if k not in (i, j)]
+            if any(joined.distance(r) < _CLEARANCE for r in rest):
+                continue
+            big = i if polys[i].area >= polys[j].area else j
+            self.settle(i, "merged", [(joined,) + tuple(self.plots[big][1:])], j)
+            wanted -= 1
 
     def demolish(self):
         """Demolished: the ground becomes garden (half of them) or street."""
