@@ -652,8 +652,20 @@ def generate(seed=1, size=600, res=1.0, origin=(84000.0, 446000.0)):
     if size < 200:
         raise ValueError("size must be at least 200 pixels (a few blocks, every class)")
     rng = np.random.default_rng(seed)
+    layout = _layout(rng, size * res)
+    return render(layout, rng, seed=seed, size=size, res=res, origin=origin)
+
+
+def render(layout, rng, seed=1, size=600, res=1.0, origin=(84000.0, 446000.0)):
+    """Draw a layout (as :func:`_layout` makes it: plots, gardens, canal, label
+    anchors, in local metres) as a scanned map: its own trees, labels, symbols,
+    print and scan defects and training points all come from ``rng``.
+
+    :func:`generate` is this on the layout drawn from the same ``rng``; a
+    layout changed between two map epochs (synthetic_epochs.py) is drawn by it
+    as another map of the same region.
+    """
     extent = size * res
-    layout = _layout(rng, extent)
     canvas = _Canvas(size, res)
     # which plot each sub-pixel's fill belongs to (1-based; 0: none)
     sub_ids = np.zeros((canvas.n, canvas.n),
@@ -1003,6 +1015,14 @@ def write_to_grass(smap, prefix="map"):
     ``bouwjaar``, NULL where unknown, and ``identificatie``). Respects
     GRASS_OVERWRITE / --overwrite like any module.
     """
+    names = write_map_to_grass(smap, prefix)
+    write_current_to_grass(names["current"], smap.current, measured_heights(smap))
+    return names
+
+
+def write_map_to_grass(smap, prefix="map"):
+    """Write the map without today's footprints (as :func:`write_to_grass` does
+    otherwise); returns the names of :func:`map_names`, ``current`` unwritten."""
     _find_repo_library()
     import grass.script as gs
 
@@ -1021,12 +1041,21 @@ def write_to_grass(smap, prefix="map"):
     grassio.write_points(names["gt_points"], smap.gt_points, {"plot": cats})
     grassio.write_features(names["plots"], smap.plots, {"kind": list(smap.plot_kinds)},
                            cats=cats)
-    current = smap.current
-    grassio.write_features(names["current"], current.polygons,
-                           {"bouwjaar": current.years, "identificatie": current.ids,
-                            **measured_heights(smap)},
-                           title="Current building footprints over the synthetic map")
     return names
+
+
+def write_current_to_grass(name, current, heights):
+    """Write today's footprints (:class:`CurrentFootprints`) as areas ``name`` with
+    ``bouwjaar`` (NULL where unknown), ``identificatie`` and the ``heights``
+    columns (as :func:`measured_heights` gives them)."""
+    _find_repo_library()
+    from reconstruction import grassio
+
+    grassio.write_features(name, current.polygons,
+                           {"bouwjaar": current.years, "identificatie": current.ids,
+                            **heights},
+                           title="Current building footprints over the synthetic map")
+    return name
 
 
 def measured_heights(smap):
@@ -1036,9 +1065,15 @@ def measured_heights(smap):
     eaves and 2.6-6 m roofs (the thesis's ranges), one 30 m tower among
     them; the ground slopes gently. Drawn from their own random stream, so the
     map and the footprints do not change with them."""
-    rng = np.random.default_rng([smap.seed, 16])
-    n = len(smap.current.polygons)
-    centres = np.array([[p.centroid.x, p.centroid.y] for p in smap.current.polygons]).reshape(-1, 2)
+    return footprint_heights(smap.current.polygons, smap.seed)
+
+
+def footprint_heights(polygons, seed):
+    """:func:`measured_heights` of any footprints ``polygons``, from the random
+    stream of ``seed`` (so a town of several maps gets them as one map does)."""
+    rng = np.random.default_rng([seed, 16])
+    n = len(polygons)
+    centres = np.array([[p.centroid.x, p.centroid.y] for p in polygons]).reshape(-1, 2)
     ground = 0.5 + 0.002 * centres[:, 0] + 0.001 * centres[:, 1] if n else np.zeros(0)
     eaves = rng.uniform(6.7, 12.0, n)
     attic = rng.uniform(2.6, 6.0, n)
