@@ -511,7 +511,7 @@ def _id_text(value):
     return text or None
 
 
-def _key(text):
+def id_key(text):
     """The automatic rule's key of an id: the part after its last '.', without
     leading zeros when it is all digits."""
     tail = text.rsplit(".", 1)[-1]
@@ -526,7 +526,7 @@ def _by_id(model, ids, prefix):
     keys = {}
     if prefix is None:
         for b, oid in enumerate(model.buildings):
-            k = _key(oid)
+            k = id_key(oid)
             keys[k] = -2 if k in keys else b          # -2: shared by two, matches neither
     out = np.full(len(ids), -1, dtype=np.int64)
     missing = 0
@@ -539,7 +539,7 @@ def _by_id(model, ids, prefix):
         else:
             b = index.get(text, -1)
             if b < 0:
-                b = max(keys.get(_key(text), -1), -1)
+                b = max(keys.get(id_key(text), -1), -1)
         out[i] = b
         missing += b < 0
     return out, missing

@@ -8,8 +8,8 @@ down or stay inside its own package:
 - ``geom`` (rings, polygons, overlaps, grids, solid sets) imports ``core``;
 - ``cityjson`` and ``grassio`` import ``core`` and ``geom``; ``grassio`` is
   the only package that imports GRASS (``grass.script``, ``grass.exceptions``);
-- ``epochs`` (several dated maps of one town: plots matched between epochs)
-  imports ``core`` and ``geom``;
+- ``epochs`` (several dated maps of one town: plots matched between epochs,
+  lifespans, the model of all epochs) imports ``core``, ``geom`` and ``cityjson``;
 - the stages ``classify``, ``generalize``, ``align``, ``subdivide``, ``lod2``
   import the packages above and their own modules, never another stage.
 
@@ -36,7 +36,7 @@ LAYERS = {
     "geom": {"core"},
     "cityjson": {"core", "geom"},
     "grassio": {"core", "geom"},
-    "epochs": {"core", "geom"},
+    "epochs": {"core", "geom", "cityjson"},
 }
 STAGES = ("classify", "generalize", "align", "subdivide", "lod2")
 for _stage in STAGES:

@@ -1,0 +1,333 @@
+"""One CityJSON model of a town over several map epochs, and a snapshot of any year.
+
+The chain writes one model per epoch (v.histo.lod2, with ``previous=`` from
+the second on), its buildings named by their identity. :func:`merge_epochs`
+makes one CityJSON 2.0 document of them that holds every building once:
+
+- a building (with its children, e.g. a copied 3D BAG building's parts)
+  gets one geometry per *version*: the epochs whose models give it the
+  same geometry (the same vertices, to the millimetre) share one; a
+  building kept from epoch to epoch is stored once;
+- its attributes are those of its first epoch, plus, in
+  ``epoch_attributes``, what another epoch says otherwise ({year: {name:
+  value}}: the map year, the plot number, a measured height); each object's
+  ``geometry_epochs`` lists, per geometry, the epochs it is the geometry of;
+- its lifespan (:mod:`~reconstruction.epochs.lifespans`): ``epochs``,
+  ``dateOfConstruction`` (the register's year, where the maps agree),
+  ``dateOfConstructionEarliest``/``Latest``, ``dateOfDemolitionEarliest``/
+  ``Latest``, ``standing`` and, where the evidence conflicts, ``conflict``.
+
+Core CityJSON 2.0 (no Extension): the file validates against the official
+schemas and opens in cjio. A generic viewer draws every version of a
+building at once; :func:`snapshot` gives the model of one year, one
+geometry per building, for those.
+
+The snapshot of a year *y* is the model of the latest epoch at or before
+*y* (the maps are the evidence: what changed between two maps is not
+placed in time), plus the buildings of the next epoch whose register year
+of construction lies after that epoch and by *y*, with that epoch's
+geometry. At an epoch's year it is that epoch's model: the same buildings,
+geometries (vertex coordinates to the millimetre, semantics) and attributes
+(an attribute an epoch lacks is null).
+"""
+
+import json
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+from ..cityjson.existing import id_key
+from ..core.errors import InputError
+from .lifespans import lifespan
+
+#: the output grid (m): the chain's models are written in millimetres
+SCALE = 0.001
+#: attributes the merge adds to each object (not an epoch's)
+DYNAMIC = ("epochs", "geometry_epochs", "epoch_attributes", "dateOfConstruction",
+           "dateOfConstructionEarliest", "dateOfConstructionLatest", "dateOfDemolitionEarliest",
+           "dateOfDemolitionLatest", "standing", "conflict")
+
+
+@dataclass(frozen=True)
+class Epoch:
+    """One epoch's model: the map's ``year`` and the CityJSON ``document`` (a dict)
+    read from ``path``."""
+
+    year: int
+    document: dict
+    path: str = "<model>"
+
+
+@dataclass(frozen=True)
+class MergeReport:
+    """What :func:`merge_epochs` found: ``buildings`` (distinct identities), per
+    epoch year its building count (``per_epoch``), the geometry ``versions``
+    stored, the buildings still ``standing`` and the ``conflicts`` ({id: what})."""
+
+    buildings: int
+    per_epoch: dict
+    versions: int
+    standing: int
+    conflicts: dict = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class DynamicModel:
+    document: dict
+    report: MergeReport
+
+
+def _millimetres(doc):
+    """The document's vertices as absolute integer millimetres (N, 3)."""
+    t = doc.get("transform") or {"scale": [1, 1, 1], "translate": [0, 0, 0]}
+    v = np.asarray(doc.get("vertices") or np.zeros((0, 3)), dtype=float).reshape(-1, 3)
+    return np.rint((v * np.asarray(t["scale"]) + np.asarray(t["translate"])) / SCALE).astype(
+        np.int64)
+
+
+def _reindexed(nested, mapping):
+    """A boundaries list with every vertex index ``i`` replaced by ``mapping[i]``."""
+    if isinstance(nested, list):
+        return [_reindexed(x, mapping) for x in nested]
+    return int(mapping[nested])
+
+
+def _trees(doc):
+    """{top-level id: [object ids of its tree, itself first]} of a document."""
+    objects = doc.get("CityObjects", {})
+    out = {}
+    for oid, obj in objects.items():
+        if obj.get("parents"):
+            continue
+        tree, k = [oid], 0
+        while k < len(tree):
+            tree.extend(c for c in objects[tree[k]].get("children", ()) if c in objects
+                        and c not in tree)
+            k += 1
+        out[oid] = tree
+    return out
+
+
+def _check_years(epochs):
+    years = [e.year for e in epochs]
+    if len(set(years)) != len(years):
+        raise InputError("Two epochs have the same year ({})".format(
+            ", ".join(map(str, years))))
+    if not epochs:
+        raise InputError("No epochs to merge")
+    return sorted(epochs, key=lambda e: e.year)
+
+
+def merge_epochs(epochs, register=None, reference_system=None, title=None):
+    """The :class:`DynamicModel` of the epochs' models (:class:`Epoch`, any order).
+
+    ``register``: {building id: construction year or None} of today's
+    register (the BAG): a building whose id (or, for an id with dots such as
+    ``NL.IMBAG.Pand.0503100000012345``, the part after its last dot, leading
+    zeros aside) is in it still stands. Raises InputError for two epochs of
+    one year or an object id that is a building in one epoch and a part in
+    another.
+    """
+    epochs = _check_years(epochs)
+    years = [e.year for e in epochs]
+    grids = [_millimetres(e.document) for e in epochs]
+    rows = np.concatenate(grids) if grids else np.zeros((0, 3), np.int64)
+    unique, inverse = np.unique(rows, axis=0, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    starts = np.cumsum([0] + [len(g) for g in grids])
+    present = {}                # top-level id -> {epoch index: tree}
+    for k, e in enumerate(epochs):
+        for oid, tree in _trees(e.document).items():
+            present.setdefault(oid, {})[k] = tree
+    objects, used = {}, []
+    versions = 0
+    keys = _register_keys(register or {})
+    conflicts, standing = {}, 0
+    for oid, trees in present.items():
+        first = min(trees)
+        members = list(dict.fromkeys(o for t in trees.values() for o in t))
+        for member in members:
+            if member in objects:
+                raise InputError("City object <{}> is in the tree of two buildings".format(
+                    member))
+            geometry, epochs_of, seen = [], [], {}
+            base, extra, kind, links = None, {}, None, {}
+            for k in sorted(trees):
+                obj = epochs[k].document["CityObjects"].get(member)
+                if obj is None or member not in trees[k]:
+                    continue
+                mapping = inverse[starts[k]:starts[k + 1]]
+                for g in obj.get("geometry", ()):
+                    g = dict(g, boundaries=_reindexed(g["boundaries"], mapping))
+                    text = json.dumps(g, sort_keys=True)
+                    if text not in seen:
+                        seen[text] = len(geometry)
+                        geometry.append(g)
+                        epochs_of.append([])
+                        versions += 1
+                    epochs_of[seen[text]].append(years[k])
+                attributes = obj.get("attributes") or {}
+                if base is None:
+                    base, kind = dict(attributes), obj.get("type")
+                else:
+                    differ = {n: v for n, v in attributes.items() if base.get(n) != v}
+                    differ.update({n: None for n in base if n not in attributes})
+                    if differ:
+                        extra[str(years[k])] = differ
+                for name in ("parents", "children"):
+                    if obj.get(name):
+                        links.setdefault(name, [])
+                        links[name].extend(x for x in obj[name] if x not in links[name])
+            out = {"type": kind}
+            out.update(links)
+            attributes = dict(base or {})
+            if extra:
+                attributes["epoch_attributes"] = extra
+            if geometry:
+                attributes["geometry_epochs"] = epochs_of
+                out["geometry"] = geometry
+                used.extend(_flat(g["boundaries"]) for g in geometry)
+            if member == oid:
+                built = _built(oid, keys)
+                span = lifespan(years, [k in trees for k in range(len(years))],
+                                built=built[1], standing=built[0])
+                attributes.update(span.attributes())
+                standing += span.standing
+                if span.conflict:
+                    conflicts[oid] = span.conflict
+            out["attributes"] = attributes
+            objects[member] = out
+    document = _document(objects, unique, used, epochs, reference_system, title)
+    report = MergeReport(len(present), {years[k]: sum(k in t for t in present.values())
+                                        for k in range(len(years))}, versions, standing,
+                         conflicts)
+    return DynamicModel(document, report)
+
+
+def _flat(nested):
+    out = []
+    stack = [nested]
+    while stack:
+        x = stack.pop()
+        if isinstance(x, list):
+            stack.extend(x)
+        else:
+            out.append(x)
+    return out
+
+
+def _register_keys(register):
+    """The register by id and by the key of :func:`~reconstruction.cityjson.existing.id_key`
+    (the rule that matches footprints with an existing model's buildings)."""
+    keys = {}
+    for rid, year in register.items():
+        text = str(rid).strip()
+        keys[text] = year
+        keys.setdefault(id_key(text), year)
+    return keys
+
+
+def _built(oid, keys):
+    """(standing, construction year) of a building id in today's register."""
+    if oid in keys:
+        return True, keys[oid]
+    k = id_key(oid)
+    if "." in oid and k in keys:
+        return True, keys[k]
+    return False, None
+
+
+def _document(objects, unique, used, epochs, reference_system, title):
+    """The CityJSON document of the merged ``objects`` whose boundaries index
+    ``unique`` (integer millimetres): the vertices used, renumbered from 0."""
+    flat = np.unique(np.concatenate([np.asarray(u, dtype=np.int64) for u in used])) if used \
+        else np.zeros(0, np.int64)
+    renumber = np.full(len(unique), -1, dtype=np.int64)
+    renumber[flat] = np.arange(len(flat))
+    rows = unique[flat]
+    translate = rows.min(axis=0) if len(rows) else np.zeros(3, np.int64)
+    for obj in objects.values():
+        if "geometry" in obj:
+            obj["geometry"] = [dict(g, boundaries=_reindexed(g["boundaries"], renumber))
+                               for g in obj["geometry"]]
+    first = epochs[-1].document
+    metadata = dict(first.get("metadata") or {})
+    if reference_system is not None:
+        metadata["referenceSystem"] = reference_system
+    if title is not None:
+        metadata["title"] = title
+    if len(rows):
+        lo, hi = rows.min(axis=0) * SCALE, rows.max(axis=0) * SCALE
+        metadata["geographicalExtent"] = [round(float(v), 3) for v in (*lo, *hi)]
+    return {"type": "CityJSON", "version": "2.0",
+            "transform": {"scale": [SCALE] * 3,
+                          "translate": [round(float(v) * SCALE, 3) for v in translate]},
+            "metadata": metadata, "CityObjects": objects,
+            "vertices": (rows - translate).tolist()}
+
+
+def epoch_years(document):
+    """The epochs (years) of a merged model: every year its buildings name."""
+    return sorted({y for obj in document.get("CityObjects", {}).values()
+                   for y in (obj.get("attributes") or {}).get("epochs", ())})
+
+
+def snapshot(document, year):
+    """The CityJSON document of the town in ``year`` (see the module doc) from a merged
+    model (:func:`merge_epochs`); InputError for a year before the first epoch."""
+    years = epoch_years(document)
+    if not years:
+        raise InputError("The model has no epochs (not a model of v.histo.timeline)")
+    if year < years[0]:
+        raise InputError("Year {} is before the model's first epoch ({})".format(
+            year, years[0]))
+    shown = max(y for y in years if y <= year)
+    later = [y for y in years if y > shown]
+    following = later[0] if later else None
+    objects = document["CityObjects"]
+    chosen = {}
+    for oid, obj in objects.items():
+        if obj.get("parents"):
+            continue
+        a = obj.get("attributes") or {}
+        if shown in a.get("epochs", ()):
+            chosen[oid] = shown
+        elif following is not None and following in a.get("epochs", ()) and isinstance(
+                a.get("dateOfConstruction"), int) and shown < a["dateOfConstruction"] <= year:
+            chosen[oid] = following
+    out, used = {}, []
+    for oid, epoch in chosen.items():
+        tree, k = [oid], 0
+        while k < len(tree):
+            tree.extend(c for c in objects[tree[k]].get("children", ()) if c in objects)
+            k += 1
+        for member in tree:
+            obj = objects[member]
+            a = obj.get("attributes") or {}
+            attributes = {n: v for n, v in a.items() if n not in DYNAMIC}
+            attributes.update((a.get("epoch_attributes") or {}).get(str(epoch), {}))
+            new = {n: v for n, v in obj.items() if n not in ("attributes", "geometry")}
+            if "geometry" in obj:
+                geoms = [g for g, e in zip(obj["geometry"], a.get("geometry_epochs", ()))
+                         if epoch in e]
+                if not geoms and member != oid:
+                    continue                    # a part of the building in other epochs
+                new["geometry"] = geoms
+                used.extend(_flat(g["boundaries"]) for g in geoms)
+            new["attributes"] = attributes
+            out[member] = new
+    for obj in out.values():                         # children of another epoch left out
+        for name in ("children", "parents"):
+            if name in obj:
+                obj[name] = [x for x in obj[name] if x in out]
+                if not obj[name]:
+                    del obj[name]
+    vertices = np.asarray(document.get("vertices") or np.zeros((0, 3)), dtype=np.int64)
+    t = document["transform"]
+    unique = vertices.reshape(-1, 3) + np.rint(np.asarray(t["translate"]) / SCALE).astype(
+        np.int64)
+    metadata = {k: v for k, v in (document.get("metadata") or {}).items()
+                if k != "geographicalExtent"}
+    doc = _document(out, unique, used, [Epoch(year, {"metadata": metadata})], None, None)
+    return doc

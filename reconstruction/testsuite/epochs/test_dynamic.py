@@ -1,0 +1,106 @@
+"""One model of several epochs and its snapshots (reconstruction.epochs.dynamic)."""
+
+import os
+
+import pytest
+
+from reconstruction.cityjson import geometry as citygeometry
+from reconstruction.cityjson import model as cityjson
+from reconstruction.core.errors import InputError
+from reconstruction.epochs.dynamic import Epoch, epoch_years, merge_epochs, snapshot
+
+SCHEMAS = os.path.join(os.path.dirname(__file__), "..", "..", "..", "..", "shared", "schemas",
+                       "cityjson-2.0.2")
+
+
+def box_solid(x0, y0, height):
+    """A 10 x 10 m box's vertices (absolute, m) and its Solid (indices from 0)."""
+    v = [(x0, y0, 0), (x0 + 10, y0, 0), (x0 + 10, y0 + 10, 0), (x0, y0 + 10, 0)]
+    v += [(x, y, height) for x, y, _ in v]
+    shell = [[[0, 3, 2, 1]], [[4, 5, 6, 7]], [[0, 1, 5, 4]], [[1, 2, 6, 5]], [[2, 3, 7, 6]],
+             [[3, 0, 4, 7]]]
+    return v, {"type": "Solid", "lod": "2.0", "boundaries": [shell]}
+
+
+def model(year, buildings, translate=(84000.0, 446000.0, 0.0)):
+    """An epoch's model: {id: (x0, y0, height, plot)}; millimetres, its own translate."""
+    vertices, objects = [], {}
+    for oid, (x0, y0, h, plot) in buildings.items():
+        v, solid = box_solid(x0, y0, h)
+        start = len(vertices)
+        vertices += v
+        solid["boundaries"] = [[[[i + start for i in ring] for ring in face]
+                                for face in solid["boundaries"][0]]]
+        objects[oid] = {"type": "Building", "geometry": [solid],
+                        "attributes": {"roof_type": "flat", "eaves_height": h, "plot": plot,
+                                       "map_year": year}}
+    scaled = [[round((c - t) / 0.001) for c, t in zip(p, translate)] for p in vertices]
+    return {"type": "CityJSON", "version": "2.0",
+            "transform": {"scale": [0.001] * 3, "translate": list(translate)},
+            "metadata": {"referenceSystem": "https://www.opengis.net/def/crs/EPSG/0/7415"},
+            "CityObjects": objects, "vertices": scaled}
+
+
+def town():
+    a = model(1880, {"kept": (84000, 446000, 8, 1), "gone": (84020, 446000, 9, 2),
+                     "raised": (84040, 446000, 7, 3)})
+    b = model(1915, {"kept": (84000, 446000, 8, 5), "raised": (84040, 446000, 11, 6),
+                     "NL.IMBAG.Pand.0503100000000007": (84060, 446000, 12, 7)},
+              translate=(83990.0, 445995.0, 0.0))
+    return [Epoch(1915, b), Epoch(1880, a)]
+
+
+def test_every_building_once_a_kept_one_with_one_geometry():
+    m = merge_epochs(town(), register={"0503100000000007": 1902})
+    objects = m.document["CityObjects"]
+    assert set(objects) == {"kept", "gone", "raised", "NL.IMBAG.Pand.0503100000000007"}
+    assert len(objects["kept"]["geometry"]) == 1
+    assert objects["kept"]["attributes"]["geometry_epochs"] == [[1880, 1915]]
+    assert objects["kept"]["attributes"]["epoch_attributes"] == {
+        "1915": {"plot": 5, "map_year": 1915}}
+    assert len(objects["raised"]["geometry"]) == 2
+    assert objects["raised"]["attributes"]["geometry_epochs"] == [[1880], [1915]]
+    gone = objects["gone"]["attributes"]
+    assert (gone["dateOfDemolitionEarliest"], gone["dateOfDemolitionLatest"]) == (1881, 1915)
+    new = objects["NL.IMBAG.Pand.0503100000000007"]["attributes"]
+    assert new["standing"] and new["dateOfConstruction"] == 1902 and "conflict" not in new
+    assert m.report.versions == 5 and m.report.standing == 1
+    assert m.report.per_epoch == {1880: 3, 1915: 3}
+    assert cityjson.consistency_errors(m.document) == []
+    assert epoch_years(m.document) == [1880, 1915]
+
+
+def test_the_merged_model_is_schema_valid(schemas):
+    doc = merge_epochs(town()).document
+    assert cityjson.schema_errors(doc, os.path.join(schemas, "cityjson-2.0.2")) == []
+
+
+@pytest.mark.parametrize("k", [0, 1])
+def test_a_snapshot_of_an_epoch_is_that_epochs_model(k):
+    epochs = sorted(town(), key=lambda e: e.year)
+    m = merge_epochs(epochs, register={"0503100000000007": 1902})
+    snap = snapshot(m.document, epochs[k].year)
+    assert citygeometry.resolved(snap) == citygeometry.resolved(epochs[k].document)
+    assert cityjson.consistency_errors(snap) == []
+
+
+def test_a_year_between_epochs_shows_the_earlier_and_what_the_register_dates_by_then():
+    m = merge_epochs(town(), register={"0503100000000007": 1902})
+    assert set(snapshot(m.document, 1901)["CityObjects"]) == {"kept", "gone", "raised"}
+    later = snapshot(m.document, 1902)["CityObjects"]
+    assert set(later) == {"kept", "gone", "raised", "NL.IMBAG.Pand.0503100000000007"}
+    assert later["raised"]["attributes"]["eaves_height"] == 7       # still the 1880 one
+    with pytest.raises(InputError, match="before the model's first epoch"):
+        snapshot(m.document, 1870)
+
+
+def test_a_register_year_before_a_map_without_the_building_is_a_conflict():
+    m = merge_epochs(town(), register={"0503100000000007": 1850})
+    assert m.report.conflicts == {
+        "NL.IMBAG.Pand.0503100000000007": "built 1850 (register) but not on the 1880 map"}
+
+
+def test_two_epochs_of_one_year_are_refused():
+    a, b = town()
+    with pytest.raises(InputError, match="same year"):
+        merge_epochs([a, Epoch(a.year, b.document)])
