@@ -34,7 +34,6 @@ Pure part: :func:`generate_town` (numpy, scipy, shapely; no GRASS),
         --seed 1 --size 600 --prefix town --truth town.json
 """
 
-import argparse
 import json
 import math
 import os
@@ -590,12 +589,9 @@ def write_to_grass(town, prefix="town"):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(
-        description="Write a synthetic town drawn at several years into the current GRASS "
-                    "mapset (run inside a GRASS session), its truth as JSON, or PNG pictures.")
-    parser.add_argument("--seed", type=int, default=1)
-    parser.add_argument("--size", type=int, default=600, help="pixels per side")
-    parser.add_argument("--res", type=float, default=1.0, help="metres per pixel")
+    parser = sm.map_arguments(
+        "Write a synthetic town drawn at several years into the current GRASS "
+        "mapset (run inside a GRASS session), its truth as JSON, or PNG pictures.")
     parser.add_argument("--years", default=",".join(map(str, YEARS)),
                         help="the map epochs, comma separated")
     parser.add_argument("--prefix", default="town", help="prefix of the map names")

@@ -1085,13 +1085,30 @@ def footprint_heights(polygons, seed):
     return {k: [round(float(v), 2) for v in values] for k, values in rows.items()}
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(
-        description="Write the synthetic historical map into the current GRASS mapset "
-                    "(run inside a GRASS session), or as a PNG picture.")
+def plots_sampled(smap, step):
+    """Rows and columns of every ``step``-th pixel, and whether its centre lies in a plot
+    (for tests of the truth raster against the plots)."""
+    rows, cols = np.mgrid[0:smap.shape[0]:step, 0:smap.shape[1]:step]
+    x = smap.west + (cols + 0.5) * smap.res
+    y = smap.north - (rows + 0.5) * smap.res
+    inside = np.zeros(x.shape, bool)
+    for poly in smap.plots:
+        inside |= shapely.contains_xy(poly, x, y)
+    return rows, cols, inside
+
+
+def map_arguments(description):
+    """The command line parser of a synthetic map's options (seed, size, resolution)."""
+    parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--size", type=int, default=600, help="pixels per side")
     parser.add_argument("--res", type=float, default=1.0, help="metres per pixel")
+    return parser
+
+
+def main(argv=None):
+    parser = map_arguments("Write the synthetic historical map into the current GRASS mapset "
+                           "(run inside a GRASS session), or as a PNG picture.")
     parser.add_argument("--prefix", default="map", help="prefix of the map names")
     parser.add_argument("--png", help="write only a PNG picture (plots outlined) to this path")
     parser.add_argument("--overwrite", action="store_true", help="replace existing maps")

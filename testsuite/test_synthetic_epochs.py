@@ -128,12 +128,7 @@ def test_offsets_are_small_and_recorded(town):
         assert 0.49 <= math.hypot(dx, dy) <= 1.51
         # the drawing really moved: the truth raster matches the offset plots, not the true ones
         smap = town.maps[e]
-        rows, cols = np.mgrid[0:600:5, 0:600:5]
-        x = smap.west + (cols + 0.5) * smap.res
-        y = smap.north - (rows + 0.5) * smap.res
-        drawn = np.zeros(x.shape, bool)
-        for poly in smap.plots:
-            drawn |= shapely.contains_xy(poly, x, y)
+        rows, cols, drawn = sm.plots_sampled(smap, 5)
         assert np.array_equal(drawn, smap.truth[rows, cols] == sm.BUILDING)
 
 

@@ -133,12 +133,7 @@ def test_one_ground_truth_point_inside_each_plot(smap):
 
 
 def test_truth_raster_matches_the_plot_polygons(smap):
-    rows, cols = np.mgrid[0:600:7, 0:600:7]
-    x = smap.west + (cols + 0.5) * smap.res
-    y = smap.north - (rows + 0.5) * smap.res
-    in_plot = np.zeros(x.shape, bool)
-    for poly in smap.plots:
-        in_plot |= shapely.contains_xy(poly, x, y)
+    rows, cols, in_plot = sm.plots_sampled(smap, 7)
     assert np.array_equal(in_plot, smap.truth[rows, cols] == BUILDING)
 
 
