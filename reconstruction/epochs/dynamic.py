@@ -37,6 +37,7 @@ from typing import Optional
 
 import numpy as np
 
+from ..cityjson import geometry as citygeometry
 from ..cityjson.existing import id_key
 from ..core.errors import InputError
 from .lifespans import lifespan
@@ -86,27 +87,25 @@ def _millimetres(doc):
         np.int64)
 
 
-def _reindexed(nested, mapping):
-    """A boundaries list with every vertex index ``i`` replaced by ``mapping[i]``."""
-    if isinstance(nested, list):
-        return [_reindexed(x, mapping) for x in nested]
-    return int(mapping[nested])
+def _reindexed(geometries, mapping):
+    """Copies of ``geometries`` with every vertex index ``i`` replaced by ``mapping[i]``."""
+    return citygeometry.reindex(geometries, lambda flat: mapping[flat]) if geometries else []
+
+
+def _tree(objects, oid):
+    """The ids of a city object's tree: itself first, then its descendants."""
+    tree, k = [oid], 0
+    while k < len(tree):
+        tree.extend(c for c in objects[tree[k]].get("children", ()) if c in objects
+                    and c not in tree)
+        k += 1
+    return tree
 
 
 def _trees(doc):
     """{top-level id: [object ids of its tree, itself first]} of a document."""
     objects = doc.get("CityObjects", {})
-    out = {}
-    for oid, obj in objects.items():
-        if obj.get("parents"):
-            continue
-        tree, k = [oid], 0
-        while k < len(tree):
-            tree.extend(c for c in objects[tree[k]].get("children", ()) if c in objects
-                        and c not in tree)
-            k += 1
-        out[oid] = tree
-    return out
+    return {oid: _tree(objects, oid) for oid, obj in objects.items() if not obj.get("parents")}
 
 
 def _check_years(epochs):
@@ -158,8 +157,7 @@ def merge_epochs(epochs, register=None, reference_system=None, title=None):
                 if obj is None or member not in trees[k]:
                     continue
                 mapping = inverse[starts[k]:starts[k + 1]]
-                for g in obj.get("geometry", ()):
-                    g = dict(g, boundaries=_reindexed(g["boundaries"], mapping))
+                for g in _reindexed(obj.get("geometry", ()), mapping):
                     text = json.dumps(g, sort_keys=True)
                     if text not in seen:
                         seen[text] = len(geometry)
@@ -187,7 +185,7 @@ def merge_epochs(epochs, register=None, reference_system=None, title=None):
             if geometry:
                 attributes["geometry_epochs"] = epochs_of
                 out["geometry"] = geometry
-                used.extend(_flat(g["boundaries"]) for g in geometry)
+                used.append(citygeometry.indices(geometry))
             if member == oid:
                 built = _built(oid, keys)
                 span = lifespan(years, [k in trees for k in range(len(years))],
@@ -203,18 +201,6 @@ def merge_epochs(epochs, register=None, reference_system=None, title=None):
                                         for k in range(len(years))}, versions, standing,
                          conflicts)
     return DynamicModel(document, report)
-
-
-def _flat(nested):
-    out = []
-    stack = [nested]
-    while stack:
-        x = stack.pop()
-        if isinstance(x, list):
-            stack.extend(x)
-        else:
-            out.append(x)
-    return out
 
 
 def _register_keys(register):
@@ -241,16 +227,14 @@ def _built(oid, keys):
 def _document(objects, unique, used, epochs, reference_system, title):
     """The CityJSON document of the merged ``objects`` whose boundaries index
     ``unique`` (integer millimetres): the vertices used, renumbered from 0."""
-    flat = np.unique(np.concatenate([np.asarray(u, dtype=np.int64) for u in used])) if used \
-        else np.zeros(0, np.int64)
+    flat = np.unique(np.concatenate(used)) if used else np.zeros(0, np.int64)
     renumber = np.full(len(unique), -1, dtype=np.int64)
     renumber[flat] = np.arange(len(flat))
     rows = unique[flat]
     translate = rows.min(axis=0) if len(rows) else np.zeros(3, np.int64)
     for obj in objects.values():
         if "geometry" in obj:
-            obj["geometry"] = [dict(g, boundaries=_reindexed(g["boundaries"], renumber))
-                               for g in obj["geometry"]]
+            obj["geometry"] = _reindexed(obj["geometry"], renumber)
     first = epochs[-1].document
     metadata = dict(first.get("metadata") or {})
     if reference_system is not None:
@@ -298,11 +282,7 @@ def snapshot(document, year):
             chosen[oid] = following
     out, used = {}, []
     for oid, epoch in chosen.items():
-        tree, k = [oid], 0
-        while k < len(tree):
-            tree.extend(c for c in objects[tree[k]].get("children", ()) if c in objects)
-            k += 1
-        for member in tree:
+        for member in _tree(objects, oid):
             obj = objects[member]
             a = obj.get("attributes") or {}
             attributes = {n: v for n, v in a.items() if n not in DYNAMIC}
@@ -314,7 +294,7 @@ def snapshot(document, year):
                 if not geoms and member != oid:
                     continue                    # a part of the building in other epochs
                 new["geometry"] = geoms
-                used.extend(_flat(g["boundaries"]) for g in geoms)
+                used.append(citygeometry.indices(geoms))
             new["attributes"] = attributes
             out[member] = new
     for obj in out.values():                         # children of another epoch left out
