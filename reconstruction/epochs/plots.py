@@ -167,7 +167,6 @@ def match_plots(before, after, tolerance=TOLERANCE, offset=None):
     i, j, shared = _overlaps(moved, after)
     smaller = np.minimum(shapely.area(moved)[i], shapely.area(after)[j]) if len(i) else shared
     link = shared >= LINK_SHARE * np.maximum(smaller, 1e-12)
-    link &= shared > 0
     i, j = i[link], j[link]
     label = _components(len(before), len(after), i, j)
     pairs = set(zip(i.tolist(), j.tolist()))

@@ -154,13 +154,13 @@ def run(inputs, config):
 def _previous(config, footprints, found, inputs):
     """The :class:`~reconstruction.lod2.previous.PreviousMatch` of the footprints with
     the earlier epoch's model (previous=), read and checked as an existing model is."""
-    with inputs.doing("reading the earlier epoch's model '{}'".format(config.previous)):
-        model = lod2_output.read_existing(ExistingRequest(path=config.previous),
-                                          config.location_epsg)
     identity = footprints.identity
     if identity is None:
         raise InputError("Option previous= needs the footprints' {} column (v.histo.subdivide "
                          "year=): it names each footprint's building".format(BUILDING))
+    with inputs.doing("reading the earlier epoch's model '{}'".format(config.previous)):
+        model = lod2_output.read_existing(ExistingRequest(path=config.previous),
+                                          config.location_epsg)
     heights = found.heights
     kept = lod2_previous.match_previous(model, identity, footprints.geometries, heights.eaves,
                                         heights.attic, found.source, config.map_year)

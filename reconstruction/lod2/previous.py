@@ -99,10 +99,9 @@ def match_previous(model, identities, geometries, eaves=None, attic=None, source
             continue
         attributes = model.objects[model.buildings[b]].get("attributes") or {}
         roof_type[i] = attributes.get("roof_type")
-        before = fps.geometry(b)
-        parts = polygon_parts(geom)
-        if before is None or len(parts) != 1 or len(polygon_parts(before)) != 1 or \
-                not same_outline(polygon_parts(before)[0], parts[0], OUTLINE_TOLERANCE):
+        before, parts = polygon_parts(fps.geometry(b)), polygon_parts(geom)
+        if len(parts) != 1 or len(before) != 1 or \
+                not same_outline(before[0], parts[0], OUTLINE_TOLERANCE):
             counts["reshaped"] += 1
             continue
         if sources[i] in MEASURING and not (

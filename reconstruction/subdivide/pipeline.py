@@ -132,12 +132,11 @@ def read_inputs(plots, cats, aligned, aligned_columns, config, previous=None):
         return SubdivisionInputs(plots, cats, aligned_columns=aligned_columns or {},
                                  previous=previous)
     ids = bag_ids(aligned_columns, config.id_column, config.aligned) if config.year else None
-    names = {k.lower(): k for k in aligned_columns}
-    if contract.PLOT not in names:
+    plot = _named(aligned_columns, contract.PLOT)
+    if plot is None:
         return SubdivisionInputs(plots, cats, aligned, None, aligned_columns, True, previous,
                                  ids)
-    aligned_plots = integer_column(aligned_columns[names[contract.PLOT]], contract.PLOT,
-                                   config.aligned)
+    aligned_plots = integer_column(plot, contract.PLOT, config.aligned)
     return SubdivisionInputs(plots, cats, aligned, aligned_plots, aligned_columns, False,
                              previous, ids)
 

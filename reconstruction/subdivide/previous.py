@@ -94,9 +94,14 @@ def keep_previous(previous, plots, cats, aligned_ids=(), tolerance=TOLERANCE, fi
     of a plot drawn twice unchanged (map units)."""
     matches = match_plots(previous.plots, plots, tolerance=tolerance)
     earlier = _earlier_plot_of(previous)
+    now = set(aligned_ids)
     realigned = {i for i, (s, b) in enumerate(zip(previous.source, previous.bag_id or
                                                   [None] * len(previous.source)))
-                 if s == SOURCE_ALIGNED and b is not None and b in set(aligned_ids)}
+                 if s == SOURCE_ALIGNED and b is not None and b in now}
+    of_plot = {}                    # earlier plot index -> its footprints, realigned left out
+    for i, p in enumerate(earlier.tolist()):
+        if i not in realigned:
+            of_plot.setdefault(p, []).append(i)
     footprints = np.array(previous.footprints, dtype=object)
     moved = shapely.transform(footprints, lambda xy: xy + np.asarray(matches.offset))
     area = shapely.area(footprints)
@@ -106,8 +111,7 @@ def keep_previous(previous, plots, cats, aligned_ids=(), tolerance=TOLERANCE, fi
         change[cats[a]] = kind
         if kind == NEW:
             continue
-        members = np.flatnonzero(np.isin(earlier, linked))
-        members = [int(i) for i in members if i not in realigned]
+        members = sorted(i for p in linked for i in of_plot.get(p, ()))
         if kind == UNCHANGED:
             done.add(cats[a])
             for i in members:
