@@ -91,9 +91,9 @@
 # % key: tolerance
 # % type: double
 # % required: no
-# % answer: 3
-# % label: Largest distance between the outlines of a plot drawn unchanged on two maps (map units)
-# % description: With previous=: after the later map's offset is taken out
+# % answer: 4
+# % label: Width of the widest difference between two drawings of an unchanged plot (map units)
+# % description: With previous=: after the later map's offset is taken out; what is thinner is the drawing, not a change
 # % guisection: Epochs
 # %end
 # %option G_OPT_DB_COLUMN

@@ -8,7 +8,8 @@ is (its solid, roof and heights: nothing changes where the maps did not),
 when its footprint has the same outline (:func:`~reconstruction.geom.polygons.same_outline`,
 within :data:`OUTLINE_TOLERANCE`) and this epoch measures no other heights
 for it (a measured, points or column height source more than
-:data:`HEIGHT_TOLERANCE` from the earlier eaves or roof height). A building
+:data:`HEIGHT_TOLERANCE` from the earlier eaves or roof height; a flat
+roof has no roof height to compare). A building
 of the same identity that is not kept is built anew with its earlier roof
 type (:attr:`PreviousMatch.roof_type`). :func:`with_previous` joins the
 kept buildings to the existing model's matches, so that both are copied
@@ -104,9 +105,11 @@ def match_previous(model, identities, geometries, eaves=None, attic=None, source
                 not same_outline(before[0], parts[0], OUTLINE_TOLERANCE):
             counts["reshaped"] += 1
             continue
+        # a flat roof has no attic: built anew with it, the building would be the same
+        flat = roof_type[i] == "flat"
         if sources[i] in MEASURING and not (
                 abs(eaves[i] - _height(attributes, "eaves_height")) <= HEIGHT_TOLERANCE and
-                abs(attic[i] - _height(attributes, "roof_height")) <= HEIGHT_TOLERANCE):
+                (flat or abs(attic[i] - _height(attributes, "roof_height")) <= HEIGHT_TOLERANCE)):
             counts["measured"] += 1
             continue
         building[i] = b

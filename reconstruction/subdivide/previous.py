@@ -8,11 +8,21 @@ later map's offset and drawing) and keeps:
 
 - in an unchanged plot, every earlier footprint of it; the plot is not
   subdivided anew;
-- in a changed plot (split, merged, extended, reduced, changed), the
-  earlier footprints of its linked plots that still fit in it (at least
-  :data:`FIT` of their area inside it, moved by the map's offset); the plot
-  is subdivided anew and the new footprints are clipped around the kept ones;
-- in a new plot, nothing.
+- elsewhere, every earlier footprint that the change of ground leaves
+  standing: less than 1 - :data:`FIT` of its area (moved by the map's
+  offset) on ground that was plot and is not any more
+  (:attr:`~reconstruction.epochs.PlotMatches.removed`: a demolished plot, a
+  wide passage cut through) and not cut in two by a narrow passage (more
+  than that share of it in each of two later plots), in the later plot it
+  overlaps most. A difference
+  thinner than the tolerance is the drawing, not a change, so a block one
+  map draws a little smaller keeps its buildings whatever label its plot
+  gets;
+- new footprints only on the ground that changed (:attr:`KeptFootprints.free`):
+  a plot's ground that is new (:attr:`~reconstruction.epochs.PlotMatches.added`)
+  or was under an earlier footprint not kept; the plot is subdivided anew and
+  what is generated elsewhere in it is clipped away, as around an aligned
+  footprint; a plot linked to no earlier one is subdivided whole.
 
 An earlier footprint is never kept where today's register is aligned again:
 an earlier aligned footprint whose BAG id is aligned in this epoch is the
@@ -65,7 +75,10 @@ class KeptFootprints:
     (``plot``, a category); ``done``: the later plots kept whole (unchanged,
     not subdivided anew); ``change``: {later plot category: its kind of
     change}; ``matches``: the :class:`~reconstruction.epochs.PlotMatches`;
-    ``realigned``: earlier aligned footprints whose BAG id is aligned again."""
+    ``realigned``: earlier aligned footprints whose BAG id is aligned again;
+    ``free``: {later plot category: the ground of it to build anew (a shapely
+    geometry, possibly empty)} of the plots neither unchanged nor new (a new
+    plot is built anew whole)."""
 
     index: list
     plot: list
@@ -73,6 +86,7 @@ class KeptFootprints:
     change: dict
     matches: Optional[PlotMatches] = None
     realigned: int = 0
+    free: dict = field(default_factory=dict)
 
 
 def _earlier_plot_of(previous):
@@ -98,35 +112,45 @@ def keep_previous(previous, plots, cats, aligned_ids=(), tolerance=TOLERANCE, fi
     realigned = {i for i, (s, b) in enumerate(zip(previous.source, previous.bag_id or
                                                   [None] * len(previous.source)))
                  if s == SOURCE_ALIGNED and b is not None and b in now}
-    of_plot = {}                    # earlier plot index -> its footprints, realigned left out
-    for i, p in enumerate(earlier.tolist()):
-        if i not in realigned:
-            of_plot.setdefault(p, []).append(i)
     footprints = np.array(previous.footprints, dtype=object)
     moved = shapely.transform(footprints, lambda xy: xy + np.asarray(matches.offset))
-    area = shapely.area(footprints)
-    best = {}                       # earlier footprint -> (share in its later plot, later plot)
-    done, change = set(), {}
-    for a, (kind, linked) in enumerate(zip(matches.change, matches.before)):
-        change[cats[a]] = kind
-        if kind == NEW:
-            continue
-        members = sorted(i for p in linked for i in of_plot.get(p, ()))
-        if kind == UNCHANGED:
-            done.add(cats[a])
-            for i in members:
-                best[i] = (2.0, cats[a])          # before any share of a changed plot
-            continue
-        if not members:
-            continue
-        share = shapely.area(shapely.intersection(moved[members], plots[a])) / np.maximum(
-            area[members], 1e-12)
-        for i, s in zip(members, share):
-            if s >= fit and s > best.get(i, (0.0, None))[0]:
-                best[i] = (float(s), cats[a])
-    index = sorted(best)
-    return KeptFootprints(index, [best[i][1] for i in index], done, change, matches,
-                          len(realigned))
+    area = np.maximum(shapely.area(footprints), 1e-12)
+    change = {cats[a]: kind for a, kind in enumerate(matches.change)}
+    done = {cats[a] for a, kind in enumerate(matches.change) if kind == UNCHANGED}
+    plot = {}                       # earlier footprint -> the later plot it is kept in
+    unchanged = matches.unchanged()
+    of_earlier = {}
+    for i, p in enumerate(earlier.tolist()):
+        of_earlier.setdefault(p, []).append(i)
+    for a, b in unchanged.items():
+        for i in of_earlier.get(b, ()):
+            if i not in realigned:
+                plot[i] = cats[a]
+    rest = np.array([i for i in range(len(footprints)) if i not in plot and i not in realigned],
+                    dtype=int)
+    if len(rest) and len(plots):
+        gone = shapely.area(shapely.intersection(moved[rest], matches.removed)) / area[rest]
+        standing = rest[gone < 1.0 - fit]
+        later = np.array(plots, dtype=object)
+        f, a = shapely.STRtree(later).query(moved[standing], predicate="intersects")
+        shared = shapely.area(shapely.intersection(moved[standing][f], later[a]))
+        best, parts = {}, {}
+        for k, j, s in zip(f.tolist(), a.tolist(), shared.tolist()):
+            if s > best.get(k, (0.0, None))[0]:
+                best[k] = (s, j)
+            # a footprint a passage now cuts in two lies in two plots
+            parts[k] = parts.get(k, 0) + (s >= (1.0 - fit) * area[standing[k]])
+        for k, (s, j) in best.items():
+            if cats[j] not in done and parts[k] < 2:
+                plot[int(standing[k])] = cats[j]
+    index = sorted(plot)
+    dropped = [i for i in range(len(footprints)) if i not in plot]
+    freed = shapely.union_all(moved[dropped]) if dropped else shapely.Polygon()
+    changed_ground = shapely.union(matches.added, freed)
+    free = {cats[a]: shapely.intersection(plots[a], changed_ground)
+            for a, kind in enumerate(matches.change) if kind not in (UNCHANGED, NEW)}
+    return KeptFootprints(index, [plot[i] for i in index], done, change, matches,
+                          len(realigned), free)
 
 
 def identities(subdivision, previous, aligned_ids, year):

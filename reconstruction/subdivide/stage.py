@@ -62,6 +62,7 @@ from dataclasses import dataclass, field, replace
 from typing import Optional
 
 import numpy as np
+import shapely
 from shapely.geometry import Polygon
 
 from ..core.contract import SOURCE_ALIGNED, SOURCE_PROCEDURAL
@@ -246,8 +247,9 @@ def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_thre
         exterior_of[cat] = exterior_lines(geom)
         # no street along a seam with a touching plot: no building locked in there
         seam_of[cat] = seams(geoms, neighbours, k)
-        if kept is not None and cat in kept.done:
-            continue                # unchanged since the earlier epoch: its footprints kept
+        if kept is not None and (cat in kept.done or (
+                cat in kept.free and kept.free[cat].area < MIN_AREA)):
+            continue                # nothing changed here since the earlier epoch
         rng = plot_rng(seed, cat)
         plot_front = front(geom, [geoms[j] for j in neighbours[k]]) if neighbours[k] else None
         for poly, case in subdivide_plot(geom, length, depth, area_threshold, rng, decompose,
@@ -269,12 +271,16 @@ def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_thre
     kept_dropped = sum(is_kept[f] and not p for f, p in pieces.items())
     if pieces:
         result = result.replaced(pieces)
-    if kept is not None:        # the new footprints give way to the kept ones
+    if kept is not None:        # the new footprints give way to the kept ones and stay
         fixed = [g for g, k in zip(result.geometries, result.kept) if k >= 0]
-        more, more_clipped, more_dropped = clip_generated(
-            result, fixed, exterior_of, seam_of, plot_of,
-            clippable=[s == SOURCE_PROCEDURAL and k < 0
-                       for s, k in zip(result.source, result.kept)])
+        fixed += [settled for cat, free in kept.free.items()   # on the ground that changed
+                  for settled in polygon_parts(shapely.difference(plot_of[cat], free))
+                  if settled.area > OVERLAP_TOLERANCE]
+        with np.errstate(divide="ignore", invalid="ignore"):   # GEOS's floating-point flags
+            more, more_clipped, more_dropped = clip_generated(
+                result, fixed, exterior_of, seam_of, plot_of,
+                clippable=[s == SOURCE_PROCEDURAL and k < 0
+                           for s, k in zip(result.source, result.kept)])
         clipped, dropped = clipped + more_clipped, dropped + more_dropped
         if more:
             result = result.replaced(more)

@@ -1,0 +1,74 @@
+"""The earlier epoch's buildings kept or built anew (reconstruction.lod2.previous):
+nothing changes where the maps and the measured heights did not."""
+
+import numpy as np
+import pytest
+from shapely.geometry import box
+
+from reconstruction.cityjson import existing
+from reconstruction.core.contract import HEIGHTS_MEASURED
+from reconstruction.lod2.previous import HEIGHT_TOLERANCE, match_previous
+
+CUBE = [[[[0, 3, 2, 1]], [[4, 5, 6, 7]], [[0, 1, 5, 4]], [[1, 2, 6, 5]], [[2, 3, 7, 6]],
+         [[3, 0, 4, 7]]]]
+SEMANTICS = {"surfaces": [{"type": "GroundSurface"}, {"type": "RoofSurface"},
+                          {"type": "WallSurface"}], "values": [[0, 1, 2, 2, 2, 2]]}
+
+
+def earlier_model(roof_type, eaves, roof_height):
+    """One earlier building, ``b1``, on the square (0, 0)-(4, 4), with its heights."""
+    vertices = [[dx, dy, dz] for dz in (0, int(eaves * 1000)) for dx, dy in
+                ((0, 0), (4000, 0), (4000, 4000), (0, 4000))]
+    doc = {"type": "CityJSON", "version": "2.0",
+           "transform": {"scale": [0.001] * 3, "translate": [0, 0, 0]},
+           "CityObjects": {"b1": {"type": "Building", "attributes": {
+               "roof_type": roof_type, "eaves_height": eaves, "roof_height": roof_height},
+               "geometry": [{"type": "Solid", "lod": "2.2", "boundaries": CUBE,
+                             "semantics": SEMANTICS}]}},
+           "vertices": vertices}
+    return existing.model_of(doc)
+
+
+def kept(model, eaves, attic, outline=box(0, 0, 4, 4), source=HEIGHTS_MEASURED):
+    match = match_previous(model, ["b1"], [outline], np.array([eaves]), np.array([attic]),
+                           [source])
+    return match.building[0] >= 0, match.report, match.roof_type
+
+
+def test_the_same_outline_and_heights_keep_the_building():
+    model = earlier_model("gable", 9.0, 3.0)
+    is_kept, report, roof = kept(model, 9.0, 3.0 + HEIGHT_TOLERANCE / 2)
+    assert is_kept and report.kept == 1 and roof == ["gable"]
+
+
+def test_other_measured_heights_or_another_outline_build_it_anew_with_its_roof():
+    model = earlier_model("gable", 9.0, 3.0)
+    is_kept, report, roof = kept(model, 9.0, 3.5)
+    assert not is_kept and report.measured == 1 and roof == ["gable"]
+    is_kept, report, _ = kept(model, 9.5, 3.0)
+    assert not is_kept and report.measured == 1
+    is_kept, report, _ = kept(model, 9.0, 3.0, outline=box(0, 0, 4, 5))
+    assert not is_kept and report.reshaped == 1
+
+
+def test_a_flat_roof_has_no_roof_height_to_compare():
+    """An earlier flat roof stores roof height 0 whatever attic the heights measured:
+    the same measured heights keep it, other eaves do not."""
+    model = earlier_model("flat", 11.2, 0.0)
+    is_kept, report, _ = kept(model, 11.2, 5.49)
+    assert is_kept and report.kept == 1
+    is_kept, report, _ = kept(model, 12.0, 5.49)
+    assert not is_kept and report.measured == 1
+
+
+def test_heights_not_measured_in_this_epoch_keep_the_building():
+    model = earlier_model("hip", 9.0, 3.0)
+    assert kept(model, 7.0, 1.0, source="neighbours")[0]
+
+
+@pytest.mark.parametrize("identity", [None, "b2"])
+def test_a_footprint_without_an_earlier_building_is_built(identity):
+    model = earlier_model("hip", 9.0, 3.0)
+    match = match_previous(model, [identity], [box(0, 0, 4, 4)], np.array([9.0]),
+                           np.array([3.0]), [HEIGHTS_MEASURED])
+    assert match.building[0] == -1 and match.report.new == (identity is not None)
