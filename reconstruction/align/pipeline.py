@@ -17,10 +17,8 @@ import numpy as np
 from ..core import contract
 from ..core.errors import InputError
 from ..geom.grid import Extent
+from ..core.register import year_column
 from .stage import Alignment, align, candidate_mask, construction_years, report_json
-
-#: the 3D BAG's year column, taken when the default bouwjaar is absent
-FALLBACK_YEAR_COLUMN = "oorspronkelijkbouwjaar"
 
 
 @dataclass(frozen=True)
@@ -73,17 +71,6 @@ class AlignmentResult:
     #: the warning when nothing aligned because they do not meet
     footprints_extent: Optional[Extent] = None
     plots_extent: Optional[Extent] = None
-
-
-def year_column(columns, wanted, given, name):
-    """The footprints' year column: ``wanted`` (any case), or the 3D BAG's name for the default."""
-    names = {c.lower(): c for c in columns if c != "cat"}
-    for candidate in [wanted] + ([] if given else [FALLBACK_YEAR_COLUMN]):
-        if candidate.lower() in names:
-            return names[candidate.lower()]
-    raise InputError("Footprints <{}> have no year column <{}>{}; columns: {}".format(
-        name, wanted, "" if given else " (nor <{}>)".format(FALLBACK_YEAR_COLUMN),
-        ", ".join(sorted(names.values())) or "none (no attribute table)"))
 
 
 def no_areas(name, key, what, counts):

@@ -29,7 +29,6 @@ Everything here is pure: shapely 2 geometries and numpy, no GRASS. Lengths
 are in map units (metres).
 """
 
-import datetime
 import math
 from dataclasses import asdict, dataclass
 from typing import Optional
@@ -38,13 +37,12 @@ import numpy as np
 import shapely
 
 from ..core.errors import InputError
+# construction_years and PLACEHOLDER_YEAR: importable from here as before core.register
+from ..core.register import PLACEHOLDER_YEAR, construction_years  # noqa: F401
 from ..core.work_limits import check_alignment
 # AlignmentConfig and buffer_from_resolution: importable from here as before config.py
 from .config import AlignmentConfig, buffer_from_resolution, matching_options  # noqa: F401
 
-#: the BAG register writes 9999 for "construction year unknown"; any year
-#: after the current one is a placeholder too
-PLACEHOLDER_YEAR = 9999
 #: similarities this close to the threshold count as reaching it (rounding of areas)
 SIMILARITY_TOLERANCE = 1e-9
 #: most raster cells of the offset estimate (its cell grows beyond that)
@@ -55,34 +53,6 @@ PEAK_TOLERANCE = 0.02
 AGREEMENT = 1.5
 #: a plot's shift needs this many neighbours' estimates (or all there are)
 MIN_AGREEING = 3
-
-
-def construction_years(values, column="year", ids=None, today=None):
-    """Construction years as floats, NaN where there is none.
-
-    No year: None (NULL), empty text, zero or less, and placeholders (9999,
-    or any year after the current one). Numbers written as text are read;
-    any other text raises :class:`InputError` naming the column (and the
-    footprint, from ``ids``).
-    """
-    latest = min(PLACEHOLDER_YEAR - 1, (today or datetime.date.today()).year)
-    years = np.full(len(values), np.nan)
-    for i, value in enumerate(values):
-        if value is None:
-            continue
-        if isinstance(value, str):
-            if not value.strip():
-                continue
-            try:
-                value = float(value)
-            except ValueError:
-                where = " (footprint {})".format(ids[i]) if ids is not None else ""
-                raise InputError("Year column <{}> is not numeric: <{}>{} is not a year".format(
-                    column, value.strip(), where)) from None
-        value = float(value)
-        if math.isfinite(value) and 0 < value <= latest:
-            years[i] = value
-    return years
 
 
 @dataclass(frozen=True)

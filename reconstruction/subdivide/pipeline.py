@@ -14,6 +14,7 @@ from typing import Optional
 from ..core import contract
 from ..core.errors import InputError
 from ..core.options import integer_column
+from ..core.register import bag_ids, column_named
 from ..geom.polygons import polygon_parts
 from .previous import PreviousEpoch, identities
 from .stage import Subdivision, subdivide
@@ -67,29 +68,6 @@ def plots_with_category(geometries, columns, name):
     return [geometries[i] for i in keep], [int(columns["cat"][i]) for i in keep]
 
 
-def _named(columns, name):
-    """The column of ``columns`` called ``name`` in any case (its values), or None."""
-    names = {k.lower(): k for k in columns}
-    return columns[names[name.lower()]] if name.lower() in names else None
-
-
-def bag_ids(columns, name, map_name):
-    """The BAG ids of a footprints map's table (as text, None where empty): column
-    ``name`` (InputError when missing), or the first of
-    :data:`~reconstruction.core.contract.BAG_ID_COLUMNS` present; None for none."""
-    if name:
-        values = _named(columns, name)
-        if values is None:
-            raise InputError("Column <{}> (id_column=) not found in vector map <{}>".format(
-                name, map_name))
-    else:
-        values = next((v for v in (_named(columns, c) for c in contract.BAG_ID_COLUMNS)
-                       if v is not None), None)
-    if values is None:
-        return None
-    return [None if v is None or str(v).strip() == "" else str(v).strip() for v in values]
-
-
 def read_previous(plots, cats, footprints, columns, config):
     """The :class:`~.previous.PreviousEpoch` of the earlier epoch's maps read: its plots
     (with their categories) and its footprints with their table. A footprint's
@@ -104,12 +82,12 @@ def read_previous(plots, cats, footprints, columns, config):
     footprints = parts
     columns = {k: [v[i] for i in keep] for k, v in columns.items()}
     n = len(footprints)
-    plot = _named(columns, contract.PLOT)
+    plot = column_named(columns, contract.PLOT)
     plot = integer_column(plot, contract.PLOT, config.previous) if plot is not None else [None] * n
-    source = _named(columns, contract.SOURCE) or [contract.SOURCE_PROCEDURAL] * n
-    case = _named(columns, contract.CASE) or [None] * n
+    source = column_named(columns, contract.SOURCE) or [contract.SOURCE_PROCEDURAL] * n
+    case = column_named(columns, contract.CASE) or [None] * n
     bag = bag_ids(columns, config.id_column, config.previous) or [None] * n
-    named = _named(columns, contract.BUILDING)
+    named = column_named(columns, contract.BUILDING)
     footprint_cats = columns.get("cat") or list(range(1, n + 1))
     identity = []
     for k in range(n):
@@ -132,7 +110,7 @@ def read_inputs(plots, cats, aligned, aligned_columns, config, previous=None):
         return SubdivisionInputs(plots, cats, aligned_columns=aligned_columns or {},
                                  previous=previous)
     ids = bag_ids(aligned_columns, config.id_column, config.aligned) if config.year else None
-    plot = _named(aligned_columns, contract.PLOT)
+    plot = column_named(aligned_columns, contract.PLOT)
     if plot is None:
         return SubdivisionInputs(plots, cats, aligned, None, aligned_columns, True, previous,
                                  ids)
