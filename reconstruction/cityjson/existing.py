@@ -46,7 +46,6 @@ Matching (:func:`match`), by id first, then by geometry:
 
 import dataclasses
 import json
-import os
 from dataclasses import dataclass, field
 from typing import Optional
 
@@ -56,12 +55,10 @@ from ..core import crs
 from ..core.errors import InputError
 from ..geom.grid import Extent
 from . import checks
+from .files import VERSION, check_version, load, not_cityjson, upgrade  # noqa: F401
 from . import geometry as citygeometry
 from . import seq as cityjsonseq
 
-#: the CityJSON versions read as they are, and those upgraded to 2.0 on read
-VERSION = "2.0"
-UPGRADED = ("1.1",)
 #: 3D BAG attributes of the measured heights (2025 names first, then the older ones)
 HEIGHT_ATTRIBUTES = {
     "ground": ("b3_h_maaiveld",),
@@ -152,41 +149,8 @@ def check_reference_system(model, location_epsg):
 
 
 # ---------------------------------------------------------------------------
-# Reading
+# Reading (the file itself: reconstruction.cityjson.files)
 # ---------------------------------------------------------------------------
-
-def _not_cityjson(path, why):
-    return InputError("'{}' is not a CityJSON file or CityJSONSeq file ({})".format(path, why))
-
-
-def _check_version(path, doc):
-    version = str(doc.get("version", ""))
-    if version == VERSION or version in UPGRADED:
-        return version
-    raise InputError(
-        "'{}' is CityJSON {}: only CityJSON {} and {} are read (upgrade it with "
-        "cjio: cjio {} upgrade save upgraded.city.json)".format(
-            path, version or "without a version", VERSION, ", ".join(UPGRADED),
-            os.path.basename(path)))
-
-
-def _upgrade(doc):
-    """CityJSON 1.1 -> 2.0 in place, by the rules of the 2.0 changelog (the
-    same as cjio's ``upgrade_version_v11_v20``): the version, the metadata's
-    point of contact address as an object, ``+GenericCityObject`` of the
-    Generic extension back as the core ``GenericCityObject``."""
-    doc["version"] = VERSION
-    contact = (doc.get("metadata") or {}).get("pointOfContact")
-    if isinstance(contact, dict) and isinstance(contact.get("address"), str):
-        contact["address"] = {"address": contact["address"]}
-    generic = (doc.get("extensions") or {}).get("Generic")
-    if isinstance(generic, dict) and "generic.ext.json" in str(generic.get("url", "")):
-        for obj in doc["CityObjects"].values():
-            if obj.get("type") == "+GenericCityObject":
-                obj["type"] = "GenericCityObject"
-        del doc["extensions"]["Generic"]
-    return doc
-
 
 def read_model(path, types=("Building",)):
     """Read an existing model: CityJSON 2.0 / 1.1 file or CityJSONSeq.
@@ -195,35 +159,18 @@ def read_model(path, types=("Building",)):
     :class:`InputError` for a missing file, a file that is not CityJSON, an
     unsupported version or a broken CityJSONSeq line.
     """
-    try:
-        f = open(path, encoding="utf-8")
-    except OSError as error:
-        raise InputError("Cannot read the existing model '{}': {}".format(path, error.strerror))
-    with f, citygeometry.gc_paused(keep=True):
-        try:
-            # a CityJSONSeq is a complete JSON object on its first line and
-            # more lines after it; a one-line CityJSON file is parsed once
-            first = f.readline()
-            try:
-                doc = json.loads(first)
-            except json.JSONDecodeError:
-                doc = None
-            rest = f.readline() if isinstance(doc, dict) else ""
-            while rest != "" and not rest.strip():
-                rest = f.readline()
-            offsets, counts, sequence = None, None, False
-            if rest:
-                f.seek(0)
-                doc, offsets, counts = cityjsonseq.read_features(f, path)
-                sequence = True
-            elif doc is None:
-                f.seek(0)
-                doc = json.load(f)
-        except UnicodeDecodeError:
-            raise _not_cityjson(path, "not a text file") from None
-        except json.JSONDecodeError as error:
-            raise _not_cityjson(path, "not JSON: {}".format(error)) from None
-        return model_of(doc, path, offsets, sequence, types, counts)
+    doc, offsets, counts, sequence = load(path)
+    return model_of(doc, path, offsets, sequence, types, counts)
+
+
+def read_document(path):
+    """The CityJSON document (a dict, indices into one vertex list) of a CityJSON file
+    or CityJSONSeq, checked as :func:`read_model` checks a model (InputError)."""
+    doc, offsets, counts, sequence = load(path)
+    model_of(doc, path, offsets, sequence, counts=counts)
+    if sequence:
+        doc = cityjsonseq.joined(doc, offsets)
+    return doc
 
 
 @citygeometry.gc_paused()
@@ -240,12 +187,12 @@ def model_of(doc, path="<model>", offsets=None, sequence=False, types=("Building
     """
     if not isinstance(doc, dict) or doc.get("type") != "CityJSON":
         kind = doc.get("type") if isinstance(doc, dict) else type(doc).__name__
-        raise _not_cityjson(path, "its type is {}".format(json.dumps(kind)))
-    version = _check_version(path, doc)
+        raise not_cityjson(path, "its type is {}".format(json.dumps(kind)))
+    version = check_version(path, doc)
     if not isinstance(doc.get("CityObjects"), dict) or not isinstance(doc.get("vertices"), list):
-        raise _not_cityjson(path, "no CityObjects or vertices")
+        raise not_cityjson(path, "no CityObjects or vertices")
     if version != VERSION:
-        _upgrade(doc)                   # 1.1
+        upgrade(doc)                   # 1.1
     transform = doc.get("transform")
     checks.check_transform(path, transform)
     transform = transform or {}

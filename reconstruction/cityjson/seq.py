@@ -355,12 +355,18 @@ def read_features(f, path="<stream>"):
     return doc, offsets, counts
 
 
-@citygeometry.gc_paused()
 def collect(f, path="<stream>"):
     """The CityJSON document (dict) of a CityJSONSeq text file: the features'
     objects with indices into one vertex list, shared vertices once and
     unused ones left out."""
     doc, offsets, _ = read_features(f, path)
+    return joined(doc, offsets)
+
+
+@citygeometry.gc_paused()
+def joined(doc, offsets):
+    """The document of :func:`read_features` (``doc``, ``offsets``) with indices into
+    one vertex list: shared vertices once, unused ones left out."""
     geoms, shift, where = [], [], []
     for oid, obj in doc["CityObjects"].items():
         for k, g in enumerate(obj.get("geometry", ())):
@@ -385,3 +391,44 @@ def collect(f, path="<stream>"):
     doc["CityObjects"] = objects
     doc["vertices"] = state["rows"].tolist()
     return doc
+
+
+def object_tree(objects, oid):
+    """The ids of a city object's tree in ``objects``: itself first, then its descendants."""
+    tree, k = [oid], 0
+    while k < len(tree):
+        tree.extend(c for c in objects[tree[k]].get("children", ()) if c in objects
+                    and c not in tree)
+        k += 1
+    return tree
+
+
+def document_features(doc):
+    """A CityJSON document (dict) as CityJSONSeq: its header, then one
+    ``CityJSONFeature`` per top-level object with its children and its own
+    vertices (dicts, in the document's order; the transform is the header's)."""
+    head = {k: v for k, v in doc.items() if k not in ("CityObjects", "vertices")}
+    head["CityObjects"], head["vertices"] = {}, []
+    yield head
+    objects = doc.get("CityObjects", {})
+    vertices = np.asarray(doc.get("vertices") or np.zeros((0, 3)), dtype=np.int64).reshape(
+        -1, 3)
+    for oid, obj in objects.items():
+        if obj.get("parents"):
+            continue
+        tree = object_tree(objects, oid)
+        members = {m: dict(objects[m]) for m in tree}
+        where = [(m, k) for m in tree for k in range(len(objects[m].get("geometry", ())))]
+        geoms = [objects[m]["geometry"][k] for m, k in where]
+        own = np.zeros((0, 3), dtype=np.int64)
+        if geoms:
+            used, local = np.unique(citygeometry.indices(geoms), return_inverse=True)
+            own = vertices[used]
+            new = citygeometry.reindex(geoms, lambda flat: local)
+            for m in tree:
+                if "geometry" in members[m]:
+                    members[m]["geometry"] = list(members[m]["geometry"])
+            for (m, k), g in zip(where, new):
+                members[m]["geometry"][k] = g
+        yield {"type": "CityJSONFeature", "id": oid, "CityObjects": members,
+               "vertices": own.tolist()}

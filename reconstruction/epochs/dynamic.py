@@ -38,6 +38,7 @@ from typing import Optional
 import numpy as np
 
 from ..cityjson import geometry as citygeometry
+from ..cityjson.seq import object_tree
 from ..cityjson.existing import id_key
 from ..core.errors import InputError
 from .lifespans import lifespan
@@ -92,20 +93,11 @@ def _reindexed(geometries, mapping):
     return citygeometry.reindex(geometries, lambda flat: mapping[flat]) if geometries else []
 
 
-def _tree(objects, oid):
-    """The ids of a city object's tree: itself first, then its descendants."""
-    tree, k = [oid], 0
-    while k < len(tree):
-        tree.extend(c for c in objects[tree[k]].get("children", ()) if c in objects
-                    and c not in tree)
-        k += 1
-    return tree
-
-
 def _trees(doc):
     """{top-level id: [object ids of its tree, itself first]} of a document."""
     objects = doc.get("CityObjects", {})
-    return {oid: _tree(objects, oid) for oid, obj in objects.items() if not obj.get("parents")}
+    return {oid: object_tree(objects, oid) for oid, obj in objects.items()
+            if not obj.get("parents")}
 
 
 def _check_years(epochs):
@@ -282,7 +274,7 @@ def snapshot(document, year):
             chosen[oid] = following
     out, used = {}, []
     for oid, epoch in chosen.items():
-        for member in _tree(objects, oid):
+        for member in object_tree(objects, oid):
             obj = objects[member]
             a = obj.get("attributes") or {}
             attributes = {n: v for n, v in a.items() if n not in DYNAMIC}

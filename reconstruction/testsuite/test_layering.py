@@ -11,6 +11,7 @@ down or stay inside its own package:
 - ``epochs`` (several dated maps of one town: plots matched between epochs,
   lifespans, the model of all epochs) imports ``core``, ``geom`` and ``cityjson``;
 - the stages ``classify``, ``generalize``, ``align``, ``subdivide``, ``lod2``
+  and the module v.histo.timeline's ``timeline``
   import the packages above and their own modules, never another stage.
 
 Across packages only public names travel (no ``_name``, no ``_module``), the
@@ -38,7 +39,7 @@ LAYERS = {
     "grassio": {"core", "geom"},
     "epochs": {"core", "geom", "cityjson"},
 }
-STAGES = ("classify", "generalize", "align", "subdivide", "lod2")
+STAGES = ("classify", "generalize", "align", "subdivide", "lod2", "timeline")
 for _stage in STAGES:
     LAYERS[_stage] = {"core", "geom", "cityjson", "grassio", "epochs"}
 
