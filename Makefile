@@ -19,7 +19,8 @@ SUBDIRS = \
 	v.histo.generalize \
 	v.histo.align \
 	v.histo.subdivide \
-	v.histo.lod2
+	v.histo.lod2 \
+	v.histo.timeline
 
 MODULE_TOPDIR ?= $(shell grass --config path 2>/dev/null)
 

@@ -28,7 +28,7 @@ import readme_tutorial
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DIST = os.environ.get("HISTO_DIST", os.path.join(ROOT, "dist"))
 MODULES = ("r.histo.classify", "v.histo.generalize", "v.histo.align", "v.histo.subdivide",
-           "v.histo.lod2")
+           "v.histo.lod2", "v.histo.timeline")
 PAGES = MODULES + ("histo",)
 TUTORIAL = ("map.png", "classes.png", "plots.png", "aligned.png", "footprints.png", "model.png")
 

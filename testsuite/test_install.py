@@ -21,7 +21,7 @@ import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 MODULES = ["r.histo.classify", "v.histo.generalize", "v.histo.align", "v.histo.subdivide",
-           "v.histo.lod2"]
+           "v.histo.lod2", "v.histo.timeline"]
 PLACEHOLDER = "/path/to/histo-checkout"
 # a user's PATH with no python3 but Debian's (no pyenv, no venv, no dist/)
 PLAIN_PATH = "/usr/sbin:/usr/bin:/sbin:/bin"

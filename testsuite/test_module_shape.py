@@ -18,7 +18,7 @@ import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 MODULES = ("r.histo.classify", "v.histo.generalize", "v.histo.align", "v.histo.subdivide",
-           "v.histo.lod2")
+           "v.histo.lod2", "v.histo.timeline")
 MAX_LINES = 100
 
 # an option's text cast, or split, where it is read

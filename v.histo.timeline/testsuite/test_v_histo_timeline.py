@@ -1,0 +1,58 @@
+"""v.histo.timeline in a temporary GRASS location: the epochs' models merged with today's
+register (a vector map's table), a snapshot, and one ERROR line for bad options with
+nothing written."""
+
+import json
+
+import pytest
+
+from histo_testing import key_values, run_module
+from reconstruction.testsuite.epochs.test_dynamic import town
+
+pytestmark = pytest.mark.grass
+
+
+@pytest.fixture
+def epochs(mapset, tmp_path):
+    import grass.script as gs
+
+    from reconstruction import grassio
+    from shapely.geometry import box
+
+    gs.run_command("g.region", n=446020, s=445990, e=84080, w=83990, res=1)
+    grassio.write_features("bag", [box(84060, 446000, 84070, 446010)], cats=[1],
+                           columns={"identificatie": ["0503100000000007"], "bouwjaar": [1902]})
+    paths = {}
+    for epoch in town():
+        paths[epoch.year] = str(tmp_path / "model_{}.city.json".format(epoch.year))
+        with open(paths[epoch.year], "w") as f:
+            json.dump(epoch.document, f)
+    return paths
+
+
+def test_the_epochs_merge_into_one_model_and_a_year_is_its_snapshot(epochs, tmp_path):
+    out = str(tmp_path / "town.city.json")
+    rc, stdout, err = run_module("v.histo.timeline", flags="g", models="{},{}".format(
+        epochs[1880], epochs[1915]), years="1880,1915", register="bag", output=out)
+    assert rc == 0, err
+    counts = key_values(stdout)
+    assert counts["buildings"] == "4" and counts["standing"] == "1"
+    assert counts["buildings_1880"] == "3" and counts["buildings_1915"] == "3"
+    with open(out) as f:
+        objects = json.load(f)["CityObjects"]
+    assert objects["NL.IMBAG.Pand.0503100000000007"]["attributes"]["dateOfConstruction"] == 1902
+    assert objects["gone"]["attributes"]["dateOfDemolitionLatest"] == 1915
+    rc, stdout, err = run_module("v.histo.timeline", flags="g", input=out, snapshot=1880,
+                                 output=str(tmp_path / "y.city.jsonl"), format="cityjsonseq")
+    assert rc == 0, err
+    assert key_values(stdout)["buildings"] == "3"
+
+
+def test_bad_years_end_in_one_error_line_and_nothing_written(epochs, tmp_path):
+    out = tmp_path / "town.city.json"
+    rc, _out, err = run_module("v.histo.timeline", models=epochs[1880], years="1880,1915",
+                               output=str(out))
+    assert rc != 0 and not out.exists()
+    text = " ".join(err.split())
+    assert text.count("ERROR:") == 1 and "one year per model" in text
+    assert "Traceback" not in err
