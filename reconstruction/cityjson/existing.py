@@ -166,7 +166,7 @@ def read_model(path, types=("Building",)):
 def read_document(path):
     """The CityJSON document (a dict, indices into one vertex list) of a CityJSON file
     or CityJSONSeq, checked as :func:`read_model` checks a model (InputError)."""
-    doc, offsets, counts, sequence = load(path)
+    doc, offsets, counts, sequence = load(path, "model")
     model_of(doc, path, offsets, sequence, counts=counts)
     if sequence:
         doc = cityjsonseq.joined(doc, offsets)

@@ -47,13 +47,15 @@ def upgrade(doc):
     return doc
 
 
-def load(path):
-    """The parsed file: (document, offsets, counts, sequence) as :func:`model_of` takes
-    them (a CityJSONSeq's objects keep their feature's indices)."""
+def load(path, what="existing model"):
+    """The parsed file: (document, offsets, counts, sequence) as
+    :func:`~reconstruction.cityjson.existing.model_of` takes them (a CityJSONSeq's
+    objects keep their feature's indices); ``what`` the file is, for the error of a
+    file that cannot be opened."""
     try:
         f = open(path, encoding="utf-8")
     except OSError as error:
-        raise InputError("Cannot read the existing model '{}': {}".format(path, error.strerror))
+        raise InputError("Cannot read the {} '{}': {}".format(what, path, error.strerror))
     with f, citygeometry.gc_paused(keep=True):
         try:
             # a CityJSONSeq is a complete JSON object on its first line and

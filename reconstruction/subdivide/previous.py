@@ -12,8 +12,8 @@ later map's offset and drawing) and keeps:
   standing: less than 1 - :data:`FIT` of its area (moved by the map's
   offset) on ground that was plot and is not any more
   (:attr:`~reconstruction.epochs.PlotMatches.removed`: a demolished plot, a
-  wide passage cut through) and not cut in two by a narrow passage (more
-  than that share of it in each of two later plots), in the later plot it
+  wide passage cut through) and not cut in two by a narrow passage (at
+  least that share of it in each of two later plots), in the later plot it
   overlaps most. A difference
   thinner than the tolerance is the drawing, not a change, so a block one
   map draws a little smaller keeps its buildings whatever label its plot

@@ -7,7 +7,7 @@ import json
 import pytest
 
 from histo_testing import key_values, run_module
-from reconstruction.testsuite.epochs.test_dynamic import town
+from reconstruction.testsuite.timeline.test_timeline import write_epochs
 
 pytestmark = pytest.mark.grass
 
@@ -22,12 +22,7 @@ def epochs(mapset, tmp_path):
     gs.run_command("g.region", n=446020, s=445990, e=84080, w=83990, res=1)
     grassio.write_features("bag", [box(84060, 446000, 84070, 446010)], cats=[1],
                            columns={"identificatie": ["0503100000000007"], "bouwjaar": [1902]})
-    paths = {}
-    for epoch in town():
-        paths[epoch.year] = str(tmp_path / "model_{}.city.json".format(epoch.year))
-        with open(paths[epoch.year], "w") as f:
-            json.dump(epoch.document, f)
-    return paths
+    return write_epochs(tmp_path)
 
 
 def test_the_epochs_merge_into_one_model_and_a_year_is_its_snapshot(epochs, tmp_path):

@@ -62,6 +62,7 @@ def resolved(doc):
 
 
 def write_epochs(tmp_path):
+    """The epochs of test_dynamic's town as files: {year: path}."""
     paths = {}
     for epoch in town():
         paths[epoch.year] = str(tmp_path / "model_{}.city.json".format(epoch.year))
@@ -108,3 +109,10 @@ def test_the_report_counts_and_lists_the_conflicts(tmp_path):
     assert "1 buildings where the maps and the register disagree" in text
     assert "<NL.IMBAG.Pand.0503100000000007>" in text
     assert timeline.report_json(result, config)["conflicts"] == dict(result.merge.conflicts)
+
+
+def test_a_model_that_cannot_be_opened_is_named(tmp_path):
+    config = timeline.read_config(options(models=str(tmp_path / "none.city.json"),
+                                          years="1880"), {})
+    with pytest.raises(InputError, match="Cannot read the model '.*none.city.json'"):
+        timeline.run(config, lambda name: {}, doing)
