@@ -136,12 +136,39 @@ def _corners_only(ring, tolerance):
 
 def same_outline(a, b, tolerance=1e-6):
     """Whether polygons ``a`` and ``b`` have the same outline: the same corners within
-    ``tolerance``, whatever vertex their rings start at; a vertex on a straight edge
-    (a neighbour's vertex inserted into a shared edge, as GRASS's topology and
-    :func:`~reconstruction.subdivide.noding.node_footprints` do) is no corner."""
+    ``tolerance``, whatever vertex their rings start at and whichever way they turn; a
+    vertex on a straight edge (a neighbour's vertex inserted into a shared edge, as
+    GRASS's topology and :func:`~reconstruction.subdivide.noding.node_footprints` do)
+    is no corner. The rings are compared corner to corner at every rotation, not
+    from a first vertex chosen by its coordinates: where two corners' x differ by
+    less than the tolerance (the two ends of a north-south wall), two copies of one
+    ring could start at different corners."""
     if a is None or b is None:
         return a is b
-    a, b = (shapely.normalize(shapely.Polygon(
-        _corners_only(g.exterior.coords, tolerance),
-        [_corners_only(h.coords, tolerance) for h in g.interiors])) for g in (a, b))
-    return bool(shapely.equals_exact(a, b, tolerance))
+    if len(a.interiors) != len(b.interiors) or not _same_ring(
+            a.exterior.coords, b.exterior.coords, tolerance):
+        return False
+    holes = [h.coords for h in b.interiors]
+    for h in a.interiors:
+        match = next((k for k, g in enumerate(holes) if _same_ring(h.coords, g, tolerance)),
+                     None)
+        if match is None:
+            return False
+        holes.pop(match)
+    return True
+
+
+def _same_ring(a, b, tolerance):
+    """Whether two closed rings have the same corners (:func:`_corners_only`) within
+    ``tolerance`` at some rotation, both turned counter-clockwise."""
+    a, b = (_counter_clockwise(_corners_only(r, tolerance)) for r in (a, b))
+    if len(a) != len(b):
+        return False
+    rotations = np.stack([np.roll(b, -k, axis=0) for k in range(len(b))])
+    return bool(np.any(np.max(np.abs(rotations - a[None]), axis=(1, 2)) <= tolerance))
+
+
+def _counter_clockwise(xy):
+    """The vertices ``xy`` (an open ring) counter-clockwise."""
+    x, y = xy[:, 0], xy[:, 1]
+    return xy if np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)) >= 0 else xy[::-1]

@@ -3,6 +3,8 @@
 import numpy as np
 import pytest
 import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from shapely.geometry import GeometryCollection, LineString, MultiPolygon, Point, Polygon, box
 
 from reconstruction.geom import polygons
@@ -60,3 +62,46 @@ def test_repair_gives_one_valid_geometry_per_input_and_tells_which_were_invalid(
     assert out[0].equals(box(0, 0, 1, 1)) and out[1] is None and out[3] is None and out[5] is None
     assert out[2].is_valid and out[2].area == pytest.approx(2)
     assert out[4].geom_type == "MultiPolygon" and out[4].area == pytest.approx(2)
+
+
+def test_the_same_outline_whatever_its_first_corner_and_turn():
+    house = Polygon([(0, 0), (8, 0), (8, 6), (0, 6)])
+    assert polygons.same_outline(house, Polygon([(8, 6), (0, 6), (0, 0), (8, 0)]))
+    assert polygons.same_outline(house, Polygon([(0, 0), (0, 6), (8, 6), (8, 0)]))
+    # a neighbour's vertex in a shared wall is no corner
+    assert polygons.same_outline(house, Polygon([(0, 0), (5, 0), (8, 0), (8, 6), (0, 6)]))
+    assert not polygons.same_outline(house, box(0, 0, 8, 6.01), 0.002)
+    assert not polygons.same_outline(house, Polygon([(0, 0), (8, 0), (8, 6), (1, 6)]))
+    yard = Polygon(house.exterior.coords, [box(2, 2, 3, 3).exterior.coords])
+    assert polygons.same_outline(yard, Polygon(house.exterior.coords[::-1],
+                                                [box(2, 2, 3, 3).exterior.coords[::-1]]))
+    assert not polygons.same_outline(yard, house)
+    assert not polygons.same_outline(yard, Polygon(house.exterior.coords,
+                                                   [box(4, 2, 5, 3).exterior.coords]))
+
+
+def test_the_same_outline_rounded_to_the_millimetre_with_a_wall_almost_north_south():
+    # a footprint of the synthetic town and the same footprint read back from its
+    # model (millimetres): its west wall's two ends lie 0.34 nm apart in x, so that
+    # shapely.normalize starts one copy at its north-west corner and the other at its
+    # south-west one; equals_exact then compares other corners
+    drawn = Polygon([(84375.84, 446217.32), (84375.84, 446218.93), (84368.93, 446218.93),
+                     (84368.56871, 446218.93), (84368.56871033768, 446212.62967790116),
+                     (84375.84, 446212.76314524625)])
+    rounded = Polygon([(84375.84, 446212.763), (84368.569, 446212.63), (84368.569, 446218.93),
+                       (84375.84, 446218.93)])
+    assert polygons.same_outline(drawn, rounded, 0.002)
+    assert polygons.same_outline(rounded, drawn, 0.002)
+    assert not polygons.same_outline(drawn, rounded, 0.0002)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(3, 12), st.integers(0, 11), st.booleans(), st.floats(0, 2 * np.pi))
+def test_a_convex_ring_is_the_same_outline_from_any_corner_either_way(n, start, turn, angle):
+    t = angle + np.linspace(0, 2 * np.pi, n, endpoint=False)
+    ring = np.column_stack([84000 + 10 * np.cos(t), 446000 + 6 * np.sin(t)])
+    other = np.roll(ring, -(start % n), axis=0)
+    if turn:
+        other = other[::-1]
+    assert polygons.same_outline(Polygon(ring), Polygon(other + 0.0005), 0.001)
+    assert not polygons.same_outline(Polygon(ring), Polygon(other + 0.002), 0.001)
