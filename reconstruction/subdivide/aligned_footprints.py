@@ -184,7 +184,8 @@ def calibrate(aligned, aligned_plots, plots, cats, length, depth, min_samples=5,
     return (float(f[0]), float(f[1])), (float(d[0]), float(d[1])), len(facades)
 
 
-def clip_generated(footprints, aligned, exterior_of, seam_of=None, plot_of=None, clippable=None):
+def clip_generated(footprints, aligned, exterior_of, seam_of=None, plot_of=None, clippable=None,
+                   settled=None):
     """Clip or drop generated footprints that overlap aligned footprints.
 
     What is left of a generated footprint outside the aligned ones is kept
@@ -199,7 +200,9 @@ def clip_generated(footprints, aligned, exterior_of, seam_of=None, plot_of=None,
     :func:`reconstruction.subdivide.plots.exterior_lines` (``seam_of`` to
     its :func:`reconstruction.subdivide.plots.seams`, ``plot_of`` to the
     plot itself); ``clippable``: which footprints may be clipped (default: the
-    generated ones).
+    generated ones); ``settled``: which of them are buildings of an earlier epoch,
+    clipped only where they overlap an aligned footprint by more than
+    ``OVERLAP_TOLERANCE``: an overlap of a rounding error leaves them as they were.
     Returns ``(pieces, clipped, dropped)``: the Polygons that replace each
     clipped or dropped footprint (none for a dropped one), by index, and
     the two counts.
@@ -219,7 +222,8 @@ def clip_generated(footprints, aligned, exterior_of, seam_of=None, plot_of=None,
             continue
         fp = footprints.geometries[f]
         union = shapely.union_all([present[i] for i in idx])
-        if overlay(shapely.intersection, fp, union).area <= CLIP_AREA:
+        least = OVERLAP_TOLERANCE if settled is not None and settled[f] else CLIP_AREA
+        if overlay(shapely.intersection, fp, union).area <= least:
             continue
         pieces = []
         # snap-rounded: an aligned corner a rounding error from the footprint's

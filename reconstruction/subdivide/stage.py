@@ -266,7 +266,8 @@ def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_thre
     is_kept = [k >= 0 for k in result.kept]
     pieces, clipped, dropped = clip_generated(
         result, aligned_geoms, exterior_of, seam_of, plot_of,
-        clippable=[s == SOURCE_PROCEDURAL or k for s, k in zip(result.source, is_kept)])
+        clippable=[s == SOURCE_PROCEDURAL or k for s, k in zip(result.source, is_kept)],
+        settled=is_kept)
     kept_clipped = sum(is_kept[f] and bool(p) for f, p in pieces.items())
     kept_dropped = sum(is_kept[f] and not p for f, p in pieces.items())
     if pieces:

@@ -212,3 +212,42 @@ def test_a_block_drawn_a_little_smaller_keeps_its_buildings_and_gets_none_new(
     assert sorted(ids) == sorted(prev.identity)
     old = by_identity(prev)
     assert all(same_outline(old[i], g) for i, g in zip(ids, s2.geometries))
+
+
+def _row_epoch():
+    """A row plot of six 10 m houses as the earlier epoch."""
+    houses = [box(x, 0, x + 10, 14) for x in range(0, 60, 10)]
+    return PreviousEpoch([box(0, 0, 60, 14)], [1], houses, [1] * 6,
+                         ["h{}".format(k) for k in range(6)], ["2pm"] * 6, [5] * 6)
+
+
+@pytest.mark.parametrize("end, last_kept", [(55.5, True), (54.5, False), (52, False)])
+def test_a_building_stands_while_most_of_its_ground_is_still_drawn(end, last_kept):
+    # the later map draws the row's end `60 - end` m short, more than the tolerance
+    # (4 m): 45 % of the last house off the plot keeps it, 55 % or more does not
+    from reconstruction.subdivide.previous import keep_previous
+
+    kept = keep_previous(_row_epoch(), [box(0, 0, end, 14)], [11])
+    assert kept.index == ([0, 1, 2, 3, 4, 5] if last_kept else [0, 1, 2, 3, 4])
+    assert set(kept.plot) == {11}
+
+
+def test_a_building_a_new_passage_cuts_in_two_is_not_kept():
+    # a 3 m passage at 22-25 m: house 2 (20-30 m) lies 20 % and 50 % in the two new plots
+    from reconstruction.subdivide.previous import keep_previous
+
+    kept = keep_previous(_row_epoch(), [box(0, 0, 22, 14), box(25, 0, 60, 14)], [11, 12])
+    assert kept.index == [0, 1, 3, 4, 5]
+    assert kept.plot == [11, 11, 12, 12, 12]
+
+
+@pytest.mark.parametrize("overlap", [1e-9, 0.5])
+def test_a_kept_building_an_aligned_one_touches_within_a_rounding_error_stays(overlap):
+    # a current footprint aligned on the later map only, beside the row's first house:
+    # a touch within a rounding error leaves the house as it was, an overlap clips it
+    prev = _row_epoch()
+    s2, ids, _cats = later([box(0, 0, 60, 14)], prev, aligned=[box(-6, 0, overlap, 14)],
+                           aligned_ids=["0503100000000009"])
+    house = s2.geometries[ids.index("h0")]
+    assert same_outline(house, prev.footprints[0], 1e-6) is (overlap < 0.01)
+    assert house.area == pytest.approx(140 - 14 * overlap if overlap >= 0.01 else 140)
