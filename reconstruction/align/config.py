@@ -8,6 +8,7 @@ column asked for follow them (:data:`MATCHING` holds the former).
 import math
 from dataclasses import dataclass, field, fields
 
+from ..core.contract import ALIGN_BUFFER
 from ..core.errors import InputError
 from ..core.options import parse_list, parse_number
 
@@ -39,7 +40,7 @@ class AlignmentConfig:
     """
 
     year: float
-    buffer: float = 10.0
+    buffer: float = ALIGN_BUFFER
     overlap: float = 0.6
     include_year: bool = False
     shift: float = 0.0
@@ -110,7 +111,7 @@ def read_config(options, flags):
         buffer = buffer_from_resolution(
             parse_list(options["resolution"], float), parse_number(options["k"], "k"))
     else:
-        buffer = parse_number(options["buffer"] or 10, "buffer")
+        buffer = parse_number(options["buffer"] or ALIGN_BUFFER, "buffer")
     wanted = options["year_column"]
     return AlignmentConfig(
         year=parse_number(options["year"], "year", cast=int), buffer=buffer,

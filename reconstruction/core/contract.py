@@ -34,6 +34,11 @@ HEIGHTS_POINTS = "points"
 HEIGHTS_RANGE = "range"
 HEIGHTS_COLUMN = "column"
 
+#: how far (map units) a current footprint may lie from a plot and still be aligned
+#: with it (v.histo.align buffer=, its default); v.histo.subdivide places an aligned
+#: footprint that overlaps no plot in the nearest plot within this distance
+ALIGN_BUFFER = 10.0
+
 #: every column name above (the values are not column names): none may be an SQL
 #: keyword (reconstruction/core/names.py, tested)
 COLUMNS = (PLOT, SOURCE, CASE, AREA, SIMILARITY, GROUND, EAVES, ATTIC, HEIGHT_SOURCE)

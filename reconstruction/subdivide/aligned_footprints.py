@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
-from ..core.contract import SOURCE_PROCEDURAL
+from ..core.contract import ALIGN_BUFFER, SOURCE_PROCEDURAL
 from ..geom.overlaps import OverlapRule, group_conflicts, resolve_overlaps
 from ..geom.polygons import polygon_parts, repair
 from .convex_rings import (MIN_AREA, SNAP, ccw_ring, is_convex, is_sliver_ring,
@@ -33,8 +33,9 @@ class AlignedRepairs:
     clipped: int = 0
 
 
-def assign_plots(footprints, plots, cats):
-    """The category of the plot each footprint overlaps most (None when none)."""
+def assign_plots(footprints, plots, cats, reach=0.0):
+    """The category of the plot each footprint overlaps most; a footprint that overlaps
+    none, that of the nearest plot within ``reach`` (map units); None when none."""
     tree = shapely.STRtree(plots)
     out = [None] * len(footprints)
     best = [0.0] * len(footprints)
@@ -43,6 +44,12 @@ def assign_plots(footprints, plots, cats):
         a = overlay(shapely.intersection, footprints[f], plots[p]).area
         if a > best[f]:
             best[f], out[f] = a, cats[p]
+    outside = [f for f, c in enumerate(out) if c is None and footprints[f] is not None]
+    if outside and reach > 0:
+        f, p = tree.query_nearest([footprints[f] for f in outside], max_distance=reach,
+                                  all_matches=False)
+        for k, j in zip(f.tolist(), p.tolist()):
+            out[outside[k]] = cats[j]
     return out
 
 
@@ -81,18 +88,22 @@ def prepare_aligned(footprints):
     return geoms, AlignedRepairs(len(footprints), repaired, skipped, clipped)
 
 
-def attach_to_plots(aligned, aligned_plots, plots, cats):
+def attach_to_plots(aligned, aligned_plots, plots, cats, reach=ALIGN_BUFFER):
     """The plot of every aligned footprint; footprints without a known plot left out.
 
     ``aligned_plots`` gives the category of each footprint's plot, None (or
-    no list) for the plot it overlaps most. Returns ``(aligned, plot of each,
-    number left out)``: a new list where the footprints without a plot are None.
+    no list) for the plot it overlaps most, or, overlapping none, the nearest
+    within ``reach`` (the alignment's buffer: v.histo.align, and the thesis,
+    align a current footprint with a plot it lies beside). Returns ``(aligned,
+    plot of each, number left out)``: a new list where the footprints without a
+    plot are None.
     """
     aligned = list(aligned)
     plot_of = list(aligned_plots) if aligned_plots is not None else [None] * len(aligned)
     missing = [i for i, c in enumerate(plot_of) if c is None and aligned[i] is not None]
     if missing and plots:
-        for i, c in zip(missing, assign_plots([aligned[i] for i in missing], plots, cats)):
+        for i, c in zip(missing, assign_plots([aligned[i] for i in missing], plots, cats,
+                                              reach)):
             plot_of[i] = c
     known = set(cats)
     without = [i for i, c in enumerate(plot_of) if aligned[i] is not None and c not in known]

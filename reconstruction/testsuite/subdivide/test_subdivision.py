@@ -305,6 +305,18 @@ def test_aligned_footprints_kept_and_generated_ones_clipped_or_dropped():
     assert res.report.generated_clipped + res.report.generated_dropped >= 2
 
 
+def test_an_aligned_footprint_beside_every_plot_goes_to_the_nearest_within_the_buffer():
+    # the thesis aligned current footprints within its buffer (6 m, 10 m) of a plot,
+    # some outside every plot: v.histo.align's default buffer (10 m) places them
+    plots = [box(0, 0, 40, 12), box(0, 30, 40, 42)]
+    aligned = [box(5, 13, 12, 20), box(5, 24, 12, 28.5), box(50, 0, 55, 12), box(60, 0, 65, 12)]
+    res = run(plots, aligned=aligned)
+    kept = {a: p for a, p, s in zip(res.aligned, res.plot, res.source) if s == SOURCE_ALIGNED}
+    assert kept == {0: 1, 1: 2, 2: 1}
+    assert res.report.aligned_without_plot == 1
+    assert sd.assign_plots(aligned, plots, [1, 2]) == [None] * 4
+
+
 def test_area_threshold_defaults_to_mean_aligned_area():
     res = run([box(0, 0, 40, 12)], aligned=[box(0, 0, 10, 10), box(10, 0, 30, 10)],
               area_threshold=None)
