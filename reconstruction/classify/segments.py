@@ -549,24 +549,52 @@ def thin_parts(classes, width, nodata=0):
     return thin
 
 
-def _facing(regions, ids, hole, distance, share=0.25):
-    """Do regions ``ids`` face each other across a gap beside ``hole``?
+#: a cell lies between two regions when the directions to their nearest cells are at
+#: least this far apart (degrees): across a street, not beside two corners
+BETWEEN = 135.0
 
-    The front is the cells outside the regions within ``distance`` of two of
-    them. Two plots on either side of a street face each other along the
-    street beyond the street name printed in it: a good part of the front
-    (at least ``share`` of the part inside the hole) lies outside the hole.
-    The two pieces of one plot cut by a label meet only through the label:
-    their front lies in the hole.
+
+def _facing_gaps(regions, ids, hole, distance, share=0.25):
+    """The gaps between the regions ``ids`` that face each other beside ``hole``.
+
+    The front of two regions is the cells outside them within ``distance``
+    of both. Two plots on either side of a street face each other along the
+    street beyond the street name printed in it: a good part of their front
+    (at least ``share`` of the part inside the hole) lies outside the hole
+    *between* them (the directions to the two plots' nearest cells at least
+    :data:`BETWEEN` apart: across the street). The two pieces of one plot cut
+    by a label meet only through the label: outside it, their front is the
+    lens beside the two corners of the cut, in the streets on either side,
+    which lies beside both pieces, not between them. Returns the union of
+    the fronts of the pairs that face each other (empty when none do): the
+    street between two plots, not the plot a label cut, nor the other
+    plots the same hole touches (a label across a block and the streets on
+    either side, joined to the plots' outline strokes along the streets).
     """
-    count = np.zeros(hole.shape, dtype=np.int32)
     free = ~np.isin(regions, ids)
+    cells = np.indices(regions.shape)
+    near, toward = [], []
     for i in ids:
-        count += (ndimage.distance_transform_edt(regions != i) <= distance) & free
-    front = count >= 2
-    inside = int((front & hole).sum())
-    outside = int((front & ~hole).sum())
-    return outside > 0 and outside >= share * inside
+        d, nearest = ndimage.distance_transform_edt(regions != i, return_indices=True)
+        near.append((d <= distance) & free)
+        toward.append((nearest - cells).astype(float))
+    limit = np.cos(np.radians(BETWEEN))
+    gaps = np.zeros(hole.shape, dtype=bool)
+    for a in range(len(near)):
+        for b in range(a + 1, len(near)):
+            front = near[a] & near[b]
+            if not front.any():
+                continue
+            va, vb = toward[a][:, front], toward[b][:, front]
+            cos = (va * vb).sum(axis=0) / np.maximum(
+                np.hypot(*va) * np.hypot(*vb), 1e-12)
+            between = np.zeros(hole.shape, dtype=bool)
+            between[front] = cos <= limit
+            inside = int((front & hole).sum())
+            outside = int((between & ~hole).sum())
+            if outside > 0 and outside >= share * inside:
+                gaps |= front
+    return gaps
 
 
 def bridges(before, after, holes, min_cells=1, distance=3, nodata=0, labels=None):
@@ -576,12 +604,13 @@ def bridges(before, after, holes, min_cells=1, distance=3, nodata=0, labels=None
     the filled result. For each class (or only ``labels``), the hole
     components (8-connected) whose filled cells of that class join two or
     more regions of at least ``min_cells`` cells (4-connected) that were
-    apart are checked: when those regions also face each other within
+    apart are checked: where two of those regions also face each other within
     ``distance`` cells along a front that goes on beside the hole
-    (:func:`_facing`), they are separate objects (two plots across a narrow
-    street, the hole a street name printed between them) and the hole's
-    cells of that class are returned; when they meet only through the hole,
-    the hole had cut one object in two and the fill restores it.
+    (:func:`_facing_gaps`), they are separate objects (two plots across a
+    narrow street, the hole a street name printed between them) and the
+    hole's cells of that class in the gap between them are returned; where
+    two meet only through the hole, the hole had cut one object in two and
+    the fill restores it.
     """
     before = np.asarray(before)
     after = np.asarray(after)
@@ -621,8 +650,8 @@ def bridges(before, after, holes, min_cells=1, distance=3, nodata=0, labels=None
             r0, r1 = max(rows.min() - margin, 0), rows.max() + margin + 1
             c0, c1 = max(cols.min() - margin, 0), cols.max() + margin + 1
             hole = components[r0:r1, c0:c1] == component
-            if _facing(pre[r0:r1, c0:c1], ids, hole, distance):
-                joined |= (components == component) & filled
+            gaps = _facing_gaps(pre[r0:r1, c0:c1], ids, hole, distance)
+            joined[r0:r1, c0:c1] |= gaps & hole & filled[r0:r1, c0:c1]
     return joined
 
 

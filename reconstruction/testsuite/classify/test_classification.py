@@ -350,3 +350,39 @@ def test_label_across_a_courtyard_plot_is_filled_when_nothing_gets_joined():
     assert (out[28:33, 25:33] == 1).all()   # ... the wing is whole again ...
     assert (out[28:33, 14:16] == 1).all()   # ... and so is the other plot's edge
     assert (out[28:33, 17:24] == 4).all()
+
+
+def _label_across_a_block_and_its_streets(strokes):
+    """A block between two plots across 9-cell streets, a label printed across all
+    three: it cuts the block in two, covers both streets and the plots' edges; with
+    ``strokes``, the plots' outlines along the streets classified as text too (a
+    scan's dark outline strokes), which join the label into one hole the streets
+    long."""
+    classes = np.full((60, 60), 4)
+    classes[5:55, 2:12] = 1                 # west plot
+    classes[5:55, 21:35] = 1                # the block
+    classes[5:55, 44:56] = 1                # east plot
+    if strokes:
+        for col in (12, 20, 35, 43):
+            classes[5:55, col] = 2
+    classes[28:33, 9:47] = 2                # the label, 5 cells tall
+    return classes
+
+
+@pytest.mark.parametrize("window", [7, 9])
+@pytest.mark.parametrize("strokes", [False, True])
+def test_a_label_across_a_block_and_its_streets_rejoins_the_block_only(window, strokes):
+    # the block's two pieces meet only through the label: it cut one plot in two, so
+    # the fill restores it; the streets beside it stay streets between separate plots
+    # (the label of the synthetic town's 1915 map, "MUSEUM", cut a row of houses in two:
+    # the lens of cells beside both pieces' corners, within the window of both, counted
+    # as a street between two plots, and the whole hole's building cells were refused)
+    from scipy import ndimage
+
+    out, _ = cl.remove_classes(_label_across_a_block_and_its_streets(strokes), [2],
+                               window=window, separate=[1])
+    regions, n = ndimage.label(out == 1)
+    assert n == 3
+    assert (out[28:33, 23:33] == 1).all()               # the block whole again
+    assert (out[5:55, 15:18] == 4).all() and (out[5:55, 38:41] == 4).all()  # streets
+    assert (out[28:33, 9:12] == 1).all() and (out[28:33, 44:47] == 1).all()   # plots' edges
