@@ -24,7 +24,10 @@ SIZE=600                # synthetic map: pixels per side (1 m each)
 MAP=map                 # prefix of the map: rasters map.red/.green/.blue, vectors map_*
 BUILDING=1              # label of the building class in the training points
 REMOVE=2,6              # classes printed over the map (text, symbols): filled from around
-MIN_AREA=100            # building plots below this (m²) are specks, not plots
+MIN_AREA=50             # building plots below this (m²) are specks, not plots: the
+                        # classification's minimum mapping unit (the synthetic town over
+                        # time has true plots of 98 m², and a thin one of 150 m² that the
+                        # classification of its 1915 map shrinks to about 60 m²)
 HEIGHT=6.7,17           # eaves height range (m above ground), the thesis's values, without
                         # aligned footprints
 ATTIC=2.6,6             # roof height range above the eaves (m), without aligned footprints

@@ -14,7 +14,7 @@
 set -e
 
 OUT=${1:-demo-output/dynamic}
-SEED=1
+SEED=${SEED:-1}
 SIZE=${SIZE:-600}
 YEARS=${YEARS:-1880,1915,1961}
 TOWN=town
@@ -33,8 +33,9 @@ for year in ${YEARS//,/ }; do
     r.histo.classify input=${TOWN}_$year.red,${TOWN}_$year.green,${TOWN}_$year.blue \
         training=${TOWN}_${year}_training output=classes_$year remove=2,6 min_area=50 \
         min_width=3 separate=1 nprocs=2 seed=$SEED --quiet
+    # min_area as demo/chain.sh's MIN_AREA: the classification's minimum mapping unit
     v.histo.generalize raster=classes_$year class=1 output=plots_$year alpha=12 distance=5 \
-        angle=180 min_area=100 --quiet
+        angle=180 min_area=50 --quiet
     v.histo.align input=plots_$year footprints=${TOWN}_current year=$year \
         output=aligned_$year unmatched=unmatched_$year --quiet
     earlier=

@@ -16,10 +16,11 @@ shown on the maps whose models hold it, and, once shown, on every later map;
 (d) each snapshot equals its epoch's model; (e) the merged model is valid by
 the CityJSON 2.0.2 schemas, and val3dity finds every solid valid.
 
-(a) and (c) depend on the chain's own plots: a label refilled as street, a
-thin plot one map's classification loses, are changes no drawing tolerance
-can tell from real ones. They are asserted at the measured floor (issue 28's
-goal is 100 %; the note of the issue reports the figures).
+The chain's plots of two maps of one unchanged block differ by more than the
+drawing: (a) and (c) hold because subdivide keeps a building most of whose
+ground the later map still draws, the classification restores a plot a label
+cut in two, and no plot above the classification's minimum mapping unit is
+dropped (min_area=50 in the chain).
 """
 
 import json
@@ -87,7 +88,7 @@ def test_unchanged_plots_keep_their_buildings(town):
     for year, oid, why in u.lost:
         print("  {}: {}: {}".format(year, oid, why))
     assert u.buildings > 1000
-    assert u.kept / u.buildings >= 0.995 and u.plots_kept / u.plots >= 0.95
+    assert u.kept == u.buildings and u.plots_kept == u.plots
 
 
 def test_demolished_buildings_are_dated_around_their_true_year(town):
@@ -112,7 +113,7 @@ def test_register_buildings_are_one_building_over_the_epochs(town):
     found, good, bad = standing_identities(town["truth"], town["models"], town["merged"])
     print("\nregister buildings on the maps: {}, shown on every map from their first: {}; "
           "others: {}".format(found, good, bad))
-    assert found > 100 and good >= found - 2
+    assert found > 100 and good == found
 
 
 def test_each_snapshot_is_its_epochs_model(town):
