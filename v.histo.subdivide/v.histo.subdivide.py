@@ -31,7 +31,7 @@
 # % key: aligned
 # % required: no
 # % label: Aligned current footprints (areas) kept as they are
-# % description: With a plot column (as v.histo.align writes them); without it, each goes to the plot it overlaps most
+# % description: With a plot column (as v.histo.align writes them); without it, each goes to the plot it overlaps most (overlapping none: the nearest within 10 map units)
 # % guisection: Aligned
 # %end
 # %option
