@@ -59,13 +59,13 @@ def main(model_path, out):
         draw(ax, kept, "#b8b8b8", "#808080", 0.2)
         draw(ax, new, "#f28e2b", "#a0521a", 0.2)
         draw(ax, [g for oid, g in shapes.items() if oid in standing], "none", "#1f5fbf", 0.6)
-        ax.set_title("{}: {} buildings, {} new".format(year, len(shapes), len(new) if before
-                                                       else len(new)), fontsize=10)
+        ax.set_title("{}: {} buildings, {} new".format(year, len(shapes), len(new)),
+                     fontsize=10)
         ax.set_aspect("equal")
         ax.set_axis_off()
         before = set(shapes)
     fig.tight_layout()
-    fig.savefig(out, dpi=80)
+    fig.savefig(out, dpi=80, bbox_inches="tight", pad_inches=0.1)  # the titles whole
     print("{} written".format(out))
 
 
