@@ -16,19 +16,21 @@ writes the rasters and prints :func:`report`.
   checked, the whole map or its tiles classified;
 - ``stage``: a map classified whole (:func:`classify_map`) and the records
   (:class:`Training`, :class:`ClassifyResult`, the removal's rule);
-- ``segments``: the pure steps (tuning criteria, features, classifiers,
-  removal of classes);
+- ``segments``: the pure steps (tuning criteria, features, classifiers);
+- ``removal``: text and symbols removed, thin parts and specks too, and the
+  holes refilled from around them;
 - ``tiling`` and ``tiled``: a large sheet tuned on a sample of windows and
   classified in tiles, in bounded memory;
 - ``report``: the messages after the run (:func:`report`).
 """
 
-from . import config, pipeline, segments, stage, tiled, tiling
+from . import config, pipeline, removal, segments, stage, tiled, tiling
 from .config import ClassifyConfig, read_config
 from .pipeline import ClassifyInputs, run
 from .report import report, rule_message
 from .stage import ClassifyResult, Training, classify_map
 
 __all__ = ["ClassifyConfig", "ClassifyInputs", "ClassifyResult", "Training", "classify_map",
-           "config", "pipeline", "read_config", "report", "rule_message", "run", "segments",
+           "config", "pipeline", "read_config", "removal", "report", "rule_message", "run",
+           "segments",
            "stage", "tiled", "tiling"]

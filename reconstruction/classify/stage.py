@@ -27,6 +27,7 @@ import numpy as np
 
 from ..core.errors import InputError
 from ..geom.grid import Grid
+from . import removal
 from . import segments as cl
 
 # Colours of the classes: by class name where it is a usual one, otherwise
@@ -275,7 +276,7 @@ def removal_rule(thickness, config, grid):
     resolution = min(grid.nsres, grid.ewres)
     window = config.window
     if window is None:
-        window = cl.window_for_thickness(thickness)
+        window = removal.window_for_thickness(thickness)
         derived.append("window")
     if config.min_area is not None:
         min_cells = int(np.ceil(config.min_area / (grid.nsres * grid.ewres))) if config.min_area else 0
@@ -297,11 +298,11 @@ def removal_rule(thickness, config, grid):
 def _remove(classes, config, grid):
     """Removal of text, symbols, thin parts and small regions: ``(classes, RemovalRule or None)``."""
     removed = np.isin(classes, list(config.remove)) if config.remove else None
-    thickness = cl.object_thickness(removed) if removed is not None else 0.0
+    thickness = removal.object_thickness(removed) if removed is not None else 0.0
     rule = removal_rule(thickness, config, grid)
     if not rule.active(config.remove):
         return classes, None
-    out, _window = cl.remove_classes(classes, config.remove, rule.window, config.iterations,
+    out, _window = removal.remove_classes(classes, config.remove, rule.window, config.iterations,
                                      rule.min_cells, rule.width_cells, config.separate)
     return out, rule
 

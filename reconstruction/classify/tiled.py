@@ -27,6 +27,7 @@ import time
 import numpy as np
 
 from ..core.errors import InputError
+from . import removal
 from . import segments as cl
 from .stage import ClassifyResult, removal_rule, _ignore
 from .tiling import check_tiles
@@ -114,7 +115,7 @@ def classify_tiles(tiles, read_bands, read_segments, training, config, grid, pai
                                                                    config.features))
         tile_classes = cl.class_raster(index, voted.astype(np.int32))
         if config.remove:
-            thickness = max(thickness, cl.object_thickness(np.isin(tile_classes, config.remove)))
+            thickness = max(thickness, removal.object_thickness(np.isin(tile_classes, config.remove)))
         classes[tile.core] = tile_classes[tile.core_in_outer]
         core_index = index[tile.core_in_outer]
         present = np.unique(core_index[core_index >= 0])
@@ -134,7 +135,7 @@ def classify_tiles(tiles, read_bands, read_segments, training, config, grid, pai
     if rule.active(config.remove):
         out = np.zeros_like(classes)
         for tile in tiles:
-            cleaned, _w = cl.remove_classes(classes[tile.outer], config.remove, rule.window,
+            cleaned, _w = removal.remove_classes(classes[tile.outer], config.remove, rule.window,
                                             config.iterations, rule.min_cells, rule.width_cells,
                                             config.separate)
             out[tile.core] = cleaned[tile.core_in_outer]

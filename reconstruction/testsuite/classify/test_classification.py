@@ -5,6 +5,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from reconstruction.classify import removal
 from reconstruction.classify import segments as cl
 
 # ---------------------------------------------------------------------------
@@ -192,12 +193,12 @@ def test_ensemble_refuses_a_single_class_and_unknown_classifiers():
 def test_thickness_and_window():
     mask = np.zeros((20, 20), dtype=bool)
     mask[5:8, 2:18] = True  # a stroke 3 cells thick
-    assert cl.object_thickness(mask) == 3
-    assert cl.removal_window(mask) == 3
+    assert removal.object_thickness(mask) == 3
+    assert removal.removal_window(mask) == 3
     mask[10:19, 2:11] = True  # a 9 x 9 symbol
-    assert cl.object_thickness(mask) == 9
-    assert cl.removal_window(mask) == 5  # 9 / 2 + 1 = 5.5 -> 5, odd
-    assert cl.object_thickness(np.zeros((3, 3), bool)) == 0
+    assert removal.object_thickness(mask) == 9
+    assert removal.removal_window(mask) == 5  # 9 / 2 + 1 = 5.5 -> 5, odd
+    assert removal.object_thickness(np.zeros((3, 3), bool)) == 0
 
 
 def test_fill_takes_the_modal_class_of_the_surroundings():
@@ -205,7 +206,7 @@ def test_fill_takes_the_modal_class_of_the_surroundings():
     classes[:, 5:] = 1
     classes[3:6, 3:6] = 2  # text mostly on class 4
     holes = classes == 2
-    filled, left = cl.fill_from_surroundings(classes, holes, window=3)
+    filled, left = removal.fill_from_surroundings(classes, holes, window=3)
     assert not left.any()
     assert not (filled == 2).any()
     assert (filled[3:6, 3:5] == 4).all()
@@ -216,15 +217,15 @@ def test_fill_respects_iterations_exclusions_and_no_data():
     classes = np.full((11, 11), 1)
     classes[1:10, 1:10] = 2
     holes = classes == 2
-    _, left = cl.fill_from_surroundings(classes, holes, window=3, iterations=1)
+    _, left = removal.fill_from_surroundings(classes, holes, window=3, iterations=1)
     assert left.sum() == 7 * 7
-    filled, left = cl.fill_from_surroundings(classes, holes, window=3, exclude=(1,))
+    filled, left = removal.fill_from_surroundings(classes, holes, window=3, exclude=(1,))
     assert np.array_equal(left, holes) and (filled[holes] == 2).all()
     empty = np.zeros((5, 5), dtype=int)
-    filled, left = cl.fill_from_surroundings(empty, empty == 0, window=3)
+    filled, left = removal.fill_from_surroundings(empty, empty == 0, window=3)
     assert left.all()
     with pytest.raises(ValueError):
-        cl.fill_from_surroundings(classes, holes, window=4)
+        removal.fill_from_surroundings(classes, holes, window=4)
 
 
 def test_nearest_fill_meets_halfway_where_the_modal_window_favours_the_solid_class():
@@ -237,8 +238,8 @@ def test_nearest_fill_meets_halfway_where_the_modal_window_favours_the_solid_cla
     holes[::3, 23] = False
     holes[1::3, 26] = False
     inner = slice(5, 25)  # away from the map's edge
-    modal, _ = cl.fill_from_surroundings(classes, holes, window=9)
-    nearest, left = cl.fill_from_nearest(classes, holes)
+    modal, _ = removal.fill_from_surroundings(classes, holes, window=9)
+    nearest, left = removal.fill_from_nearest(classes, holes)
     assert not left.any()
     # the midline between the plot (column 19) and the first street cells (23)
     # is column 21: the nearest fill stops there, the modal one goes past it
@@ -253,12 +254,12 @@ def test_nearest_fill_respects_reach_exclusions_and_no_data():
     classes = np.full((11, 11), 1)
     classes[1:10, 1:10] = 2
     holes = classes == 2
-    _, left = cl.fill_from_nearest(classes, holes, reach=1)
+    _, left = removal.fill_from_nearest(classes, holes, reach=1)
     assert left.sum() == 7 * 7
-    filled, left = cl.fill_from_nearest(classes, holes, exclude=(1,))
+    filled, left = removal.fill_from_nearest(classes, holes, exclude=(1,))
     assert np.array_equal(left, holes) and (filled[holes] == 2).all()
     empty = np.zeros((5, 5), dtype=int)
-    filled, left = cl.fill_from_nearest(empty, empty == 0)
+    filled, left = removal.fill_from_nearest(empty, empty == 0)
     assert left.all()
 
 
@@ -267,9 +268,9 @@ def test_small_regions_and_thin_parts():
     classes[2:8, 2:8] = 1
     classes[10, 10] = 1          # a single building cell
     classes[2:8, 9] = 5          # a one-cell wide line
-    small = cl.small_regions(classes, 4)
+    small = removal.small_regions(classes, 4)
     assert small[10, 10] and small.sum() == 1
-    thin = cl.thin_parts(classes, 3)
+    thin = removal.thin_parts(classes, 3)
     assert thin[2:8, 9].all() and thin[10, 10]
     assert not thin[2:8, 2:8].any()
 
@@ -287,9 +288,9 @@ def test_removed_name_does_not_join_separated_plots():
     from scipy import ndimage
 
     classes = _two_plots_and_a_street_name()
-    plain, _ = cl.remove_classes(classes, [2], window=7)
+    plain, _ = removal.remove_classes(classes, [2], window=7)
     assert ndimage.label(plain == 1)[1] == 1  # the modal fill bridges the street
-    kept, _ = cl.remove_classes(classes, [2], window=7, separate=[1])
+    kept, _ = removal.remove_classes(classes, [2], window=7, separate=[1])
     assert ndimage.label(kept == 1)[1] == 2
     assert (kept[12:18, 10:30] == 4).all()
 
@@ -300,7 +301,7 @@ def test_removed_symbol_rejoins_the_plot_it_covered():
     classes = np.full((30, 40), 4)
     classes[5:25, 10:20] = 1                # one narrow plot
     classes[12:17, 8:22] = 6                # a symbol printed across it
-    out, window = cl.remove_classes(classes, [6], separate=[1])
+    out, window = removal.remove_classes(classes, [6], separate=[1])
     assert window == 3
     assert ndimage.label(out == 1)[1] == 1
     assert (out[12:17, 10:20] == 1).all()
@@ -311,7 +312,7 @@ def test_minimum_mapping_unit_and_thin_parts_are_refilled():
     classes[5:20, 5:20] = 1
     classes[25:27, 25:27] = 1               # a 4-cell building fragment
     classes[5:20, 22] = 1                   # a one-cell colour fringe
-    out, _ = cl.remove_classes(classes, [], min_cells=10, min_width=3)
+    out, _ = removal.remove_classes(classes, [], min_cells=10, min_width=3)
     assert (out[5:20, 5:20] == 1).all()
     assert (out[25:27, 25:27] == 4).all()
     assert (out[5:20, 22] == 4).all()
@@ -324,8 +325,8 @@ def test_fill_leaves_no_hole_and_invents_no_class(seed, half):
     classes = rng.choice([1, 3, 4], size=(25, 25))
     holes = rng.random((25, 25)) < 0.4
     holes[0, 0] = False
-    for filled, left in (cl.fill_from_surroundings(classes, holes, window=2 * half + 1),
-                         cl.fill_from_nearest(classes, holes, window=2 * half + 1)):
+    for filled, left in (removal.fill_from_surroundings(classes, holes, window=2 * half + 1),
+                         removal.fill_from_nearest(classes, holes, window=2 * half + 1)):
         assert not left.any()
         assert np.array_equal(filled[~holes], classes[~holes])
         assert set(np.unique(filled)) <= {1, 3, 4}
@@ -345,7 +346,7 @@ def test_label_across_a_courtyard_plot_is_filled_when_nothing_gets_joined():
     classes[18:42, 33:47] = 4               # ... around its yard
     classes[10:50, 5:16] = 1                # a second plot across a 9-cell street
     classes[28:33, 13:37] = 2               # a label across the street and the west wing
-    out, _ = cl.remove_classes(classes, [2], window=5, separate=[1])
+    out, _ = removal.remove_classes(classes, [2], window=5, separate=[1])
     assert ndimage.label(out == 1)[1] == 2  # the two plots stay apart ...
     assert (out[28:33, 25:33] == 1).all()   # ... the wing is whole again ...
     assert (out[28:33, 14:16] == 1).all()   # ... and so is the other plot's edge
@@ -379,7 +380,7 @@ def test_a_label_across_a_block_and_its_streets_rejoins_the_block_only(window, s
     # as a street between two plots, and the whole hole's building cells were refused)
     from scipy import ndimage
 
-    out, _ = cl.remove_classes(_label_across_a_block_and_its_streets(strokes), [2],
+    out, _ = removal.remove_classes(_label_across_a_block_and_its_streets(strokes), [2],
                                window=window, separate=[1])
     regions, n = ndimage.label(out == 1)
     assert n == 3

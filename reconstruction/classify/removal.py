@@ -1,0 +1,340 @@
+"""Removal of classes printed over a map (text, symbols), of thin parts and specks.
+
+The end of the thesis's first stage (Morlighem 2021, Section 3.2.1): the
+cells of the removed classes, the classes' parts thinner than a minimum
+width and their regions smaller than a minimum mapping unit are refilled
+from around them (:func:`remove_classes`): each with the class of the
+nearest known cell, in a window sized from the thickness of the removed
+objects; a fill that would join two plots facing each other across a street
+(a street name printed between them) is refused there (:func:`bridges`).
+
+Arrays are (rows, cols) of class labels; pure numpy and scipy, no GRASS.
+"""
+
+import numpy as np
+from scipy import ndimage
+
+
+def object_thickness(mask):
+    """Largest thickness (in cells) over the objects of a boolean mask.
+
+    The thickness of an object is its longest transect across its median
+    line: twice the largest distance from the median line to the object's
+    edge, minus the centre cell (a one-cell line has thickness 1). 0 for an
+    empty mask.
+    """
+    mask = np.asarray(mask, dtype=bool)
+    if not mask.any():
+        return 0.0
+    distance = ndimage.distance_transform_edt(np.pad(mask, 1))
+    return float(2 * distance.max() - 1)
+
+
+def removal_window(mask):
+    """Moving window size from the objects to remove: thickness / 2 + 1, odd, >= 3."""
+    return window_for_thickness(object_thickness(mask))
+
+
+def window_for_thickness(thickness):
+    """Moving window size for removed objects ``thickness`` cells thick: thickness / 2 + 1,
+    odd, >= 3."""
+    window = int(thickness / 2.0 + 1)
+    if window % 2 == 0:
+        window += 1
+    return max(window, 3)
+
+
+def _window_counts(binary, window):
+    """Number of True cells in the window x window box around each cell."""
+    r = window // 2
+    padded = np.pad(binary.astype(np.int32), ((r + 1, r), (r + 1, r)))
+    integral = padded.cumsum(axis=0).cumsum(axis=1)
+    return (integral[window:, window:] - integral[:-window, window:]
+            - integral[window:, :-window] + integral[:-window, :-window])
+
+
+def fill_from_surroundings(classes, holes, window=3, iterations=None, nodata=0, exclude=()):
+    """Fill ``holes`` with the modal class of the surrounding cells.
+
+    Each iteration gives every hole cell with at least one known cell (not a
+    hole, not ``nodata``, not an ``exclude`` label) in its window x window
+    neighbourhood the most frequent known class there (the lowest label among
+    equals); filled cells are known in the next iteration, as repeated
+    r.neighbors method=mode would do. Stops when no hole is left, nothing
+    changes, or after ``iterations``. Returns ``(filled classes, remaining
+    holes)``.
+    """
+    classes = np.array(classes, copy=True)
+    holes = np.array(holes, dtype=bool, copy=True)
+    if window < 1 or window % 2 == 0:
+        raise ValueError("window must be a positive odd number")
+    done = 0
+    while holes.any() and (iterations is None or done < iterations):
+        known = ~holes & (classes != nodata)
+        if len(exclude):
+            known &= ~np.isin(classes, list(exclude))
+        labels = np.unique(classes[known])
+        if not len(labels):
+            break
+        # work only on the bounding box of the holes, grown by the window
+        rows, cols = np.nonzero(holes)
+        r = window // 2
+        r0, r1 = max(rows.min() - r, 0), min(rows.max() + r + 1, classes.shape[0])
+        c0, c1 = max(cols.min() - r, 0), min(cols.max() + r + 1, classes.shape[1])
+        sub_classes = classes[r0:r1, c0:c1]
+        sub_known = known[r0:r1, c0:c1]
+        sub_holes = holes[r0:r1, c0:c1]
+        best_count = np.zeros(sub_classes.shape, dtype=np.int32)
+        best_label = np.zeros(sub_classes.shape, dtype=classes.dtype)
+        for label in labels:
+            count = _window_counts(sub_known & (sub_classes == label), window)
+            better = count > best_count
+            best_count[better] = count[better]
+            best_label[better] = label
+        fill = sub_holes & (best_count > 0)
+        if not fill.any():
+            break
+        sub_classes[fill] = best_label[fill]
+        sub_holes[fill] = False
+        done += 1
+    return classes, holes
+
+
+def fill_from_nearest(classes, holes, window=3, reach=None, nodata=0, exclude=()):
+    """Fill ``holes`` with the class of the nearest known cells.
+
+    Known cells are those that are not holes, not ``nodata`` and not an
+    ``exclude`` label. Each hole cell takes the label of the known cell
+    closest to it (Euclidean distance between cell centres); when cells of
+    several labels are equally close, the one with the most known cells in
+    the window x window neighbourhood wins (the lowest label among equals;
+    the default 3 x 3 is the cell's immediate neighbours: a wider window
+    brings back the bias below).
+    Two classes on either side of a hole thus meet halfway across it,
+    whichever of them has more cells around: the modal class of a window
+    alone (:func:`fill_from_surroundings`) favours the class whose cells the
+    hole did not cover, a solid plot beside a street cut up by the letters
+    of its name, and lets it grow across the hole. Cells farther than
+    ``reach`` cells from every known cell stay holes. Returns ``(filled
+    classes, remaining holes)``.
+    """
+    classes = np.array(classes, copy=True)
+    holes = np.array(holes, dtype=bool, copy=True)
+    known = ~holes & (classes != nodata)
+    if len(exclude):
+        known &= ~np.isin(classes, list(exclude))
+    labels = np.unique(classes[known])
+    if not holes.any() or not len(labels):
+        return classes, holes
+    distances = np.stack([ndimage.distance_transform_edt(~(known & (classes == label)))
+                          for label in labels])
+    nearest = distances.min(axis=0)
+    # the window's count of each equally near label; the others never win
+    votes = np.stack([np.where(d <= nearest + 1e-9, _window_counts(known & (classes == label),
+                                                                    window), -1)
+                      for label, d in zip(labels, distances)])
+    fill = holes if reach is None else holes & (nearest <= reach)
+    classes[fill] = labels[votes.argmax(axis=0)][fill]
+    holes[fill] = False
+    return classes, holes
+
+
+_FOUR = ndimage.generate_binary_structure(2, 1)
+_EIGHT = np.ones((3, 3), dtype=bool)
+
+
+def small_regions(classes, min_cells, nodata=0):
+    """Cells of 4-connected single-class regions smaller than ``min_cells``."""
+    classes = np.asarray(classes)
+    small = np.zeros(classes.shape, dtype=bool)
+    if min_cells <= 1:
+        return small
+    for label in np.unique(classes):
+        if label == nodata:
+            continue
+        regions, n = ndimage.label(classes == label, _FOUR)
+        if not n:
+            continue
+        sizes = np.bincount(regions.ravel(), minlength=n + 1)
+        tiny = sizes < min_cells
+        tiny[0] = False
+        small |= tiny[regions]
+    return small
+
+
+def thin_parts(classes, width, nodata=0):
+    """Cells of every class that a width x width square cannot cover (opening)."""
+    classes = np.asarray(classes)
+    thin = np.zeros(classes.shape, dtype=bool)
+    if width <= 1:
+        return thin
+    square = np.ones((width, width), dtype=bool)
+    for label in np.unique(classes):
+        if label == nodata:
+            continue
+        mask = classes == label
+        thin |= mask & ~ndimage.binary_opening(mask, square, border_value=1)
+    return thin
+
+
+#: a cell lies between two regions when the directions to their nearest cells are at
+#: least this far apart (degrees): across a street, not beside two corners
+BETWEEN = 135.0
+
+
+def _facing_gaps(regions, ids, hole, distance, share=0.25):
+    """The gaps between the regions ``ids`` that face each other beside ``hole``.
+
+    The front of two regions is the cells outside them within ``distance``
+    of both. Two plots on either side of a street face each other along the
+    street beyond the street name printed in it: a good part of their front
+    (at least ``share`` of the part inside the hole) lies outside the hole
+    *between* them (the directions to the two plots' nearest cells at least
+    :data:`BETWEEN` apart: across the street). The two pieces of one plot cut
+    by a label meet only through the label: outside it, their front is the
+    lens beside the two corners of the cut, in the streets on either side,
+    which lies beside both pieces, not between them. Returns the union of
+    the fronts of the pairs that face each other (empty when none do): the
+    street between two plots, not the plot a label cut, nor the other
+    plots the same hole touches (a label across a block and the streets on
+    either side, joined to the plots' outline strokes along the streets).
+    """
+    free = ~np.isin(regions, ids)
+    cells = np.indices(regions.shape)
+    near, toward = [], []
+    for i in ids:
+        d, nearest = ndimage.distance_transform_edt(regions != i, return_indices=True)
+        near.append((d <= distance) & free)
+        toward.append((nearest - cells).astype(float))
+    limit = np.cos(np.radians(BETWEEN))
+    gaps = np.zeros(hole.shape, dtype=bool)
+    for a in range(len(near)):
+        for b in range(a + 1, len(near)):
+            front = near[a] & near[b]
+            if not front.any():
+                continue
+            va, vb = toward[a][:, front], toward[b][:, front]
+            cos = (va * vb).sum(axis=0) / np.maximum(
+                np.hypot(*va) * np.hypot(*vb), 1e-12)
+            between = np.zeros(hole.shape, dtype=bool)
+            between[front] = cos <= limit
+            inside = int((front & hole).sum())
+            outside = int((between & ~hole).sum())
+            if outside > 0 and outside >= share * inside:
+                gaps |= front
+    return gaps
+
+
+def bridges(before, after, holes, min_cells=1, distance=3, nodata=0, labels=None):
+    """Filled cells that join separate objects of their class.
+
+    ``before`` holds the classes with the holes not filled yet, ``after``
+    the filled result. For each class (or only ``labels``), the hole
+    components (8-connected) whose filled cells of that class join two or
+    more regions of at least ``min_cells`` cells (4-connected) that were
+    apart are checked: where two of those regions also face each other within
+    ``distance`` cells along a front that goes on beside the hole
+    (:func:`_facing_gaps`), they are separate objects (two plots across a
+    narrow street, the hole a street name printed between them) and the
+    hole's cells of that class in the gap between them are returned; where
+    two meet only through the hole, the hole had cut one object in two and
+    the fill restores it.
+    """
+    before = np.asarray(before)
+    after = np.asarray(after)
+    holes = np.asarray(holes, dtype=bool)
+    known = ~holes & (before != nodata)
+    components, _ = ndimage.label(holes, _EIGHT)
+    joined = np.zeros(before.shape, dtype=bool)
+    margin = int(np.ceil(distance)) + 2
+    for label in np.unique(after[holes]) if labels is None else labels:
+        if label == nodata:
+            continue
+        pre, n_pre = ndimage.label(known & (before == label), _FOUR)
+        if n_pre < 2:
+            continue
+        sizes = np.bincount(pre.ravel(), minlength=n_pre + 1)
+        small = sizes < max(min_cells, 1)
+        small[0] = True
+        pre[small[pre]] = 0
+        filled = holes & (after == label)
+        # regions touching each hole component's filled cells of this class
+        grown = ndimage.grey_dilation(np.where(filled, components, 0), footprint=_EIGHT)
+        touch = (pre > 0) & (grown > 0)
+        pairs = np.unique(np.stack([grown[touch], pre[touch]], axis=1), axis=0)
+        per_component = np.bincount(pairs[:, 0], minlength=components.max() + 1)
+        # where each region ends up after the fill
+        post, _ = ndimage.label(after == label, _FOUR)
+        index = np.zeros(n_pre + 1, dtype=np.int64)
+        index[pre.ravel()] = post.ravel()
+        for component in np.flatnonzero(per_component >= 2):
+            ids = pairs[pairs[:, 0] == component, 1]
+            ends = index[ids]
+            shared = np.unique(ends)[np.bincount(np.unique(ends, return_inverse=True)[1]) >= 2]
+            ids = ids[np.isin(ends, shared)]
+            if len(ids) < 2:
+                continue  # the fill joined nothing that was apart
+            rows, cols = np.nonzero(components == component)
+            r0, r1 = max(rows.min() - margin, 0), rows.max() + margin + 1
+            c0, c1 = max(cols.min() - margin, 0), cols.max() + margin + 1
+            hole = components[r0:r1, c0:c1] == component
+            gaps = _facing_gaps(pre[r0:r1, c0:c1], ids, hole, distance)
+            joined[r0:r1, c0:c1] |= gaps & hole & filled[r0:r1, c0:c1]
+    return joined
+
+
+def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, min_width=0,
+                   separate=(), nodata=0):
+    """Remove classes (e.g. text, symbols), thin parts and tiny regions from a class raster.
+
+    1. Holes: the cells of the ``remove`` labels, the thin parts of every
+       other class (narrower than ``min_width`` cells, :func:`thin_parts`) and
+       its regions smaller than ``min_cells`` cells (a minimum mapping unit,
+       :func:`small_regions`), such as pieces of letters classified as
+       something else.
+    2. The holes are refilled from their surroundings, each cell with the
+       class of the nearest known cell (:func:`fill_from_nearest`, ties by
+       the 3 x 3 neighbourhood); with
+       ``iterations``, only as far as that many passes of the window would
+       reach (``iterations`` x ``window // 2`` cells). The window is computed
+       from the thickness of the removed objects (:func:`removal_window`)
+       unless given.
+    3. For the ``separate`` labels (e.g. buildings): where the fill of a
+       hole joins two regions of such a class that were apart within the
+       window (a street name printed across a narrow street between two
+       plots), that class is refused there and the hole is refilled from the
+       nearest of the other classes around.
+    4. Regions left smaller than ``min_cells`` are refilled once more (the
+       modal class of their 3 x 3 surroundings, :func:`fill_from_surroundings`).
+
+    Returns ``(classes, window used)``; cells that could not be filled (no
+    known cell within reach) become ``nodata``.
+    """
+    classes = np.asarray(classes)
+    removed = np.isin(classes, list(remove)) if len(remove) else np.zeros(classes.shape, bool)
+    if window is None:
+        window = removal_window(removed)
+    base = np.where(removed, nodata, classes)
+    holes = removed.copy()
+    if min_width > 1:
+        holes |= thin_parts(base, min_width, nodata)
+    if min_cells > 1:
+        holes |= small_regions(base, min_cells, nodata)
+    holes &= classes != nodata
+    before = np.where(holes, nodata, classes)
+    reach = None if iterations is None else iterations * (window // 2)
+    out, left = fill_from_nearest(classes, holes, reach=reach, nodata=nodata)
+    for label in separate:
+        joined = bridges(before, out, holes, min_cells, window, nodata, labels=(label,))
+        if joined.any():
+            refilled, still = fill_from_nearest(out, joined, reach=reach, nodata=nodata,
+                                                exclude=(label,))
+            refilled[still] = label
+            out = refilled
+    out[left] = nodata
+    if min_cells > 1:
+        small = small_regions(out, min_cells, nodata)
+        if small.any():
+            out, left = fill_from_surroundings(out, small, 3, iterations, nodata)
+            out[left] = nodata
+    return out, window
