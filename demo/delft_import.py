@@ -6,7 +6,8 @@ SHARED_DATA is the shared data folder (../shared/data from the checkout).
 FOUND_JSON (optional) gets the categories in <current> of the thesis's
 aligned footprints (keys thesis1961, thesis1880), for the report.
 Makes: the map bands delft.red, .green, .blue; delft_training (training
-points), delft_gt_points and delft_gt_polygons (ground truth); current (the
+points), delft_gt_points and delft_gt_polygons (ground truth); thesis_raw_plots
+(the thesis's raw building plots, for the report); current (the
 current footprints with their years built and, where the footprint is one of
 the thesis's aligned 1880 footprints, its 3D BAG heights), as
 testsuite/histo_testing.py's import_delft_alignment builds them. Nothing is
@@ -40,6 +41,11 @@ def main(shared_data, found_json=None):
                          ("ground_truth_generalized_delft_1961", "delft_gt_polygons")):
         gs.run_command("v.in.ogr", input=os.path.join(folder, name + ".shp"), output=output,
                        flags="o", quiet=True, overwrite=True)
+    # the thesis's raw plots (its classification, before the generalisation): the
+    # report measures how far their outlines lie outside the digitised plots
+    gs.run_command("v.in.ogr", input=os.path.join(
+        shared_data, "delft_1961_subset", "thesis_output", "raw_building_plots_delft_1961.shp"),
+        output="thesis_raw_plots", flags="o", quiet=True, overwrite=True)
     found = import_delft_alignment(shared_data, heights=True)
     print("current footprints with a year built: {}, of them thesis 1961 aligned: {}, with "
           "1880 3D BAG heights: {}".format(len(found["years"]), len(found["thesis1961"]),

@@ -40,13 +40,17 @@ import chain_report as cr
 #: import_delft_alignment)
 GT_POINTS, GT_POLYGONS = "delft_gt_points", "delft_gt_polygons"
 THESIS_PLOTS, THESIS_ALIGNED = "plots1961", "thesis61"
+#: the thesis's raw building plots (demo/delft_import.py)
+THESIS_RAW_PLOTS = "thesis_raw_plots"
 
 
 def plot_scores(plots, gt_points, gt_polygons):
     """Scores of plots against the ground truth, by the library's functions
     v.histo.generalize reports with (reconstruction.generalize.stage): P/R/F by
     point in polygon, mean turning-function distance and buffer similarity
-    against the digitised polygons, and the lost ground-truth plots."""
+    against the digitised polygons, the mean outward offset and intersection over
+    union of each digitised polygon with the plot that overlaps it most, and the lost
+    ground-truth plots."""
     import numpy as np
     import shapely
 
@@ -58,12 +62,14 @@ def plot_scores(plots, gt_points, gt_polygons):
     points = assessment.point_detection_scores(plots, gt_points)
     refs, _index = generalization.explode_plots(gt_polygons)
     shapes = shape_metrics.shape_scores(plots, refs, generalize.GeneralizeConfig().gt_buffer)
+    outline = shape_metrics.outline_agreement(plots, refs)
     hits = assessment.point_hits(plots, gt_points).any(axis=0)
     arr = np.array(plots, dtype=object)
     touched = [bool(shapely.intersects(arr, ref).any()) for ref in gt_polygons]
     return {"plots": len(plots), "precision": points.precision, "recall": points.recall,
             "f_score": points.f_score, "turning_distance": shapes["turning_distance"],
             "buffer_similarity": shapes["buffer_similarity"], "matched": shapes["matched"],
+            "outline_offset": outline.offset, "iou": outline.iou,
             "gt_points": len(gt_points), "gt_points_in_a_plot": int(hits.sum()),
             "gt_polygons": len(gt_polygons), "gt_polygons_intersected": sum(touched),
             "lost": int((~hits).sum()) + len(touched) - sum(touched)}
@@ -105,6 +111,8 @@ def build(out, shared_data):
     ours = plot_scores(grassio.read_features("plots", "area")[0], gt_points, gt_polygons)
     thesis = plot_scores(grassio.read_areas(THESIS_PLOTS, table=False)[0], gt_points,
                          gt_polygons)
+    thesis_raw = plot_scores(grassio.read_areas(THESIS_RAW_PLOTS, table=False)[0], gt_points,
+                             gt_polygons)
     seconds = cr.stage_seconds(out)
     model = cr.model(out)
     return {
@@ -112,6 +120,7 @@ def build(out, shared_data):
         "total_seconds": round(sum(seconds.values()), 3),
         "plots": ours,
         "thesis_plots": thesis,
+        "thesis_raw_plots": thesis_raw,
         "generalize": cr.load(out, "generalize.json"),
         "align": cr.load(out, "align.json"),
         "thesis_aligned": thesis_aligned_found(out),
@@ -123,12 +132,20 @@ def build(out, shared_data):
 
 
 def rows(report):
-    """The text table: our figure and the thesis's beside it, where there is one."""
+    """The text table: our figure and the thesis's beside it, where there is one (the
+    outlines: our classified cells and plots, the thesis's raw and final plots)."""
     ours, thesis, gen = report["plots"], report["thesis_plots"], report["generalize"]
+    raw = report["thesis_raw_plots"]
     fp, lod2, found = report["subdivide"], report["lod2"], report["thesis_aligned"]
 
     def f3(x):
         return "" if x is None else "{:.3f}".format(x)
+
+    def signed(x):
+        return "" if x is None else "{:+.2f}".format(x)
+
+    def step(figures, name, key):
+        return (figures.get("outline_by_step") or {}).get(name, {}).get(key)
 
     return [
         ("precision / recall / F (generalize.json)",
@@ -139,6 +156,12 @@ def rows(report):
          f3(thesis["turning_distance"])),
         ("mean buffer similarity (%)", "{:.2f}".format(gen["buffer_similarity"]),
          "{:.2f}".format(thesis["buffer_similarity"])),
+        ("mean outward offset (m): cells / plots", "{} / {}".format(
+            signed(step(gen, "raw", "offset")), signed(gen.get("outline_offset"))),
+         "{} / {}".format(signed(raw["outline_offset"]), signed(thesis["outline_offset"]))),
+        ("mean IoU with the digitised plots: cells / plots", "{} / {}".format(
+            f3(step(gen, "raw", "iou")), f3(gen.get("iou"))),
+         "{} / {}".format(f3(raw["iou"]), f3(thesis["iou"]))),
         ("plots", ours["plots"], thesis["plots"]),
         ("ground-truth plots kept (points; polygons)",
          "{}/{}; {}/{}".format(ours["gt_points_in_a_plot"], ours["gt_points"],

@@ -113,7 +113,7 @@
 # % key: gt_polygons
 # % required: no
 # % label: Hand-digitised reference plots (areas)
-# % description: Gives the turning-function distance and the buffer shape similarity
+# % description: Gives the turning-function distance, the buffer shape similarity, the outward offset and the intersection over union
 # % guisection: Assessment
 # %end
 # %option

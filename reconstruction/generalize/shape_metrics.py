@@ -14,7 +14,10 @@ Pure functions over shapely 2 geometries and numpy arrays (no GRASS):
 - :func:`buffer_similarity`: the buffer shape similarity of Samal et al.
   (2004) as used by the thesis: ``(A phi B + B phi A) / 2`` in %, where
   ``A phi B`` is the share of A's area inside B buffered by a distance;
-- :func:`match_plots`: which output plot stands for each reference plot.
+- :func:`match_plots`: which output plot stands for each reference plot;
+- :func:`outline_agreement`: how far a plot's outline lies outside its
+  reference's on average (the outward offset) and their intersection over
+  union, the reference matched with the plot that overlaps it most.
 
 Definitions (thesis, Table 3.1):
     compactness    4 pi area / perimeter^2
@@ -31,6 +34,7 @@ Definitions (thesis, Table 3.1):
 """
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import shapely
@@ -235,6 +239,57 @@ def match_plots(plots, references, min_overlap=0.5):
                 best, best_iou = j, iou
         matches[i] = best
     return matches
+
+
+@dataclass(frozen=True)
+class OutlineAgreement:
+    """Per reference plot, its match's outward ``offset`` (map units: the plot's area
+    less the reference's, over the reference's perimeter; positive outside) and
+    ``iou`` (None where no plot overlaps the reference), and their means over the
+    matched references (None without any)."""
+
+    offsets: list
+    ious: list
+
+    def _mean(self, values):
+        found = [v for v in values if v is not None]
+        return float(np.mean(found)) if found else None
+
+    @property
+    def offset(self):
+        return self._mean(self.offsets)
+
+    @property
+    def iou(self):
+        return self._mean(self.ious)
+
+
+def outline_agreement(plots, references):
+    """The :class:`OutlineAgreement` of ``plots`` with the ``references`` (shapely
+    geometries): each reference matched with the plot that overlaps it most.
+
+    The offset measures a bias the turning function and the buffer similarity
+    do not see: plots drawn too large (or too small) all round (issue 32)."""
+    plots = _as_array(plots)
+    refs = _as_array(references)
+    offsets, ious = [None] * len(refs), [None] * len(refs)
+    valid = np.flatnonzero([g is not None and not g.is_empty for g in plots])
+    if not len(valid) or not len(refs):
+        return OutlineAgreement(offsets, ious)
+    tree = shapely.STRtree(plots[valid])
+    for i, ref in enumerate(refs):
+        if ref is None or ref.is_empty:
+            continue
+        candidates = valid[tree.query(ref, predicate="intersects")]
+        if not len(candidates):
+            continue
+        shared = shapely.area(shapely.intersection(plots[candidates], ref))
+        j = candidates[int(np.argmax(shared))]
+        if shared.max() <= 0:
+            continue
+        offsets[i] = float((plots[j].area - ref.area) / ref.length)
+        ious[i] = float(shared.max() / shapely.union(plots[j], ref).area)
+    return OutlineAgreement(offsets, ious)
 
 
 def shape_scores(plots, references, buffer=2.0):

@@ -18,7 +18,7 @@ a user should read.
 import csv
 import json
 from collections import Counter
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from typing import Optional
 
 from ..core import safefile
@@ -76,7 +76,13 @@ class PointScores:
 
 @dataclass(frozen=True)
 class ShapeScores:
-    """Shape agreement with reference plots (None where nothing matched)."""
+    """Shape agreement with reference plots (None where nothing matched): the
+    turning distance and buffer similarity of the matches; the mean outward
+    ``outline_offset`` (map units) and ``iou`` of each reference with the plot that
+    overlaps it most (:func:`~reconstruction.generalize.shape_metrics.outline_agreement`),
+    per reference, and ``outline_by_step``: the same two means after each step of
+    the generalisation ({step: {"offset", "iou"}}; ``raw``: the raw areas, for
+    raster input the classified cells)."""
 
     gt_polygons: int
     matched: int
@@ -84,6 +90,11 @@ class ShapeScores:
     buffer_similarity: Optional[float]
     turning_distances: list
     buffer_similarities: list
+    outline_offset: Optional[float] = None
+    iou: Optional[float] = None
+    outline_offsets: list = field(default_factory=list)
+    ious: list = field(default_factory=list)
+    outline_by_step: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -157,12 +168,18 @@ def _point_scores(plots, xy):
     return PointScores(scores.precision, scores.recall, scores.f_score, len(xy))
 
 
-def _shape_scores(plots, references, buffer):
+def _shape_scores(plots, references, buffer, steps=()):
     refs, _index = generalization.explode_plots(references)
     scores = shape_metrics.shape_scores(plots, refs, buffer)
+    outline = shape_metrics.outline_agreement(plots, refs)
+    by_step = {}
+    for name, polygons in steps:
+        agreement = shape_metrics.outline_agreement(polygons, refs)
+        by_step[name] = {"offset": agreement.offset, "iou": agreement.iou}
     return ShapeScores(scores["references"], scores["matched"], scores["turning_distance"],
                        scores["buffer_similarity"], scores["turning_distances"],
-                       scores["buffer_similarities"])
+                       scores["buffer_similarities"], outline.offset, outline.iou,
+                       outline.offsets, outline.ious, by_step)
 
 
 def generalize_map(raw, config, gt_points=None, gt_polygons=None):
@@ -192,5 +209,5 @@ def generalize_map(raw, config, gt_points=None, gt_polygons=None):
         steps=_step_rows(result.steps),
         points=None if gt_points is None else _point_scores(result.plots, gt_points),
         shapes=None if gt_polygons is None else _shape_scores(result.plots, gt_polygons,
-                                                              config.gt_buffer))
+                                                              config.gt_buffer, result.steps))
     return GeneralizedPlots(result.plots, columns, report)

@@ -41,10 +41,14 @@ def test_generalize_map_columns_report_and_files(tmp_path):
                                  "steps"]
     assert list(figures)[6:10] == ["precision", "recall", "f_score", "gt_points"]
     assert list(figures)[10:] == ["gt_polygons", "matched", "turning_distance",
-                                  "buffer_similarity", "turning_distances", "buffer_similarities"]
+                                  "buffer_similarity", "turning_distances", "buffer_similarities",
+                                  "outline_offset", "iou", "outline_offsets", "ious",
+                                  "outline_by_step"]
     assert figures["methods"] == {"douglas": 3}
     assert (report.points.precision, report.points.recall) == (pytest.approx(1 / 3), 0.5)
     assert report.shapes.matched == 1 and report.shapes.buffer_similarity == pytest.approx(100)
+    assert report.shapes.outline_offset == pytest.approx(0) and report.shapes.iou == 1
+    assert set(report.shapes.outline_by_step) == {"raw", "douglas"}
     scalars = report.scalars()
     assert "steps" not in scalars and "turning_distances" not in scalars
     assert scalars["plots"] == 3 and scalars["gt_points"] == 2

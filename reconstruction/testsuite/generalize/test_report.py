@@ -8,7 +8,8 @@ from reconstruction.generalize.stage import (GeneralizedPlots, GeneralizeReport,
 
 def _result(fallbacks=None, scores=True):
     points = PointScores(2 / 3, 1.0, 0.8, 4) if scores else None
-    shapes = ShapeScores(3, 2, None, 94.93421, [], []) if scores else None
+    shapes = ShapeScores(3, 2, None, 94.93421, [], [], 0.61234, 0.9, [0.61234, None],
+                         [0.9, None], {"raw": {"offset": 0.3, "iou": 0.95}}) if scores else None
     return GeneralizedPlots([], {}, GeneralizeReport(
         plots=3, raw_areas=4, dropped_small=1, methods={"alpha/regular+lines": 3},
         fallbacks=fallbacks or {}, steps=[], points=points, shapes=shapes))
@@ -18,7 +19,7 @@ def test_the_figures_in_one_message():
     assert [(m.level, m.text) for m in report(_result(), GeneralizeConfig())] == [
         ("message", "plots 3, raw_areas 4, dropped_small 1, precision 0.6667, recall 1.0, "
                     "f_score 0.8, gt_points 4, gt_polygons 3, matched 2, turning_distance None, "
-                    "buffer_similarity 94.9342")]
+                    "buffer_similarity 94.9342, outline_offset 0.6123, iou 0.9")]
     assert [m.text for m in report(_result(scores=False), GeneralizeConfig())] == [
         "plots 3, raw_areas 4, dropped_small 1"]
 
@@ -38,4 +39,4 @@ def test_shell_style_figures_on_standard_output_instead_of_the_message():
     assert shell_figures(_result()) == [
         "plots=3", "raw_areas=4", "dropped_small=1", "precision=0.6666666666666666",
         "recall=1.0", "f_score=0.8", "gt_points=4", "gt_polygons=3", "matched=2",
-        "turning_distance=", "buffer_similarity=94.93421"]
+        "turning_distance=", "buffer_similarity=94.93421", "outline_offset=0.61234", "iou=0.9"]

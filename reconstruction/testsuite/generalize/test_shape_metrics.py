@@ -136,6 +136,33 @@ def test_match_and_shape_scores():
     assert scores["turning_distances"][2] is None
 
 
+def test_outline_agreement_measures_how_far_outside_a_plot_lies():
+    refs = [box(0, 0, 10, 10), box(100, 0, 110, 10), box(200, 0, 210, 10)]
+    # the first reference drawn 1 m too wide all round, the second 0.5 m too narrow;
+    # a small plot overlapping the first less is not its match; the third: none
+    plots = [box(-1, -1, 11, 11), box(5, 5, 30, 30), box(100.5, 0.5, 109.5, 9.5)]
+    outline = sm.outline_agreement(plots, refs)
+    assert outline.offsets[0] == pytest.approx((144 - 100) / 40)     # 1.1: corners count
+    assert outline.offsets[1] == pytest.approx((81 - 100) / 40)
+    assert outline.offsets[2] is None and outline.ious[2] is None
+    assert outline.ious[:2] == [pytest.approx(100 / 144), pytest.approx(81 / 100)]
+    assert outline.offset == pytest.approx(np.mean([44 / 40, -19 / 40]))
+    assert sm.outline_agreement([], refs).offset is None
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.floats(0.1, 5), st.floats(-0.4, 2).filter(lambda g: g == 0 or abs(g) > 1e-6),
+       st.floats(0, 90))
+def test_a_rectangle_grown_all_round_is_offset_by_about_its_growth(side, grow, angle):
+    # the offset of a plot grown by d all round (mitre joins) is d plus its corners' share
+    # (GEOS buffers by a subnormal distance to nothing: no such growth drawn)
+    ref = affinity.rotate(box(0, 0, 10 * side, 4 * side), angle)
+    plot = shapely.buffer(ref, grow * side, join_style="mitre") if grow else ref
+    offset = sm.outline_agreement([plot], [ref]).offsets[0]
+    d = grow * side
+    assert offset == pytest.approx(d + 4 * d * d / ref.length, rel=1e-6, abs=1e-9)
+
+
 @settings(max_examples=30, deadline=None)
 @given(st.lists(st.tuples(st.floats(0, 2 * math.pi), st.floats(0.5, 1.0)), min_size=3, max_size=9,
                 unique_by=lambda p: round(p[0], 2)),
