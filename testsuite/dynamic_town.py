@@ -16,7 +16,6 @@ import numpy as np
 import shapely
 
 from reconstruction.cityjson.geometry import resolved
-from reconstruction.core.contract import NEW_BUILDING
 
 
 def buildings(document):
@@ -173,7 +172,3 @@ def same_model(a, b):
             out.append("{}: attributes differ".format(oid))
     return out
 
-
-def is_new(oid):
-    """Whether an id is one the chain made (not a register id)."""
-    return oid.startswith(NEW_BUILDING.split("{")[0])

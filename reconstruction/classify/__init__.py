@@ -32,5 +32,4 @@ from .stage import ClassifyResult, Training, classify_map
 
 __all__ = ["ClassifyConfig", "ClassifyInputs", "ClassifyResult", "Training", "classify_map",
            "config", "pipeline", "read_config", "removal", "report", "rule_message", "run",
-           "segments",
-           "stage", "tiled", "tiling"]
+           "segments", "stage", "tiled", "tiling"]

@@ -383,7 +383,7 @@ def predict_ensemble(models, features):
 
 
 # ---------------------------------------------------------------------------
-# Removal of classes (text, symbols) and of small regions
+# The segments' classes as a raster (removal of classes: removal.py)
 # ---------------------------------------------------------------------------
 
 def class_raster(index, segment_labels, nodata=0):

@@ -284,9 +284,9 @@ def outline_agreement(plots, references):
         if not len(candidates):
             continue
         shared = shapely.area(shapely.intersection(plots[candidates], ref))
-        j = candidates[int(np.argmax(shared))]
         if shared.max() <= 0:
             continue
+        j = candidates[int(np.argmax(shared))]
         offsets[i] = float((plots[j].area - ref.area) / ref.length)
         ious[i] = float(shared.max() / shapely.union(plots[j], ref).area)
     return OutlineAgreement(offsets, ious)

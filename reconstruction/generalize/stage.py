@@ -169,13 +169,14 @@ def _point_scores(plots, xy):
 
 
 def _shape_scores(plots, references, buffer, steps=()):
+    """The :class:`ShapeScores` of ``plots``; ``steps``: the generalisation's (name,
+    polygons), the last of them ``plots`` themselves (measured once)."""
     refs, _index = generalization.explode_plots(references)
     scores = shape_metrics.shape_scores(plots, refs, buffer)
-    outline = shape_metrics.outline_agreement(plots, refs)
-    by_step = {}
-    for name, polygons in steps:
-        agreement = shape_metrics.outline_agreement(polygons, refs)
-        by_step[name] = {"offset": agreement.offset, "iou": agreement.iou}
+    agreements = {name: shape_metrics.outline_agreement(polygons, refs)
+                  for name, polygons in steps}
+    outline = agreements[steps[-1][0]] if steps else shape_metrics.outline_agreement(plots, refs)
+    by_step = {name: {"offset": a.offset, "iou": a.iou} for name, a in agreements.items()}
     return ShapeScores(scores["references"], scores["matched"], scores["turning_distance"],
                        scores["buffer_similarity"], scores["turning_distances"],
                        scores["buffer_similarities"], outline.offset, outline.iou,
