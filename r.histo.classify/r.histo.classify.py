@@ -150,7 +150,7 @@
 # % key: separate
 # % type: integer
 # % multiple: yes
-# % description: Class labels (e.g. buildings) whose separate objects the refill must not join across a removed label
+# % description: Class labels (e.g. buildings) whose separate objects the refill must not join across a removed label, nor grow out into it
 # % guisection: Removal
 # %end
 # %option

@@ -198,14 +198,17 @@ def _facing_gaps(regions, ids, hole, distance, share=0.25):
     street between two plots, not the plot a label cut, nor the other
     plots the same hole touches (a label across a block and the streets on
     either side, joined to the plots' outline strokes along the streets).
+    The cells beside a plot, one cell away at most, are left out of the gaps
+    where every other plot is more than two cells away: its outline stroke.
     """
     free = ~np.isin(regions, ids)
     cells = np.indices(regions.shape)
-    near, toward = [], []
+    near, toward, away = [], [], []
     for i in ids:
         d, nearest = ndimage.distance_transform_edt(regions != i, return_indices=True)
         near.append((d <= distance) & free)
         toward.append((nearest - cells).astype(float))
+        away.append(d)
     limit = np.cos(np.radians(BETWEEN))
     gaps = np.zeros(hole.shape, dtype=bool)
     for a in range(len(near)):
@@ -222,7 +225,10 @@ def _facing_gaps(regions, ids, hole, distance, share=0.25):
             outside = int((between & ~hole).sum())
             if outside > 0 and outside >= share * inside:
                 gaps |= front
-    return gaps
+    # each plot keeps its outline, the cells beside it, where the other plots are
+    # more than two cells away: the gap between them stays open
+    away = np.sort(np.stack(away), axis=0)
+    return gaps & ~((away[0] <= 1) & (away[1] > 2))
 
 
 def bridges(before, after, holes, min_cells=1, distance=3, nodata=0, labels=None):
@@ -283,6 +289,60 @@ def bridges(before, after, holes, min_cells=1, distance=3, nodata=0, labels=None
     return joined
 
 
+#: The four axes along which a refilled cell is looked at from both sides
+#: (:func:`outgrowths`), as (row, column) steps.
+AXES = ((0, 1), (1, 0), (1, 1), (1, -1))
+
+
+def _first_known(classes, known, rows, cols, step, nodata=0):
+    """The class of the first ``known`` cell met from each cell (``rows``,
+    ``cols``) going by ``step``; ``nodata`` where the map's edge comes first."""
+    found = np.full(len(rows), nodata, dtype=classes.dtype)
+    open_ = np.arange(len(rows))
+    r, c = rows.copy(), cols.copy()
+    while len(open_):
+        r, c = r + step[0], c + step[1]
+        inside = (r >= 0) & (r < classes.shape[0]) & (c >= 0) & (c < classes.shape[1])
+        open_, r, c = open_[inside], r[inside], c[inside]
+        hit = known[r, c]
+        found[open_[hit]] = classes[r[hit], c[hit]]
+        open_, r, c = open_[~hit], r[~hit], c[~hit]
+    return found
+
+
+def outgrowths(before, after, holes, label, nodata=0):
+    """Refilled cells of ``label`` that grow its regions out into a hole.
+
+    ``before`` holds the classes with the holes not filled yet, ``after``
+    the filled result. A filled cell of ``label`` farther than one cell from
+    the known cells of that class is an outgrowth unless it lies *between*
+    them: the first known cells on both sides of it, along a row, a column
+    or a diagonal (:data:`AXES`), are of that class. A label printed over a
+    plot, or across its edge, lies between the plot's cells and restores it;
+    a street name printed beside a plot, against its outline, has the plot
+    on one side only, and is given back to the street. The plot's own
+    outline strokes (one cell to either side of the nearest-class line) are
+    kept.
+    """
+    before = np.asarray(before)
+    holes = np.asarray(holes, dtype=bool)
+    known = ~holes & (before != nodata)
+    own = known & (before == label)
+    filled = holes & (np.asarray(after) == label)
+    if not filled.any() or not own.any():
+        return np.zeros(holes.shape, dtype=bool)
+    far = filled & (ndimage.distance_transform_edt(~own) > 1.0)
+    rows, cols = np.nonzero(far)
+    between = np.zeros(len(rows), dtype=bool)
+    for dr, dc in AXES:
+        ahead = _first_known(before, known, rows, cols, (dr, dc), nodata)
+        behind = _first_known(before, known, rows, cols, (-dr, -dc), nodata)
+        between |= (ahead == label) & (behind == label)
+    grown = np.zeros(holes.shape, dtype=bool)
+    grown[rows[~between], cols[~between]] = True
+    return grown
+
+
 def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, min_width=0,
                    separate=(), nodata=0):
     """Remove classes (e.g. text, symbols), thin parts and tiny regions from a class raster.
@@ -325,7 +385,8 @@ def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, m
     reach = None if iterations is None else iterations * (window // 2)
     out, left = fill_from_nearest(classes, holes, reach=reach, nodata=nodata)
     for label in separate:
-        joined = bridges(before, out, holes, min_cells, window, nodata, labels=(label,))
+        joined = bridges(before, out, holes, min_cells, 2 * window, nodata, labels=(label,))
+        joined |= outgrowths(before, out, holes, label, nodata)
         if joined.any():
             refilled, still = fill_from_nearest(out, joined, reach=reach, nodata=nodata,
                                                 exclude=(label,))
