@@ -36,7 +36,8 @@ echo "--- import of $DATA/delft_1961_subset"
 timed "$TIMES" import python3 "$HERE/delft_import.py" "$DATA" "$OUT/import.json"
 g.region raster=delft.red
 
-classify_stage delft.red,delft.green,delft.blue delft_training delft_classes remove=$REMOVE
+classify_stage delft.red,delft.green,delft.blue delft_training delft_classes remove=$REMOVE \
+    separate=$BUILDING
 generalize_stage delft_classes $BUILDING gt_points=delft_gt_points gt_polygons=delft_gt_polygons
 align_stage current $YEAR buffer=10 overlap=0.6
 subdivide_stage length=5,5 depth=12,16 area_threshold=100
