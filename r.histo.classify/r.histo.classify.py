@@ -123,7 +123,7 @@
 # %option
 # % key: window
 # % type: integer
-# % description: Refill window size (odd; reach of a pass, distance of separate=; default: from the thickness of the removed objects)
+# % description: Refill window size (odd; reach of a pass, half the distance of separate=; default: from the thickness of the removed objects)
 # % guisection: Removal
 # %end
 # %option

@@ -182,6 +182,16 @@ def thin_parts(classes, width, nodata=0):
 BETWEEN = 135.0
 
 
+#: Cells of a plot's outline: the refilled cells this close to a plot may
+#: join it wherever they lie (its drawn outline stroke, split halfway by the
+#: nearest fill; :func:`outgrowths`, :func:`_facing_gaps`).
+OUTLINE = 1.0
+#: Two plots across a refilled label face each other up to this many refill
+#: windows apart (a label can cover a street twice as wide as its letters are
+#: thick: a 10-cell street under a 5-cell window in the synthetic town's 1880 map).
+FACING = 2
+
+
 def _facing_gaps(regions, ids, hole, distance, share=0.25):
     """The gaps between the regions ``ids`` that face each other beside ``hole``.
 
@@ -198,8 +208,8 @@ def _facing_gaps(regions, ids, hole, distance, share=0.25):
     street between two plots, not the plot a label cut, nor the other
     plots the same hole touches (a label across a block and the streets on
     either side, joined to the plots' outline strokes along the streets).
-    The cells beside a plot, one cell away at most, are left out of the gaps
-    where every other plot is more than two cells away: its outline stroke.
+    A plot's outline (its cells within :data:`OUTLINE`) is left out of the
+    gaps where every other plot is farther than two outlines.
     """
     free = ~np.isin(regions, ids)
     cells = np.indices(regions.shape)
@@ -225,10 +235,10 @@ def _facing_gaps(regions, ids, hole, distance, share=0.25):
             outside = int((between & ~hole).sum())
             if outside > 0 and outside >= share * inside:
                 gaps |= front
-    # each plot keeps its outline, the cells beside it, where the other plots are
-    # more than two cells away: the gap between them stays open
+    # each plot keeps its outline where the other plots are farther than both
+    # outlines: the gap between them stays open
     away = np.sort(np.stack(away), axis=0)
-    return gaps & ~((away[0] <= 1) & (away[1] > 2))
+    return gaps & ~((away[0] <= OUTLINE) & (away[1] > 2 * OUTLINE))
 
 
 def bridges(before, after, holes, min_cells=1, distance=3, nodata=0, labels=None):
@@ -315,7 +325,7 @@ def outgrowths(before, after, holes, label, nodata=0):
 
     ``before`` holds the classes with the holes not filled yet, ``after``
     the filled result. A filled cell of ``label`` farther than one cell from
-    the known cells of that class is an outgrowth unless it lies *between*
+    the known cells of that class (:data:`OUTLINE`) is an outgrowth unless it lies *between*
     them: the first known cells on both sides of it, along a row, a column
     or a diagonal (:data:`AXES`), are of that class. A label printed over a
     plot, or across its edge, lies between the plot's cells and restores it;
@@ -331,7 +341,7 @@ def outgrowths(before, after, holes, label, nodata=0):
     filled = holes & (np.asarray(after) == label)
     if not filled.any() or not own.any():
         return np.zeros(holes.shape, dtype=bool)
-    far = filled & (ndimage.distance_transform_edt(~own) > 1.0)
+    far = filled & (ndimage.distance_transform_edt(~own) > OUTLINE)
     rows, cols = np.nonzero(far)
     between = np.zeros(len(rows), dtype=bool)
     for dr, dc in AXES:
@@ -360,9 +370,11 @@ def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, m
        from the thickness of the removed objects (:func:`removal_window`)
        unless given.
     3. For the ``separate`` labels (e.g. buildings): where the fill of a
-       hole joins two regions of such a class that were apart within the
-       window (a street name printed across a narrow street between two
-       plots), that class is refused there and the hole is refilled from the
+       hole joins two regions of such a class that were apart within
+       :data:`FACING` windows (a street name printed across a narrow street
+       between two plots, :func:`bridges`), or grows such a class out into
+       the hole (a street name printed beside a plot, :func:`outgrowths`),
+       that class is refused there and the hole is refilled from the
        nearest of the other classes around.
     4. Regions left smaller than ``min_cells`` are refilled once more (the
        modal class of their 3 x 3 surroundings, :func:`fill_from_surroundings`).
@@ -385,7 +397,7 @@ def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, m
     reach = None if iterations is None else iterations * (window // 2)
     out, left = fill_from_nearest(classes, holes, reach=reach, nodata=nodata)
     for label in separate:
-        joined = bridges(before, out, holes, min_cells, 2 * window, nodata, labels=(label,))
+        joined = bridges(before, out, holes, min_cells, FACING * window, nodata, labels=(label,))
         joined |= outgrowths(before, out, holes, label, nodata)
         if joined.any():
             refilled, still = fill_from_nearest(out, joined, reach=reach, nodata=nodata,
