@@ -3,8 +3,9 @@
 Pure functions over shapely 2 geometries and numpy arrays (no GRASS), after
 Morlighem (2021, Sections 3.2.2-3.2.3):
 
-- ``alpha``: the alpha-shape operator of Arteaga (2013): points are sampled
-  in the plot (``regular`` grid, ``hexagonal`` grid, ``stratified`` (one
+- ``alpha``: the alpha-shape operator of Arteaga (2013), on the centre line of
+  a raster outline's stairs (:func:`_centre_lines`): points are sampled in the
+  plot (``regular`` grid, ``hexagonal`` grid, ``stratified`` (one
   jittered point per grid cell) or ``random``, each with the densified
   boundary), their alpha shape is the union of the Delaunay triangles whose
   circumradius is at most alpha (scipy's Delaunay); its boundary is cleaned
@@ -45,6 +46,7 @@ from shapely.geometry import LinearRing, Polygon
 from ..geom.overlaps import OverlapRule, resolve_overlaps
 
 # one home for the polygons of a geometry; both names stay importable from here
+from ..geom.polygons import centre_line, stair_step
 from ..geom.polygons import explode as explode_plots, largest_polygon  # noqa: F401
 
 # Tuning (checked on the thesis's Delft 1961 plots): a join moves a corner at
@@ -573,6 +575,18 @@ def _lines_for(polygon, distance, angle, orthogonal):
     return buffered_lines([polygon], distance, angle, orthogonal)[0]
 
 
+def _centre_lines(polygons):
+    """The plots the alpha step samples: an outline vectorised from raster cells, on
+    the centre line of its stairs (the alpha shape of the stairs' points runs along
+    their outer corners, half a cell out); a plot touching another stays as it is
+    (the centre line would cut into its neighbour)."""
+    cell, out = stair_step(polygons), list(polygons)
+    for group in touching_groups(polygons) if cell else ():
+        if len(group) == 1:
+            out[group[0]] = centre_line(polygons[group[0]], cell)
+    return out
+
+
 def generalize_plots(polygons, methods=("alpha", "lines"), alpha=12.0, distance=5.0,
                      angle=180.0, orthogonal=False, tolerance=1.0, seed=1):
     """Generalise building plots, one output polygon per input polygon.
@@ -593,6 +607,7 @@ def generalize_plots(polygons, methods=("alpha", "lines"), alpha=12.0, distance=
     steps = [("raw", list(current))]
     fallbacks = {}
     previous = None
+    stairs = _centre_lines(current) if "alpha" in methods else current
     for step_no, method in enumerate(methods):
         step_name = method if method not in [s[0] for s in steps] else "{}_{}".format(method, step_no + 1)
         new = [None] * len(current)
@@ -600,7 +615,7 @@ def generalize_plots(polygons, methods=("alpha", "lines"), alpha=12.0, distance=
         if method == "alpha":
             for i, poly in enumerate(current):
                 for sampling in SAMPLINGS:
-                    out = alpha_generalize(poly, alpha, sampling, rng=rng)
+                    out = alpha_generalize(stairs[i], alpha, sampling, rng=rng)
                     if acceptable(out, poly):
                         new[i], labels[i] = out, "alpha/" + sampling
                         break
@@ -629,7 +644,8 @@ def generalize_plots(polygons, methods=("alpha", "lines"), alpha=12.0, distance=
         failed = [i for i in range(len(current)) if new[i] is None]
         for i in failed:
             new[i], labels[i], redone = _fallback(method, i, current, steps, previous, alpha,
-                                                  distance, angle, orthogonal, tolerance, rng, used)
+                                                  distance, angle, orthogonal, tolerance, rng, used,
+                                                  stairs)
             if redone is not None:  # the previous step was redone with another sampling
                 steps[-1][1][i] = redone
                 used[i][-1], labels[i] = labels[i].split("+", 1)
@@ -650,7 +666,7 @@ def generalize_plots(polygons, methods=("alpha", "lines"), alpha=12.0, distance=
 
 
 def _fallback(method, i, current, steps, previous, alpha, distance, angle, orthogonal,
-              tolerance, rng, used):
+              tolerance, rng, used, stairs):
     """The next sensible method for plot ``i`` whose ``method`` step failed.
 
     Returns ``(polygon, label, redone)``: ``redone`` is the new result of the
@@ -665,7 +681,7 @@ def _fallback(method, i, current, steps, previous, alpha, distance, angle, ortho
             for sampling in SAMPLINGS:
                 if sampling == done:
                     continue
-                alt = alpha_generalize(source, alpha, sampling, rng=rng)
+                alt = alpha_generalize(stairs[i], alpha, sampling, rng=rng)
                 if acceptable(alt, source):
                     out = _lines_for(alt, distance, angle, orthogonal)
                     if acceptable(out, alt) and acceptable(out, source):

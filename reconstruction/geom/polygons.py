@@ -172,3 +172,78 @@ def _counter_clockwise(xy):
     """The vertices ``xy`` (an open ring) counter-clockwise."""
     x, y = xy[:, 0], xy[:, 1]
     return xy if np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)) >= 0 else xy[::-1]
+
+
+def stair_step(polygons, share=0.3, least=50):
+    """The cell size of outlines vectorised from a raster, or None.
+
+    The outline of a patch of raster cells (r.to.vect) is a staircase whose
+    segments are whole numbers of cells: the commonest segment length, when
+    at least ``share`` of the ``least`` or more segments of all rings have it,
+    is the cell size. A plot drawn by hand has no such length."""
+    rings = [r for p in polygons if p is not None
+             for r in [p.exterior, *p.interiors]] if polygons else []
+    if not rings:
+        return None
+    xy, index = shapely.get_coordinates(rings, return_index=True)
+    same = index[1:] == index[:-1]
+    lengths = np.hypot(*np.diff(xy, axis=0)[same].T)
+    if len(lengths) < least:
+        return None
+    values, counts = np.unique(np.round(lengths, 4), return_counts=True)
+    k = int(np.argmax(counts))
+    return float(values[k]) if values[k] > 0 and counts[k] >= share * len(lengths) else None
+
+
+def _unstair(xy, step):
+    """One pass over an open ring ``xy``: each vertex of a stair (its turn the other way
+    from a neighbour's, one of its segments at most 1.5 ``step`` long) replaced by the
+    midpoints of its two segments."""
+    prev, nxt = np.roll(xy, 1, axis=0), np.roll(xy, -1, axis=0)
+    a, b = xy - prev, nxt - xy
+    turn = np.sign(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
+    zig = (turn != np.roll(turn, 1)) | (turn != np.roll(turn, -1))
+    short = np.minimum(np.hypot(*a.T), np.hypot(*b.T)) <= 1.5 * step
+    stair = zig & short
+    out = np.repeat(xy, np.where(stair, 2, 1), axis=0)
+    first = np.cumsum(np.where(stair, 2, 1)) - np.where(stair, 2, 1)
+    out[first[stair]] = (prev[stair] + xy[stair]) / 2
+    out[first[stair] + 1] = (xy[stair] + nxt[stair]) / 2
+    keep = np.any(np.abs(out - np.roll(out, 1, axis=0)) > 1e-9, axis=1)
+    return out[keep]
+
+
+def _corners(xy):
+    """An open ring without its vertices on a straight run (a run of whole cells is one
+    segment, as r.to.vect draws it)."""
+    a, b = xy - np.roll(xy, 1, axis=0), np.roll(xy, -1, axis=0) - xy
+    cross = np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
+    bend = cross > 1e-9 * np.hypot(*a.T) * np.hypot(*b.T)
+    return xy[bend] if bend.sum() >= 3 else xy
+
+
+def centre_line(polygon, step, passes=3):
+    """``polygon`` with the stairs of its raster cells (``step`` their size, see
+    :func:`stair_step`) replaced by their centre line: each pass cuts every stair
+    corner at the midpoints of its segments (as much area cut at the outer corners as
+    filled at the inner ones); corners between longer segments stay. The outline of
+    the cells runs half a step outside an oblique edge at its outer corners, where an
+    alpha shape of its points lies (issue 32); the centre line is the edge. The
+    polygon unchanged where the result is not one valid polygon."""
+    if polygon is None or not step:
+        return polygon
+
+    def ring(coords):
+        xy = _corners(np.asarray(coords, dtype=float)[:-1, :2])
+        for _ in range(passes):
+            if len(xy) < 4:
+                break
+            xy = _unstair(xy, step)
+        return xy
+
+    try:
+        smooth = shapely.Polygon(ring(polygon.exterior.coords),
+                                 [ring(h.coords) for h in polygon.interiors])
+    except (ValueError, shapely.errors.GEOSException):
+        return polygon
+    return smooth if smooth.is_valid and smooth.area > 0 else polygon

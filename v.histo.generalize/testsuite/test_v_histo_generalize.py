@@ -342,6 +342,16 @@ def test_acceptance_delft_1961(mapset, shared_data, tmp_path):
     assert rep["buffer_similarity"] >= 95
     print("turning distance: ours {:.4f}, thesis {:.4f}; buffer similarity {:.2f} %".format(
         ours["turning_distance"], thesis["turning_distance"], rep["buffer_similarity"]))
+    # the outward offset and IoU (issue 32), as the library measures them, per step
+    outline = shape_metrics.outline_agreement(geoms, gt)
+    assert rep["outline_offset"] == pytest.approx(outline.offset)
+    assert rep["iou"] == pytest.approx(outline.iou)
+    assert set(rep["outline_by_step"]) == {"raw", "alpha", "lines"}
+    print("outward offset and IoU: {}; the thesis's final plots {:+.2f} m, {:.3f}".format(
+        ", ".join("{} {:+.2f} m, {:.3f}".format(k, v["offset"], v["iou"])
+                  for k, v in rep["outline_by_step"].items()),
+        shape_metrics.outline_agreement(final, gt).offset,
+        shape_metrics.outline_agreement(final, gt).iou))
     # precision / recall / F as defined, from the maps
     xy, _ = grassio.read_points("points")
     scores = assessment.point_detection_scores(geoms, xy)

@@ -105,3 +105,49 @@ def test_a_convex_ring_is_the_same_outline_from_any_corner_either_way(n, start, 
         other = other[::-1]
     assert polygons.same_outline(Polygon(ring), Polygon(other + 0.0005), 0.001)
     assert not polygons.same_outline(Polygon(ring), Polygon(other + 0.002), 0.001)
+
+
+def _cells(shape, cell=1.0):
+    """The outline of the raster cells (``cell`` wide) whose centres lie in ``shape``:
+    the staircase r.to.vect makes of a classified patch."""
+    x0, y0, x1, y1 = shape.bounds
+    gi, gj = np.meshgrid(np.arange(np.floor(x0 / cell) - 1, np.ceil(x1 / cell) + 1),
+                         np.arange(np.floor(y0 / cell) - 1, np.ceil(y1 / cell) + 1))
+    inside = shapely.contains_xy(shape, (gi + 0.5) * cell, (gj + 0.5) * cell)
+    i, j = gi[inside], gj[inside]
+    # corners from whole cell numbers: neighbours share their edges exactly
+    return polygons.largest_polygon(shapely.union_all(
+        shapely.box(i * cell, j * cell, (i + 1) * cell, (j + 1) * cell)))
+
+
+def test_the_cells_of_a_raster_outline_are_found_a_hand_drawn_plot_has_none():
+    plot = shapely.affinity.rotate(box(0, 0, 40, 18), 23)
+    assert polygons.stair_step([_cells(plot, 0.9)]) == pytest.approx(0.9)
+    assert polygons.stair_step([plot, box(50, 0, 80, 30)]) is None
+    assert polygons.stair_step([]) is None
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(15, 75), st.floats(0.5, 1.5), st.floats(20, 60), st.floats(8, 25))
+def test_the_centre_line_of_a_plots_cells_lies_on_its_edges(angle, cell, length, depth):
+    # a rotated rectangular plot classified on a grid: its cells' outline, a staircase,
+    # has about the plot's area, but its convex hull (what an alpha shape of its points
+    # draws) lies outside the plot by a good part of a cell; the centre line's hull
+    # lies nearer (v.histo.generalize's test measures the plots it makes), its corners cut by less than one and a half cells (the fitted lines
+    # of v.histo.generalize draw them again); a hand-drawn plot stays
+    plot = shapely.affinity.rotate(box(0, 0, length, depth), angle, origin=(0, 0))
+    cells = _cells(plot, cell)
+    line = polygons.centre_line(cells, cell)
+    assert line.is_valid and line.area == pytest.approx(cells.area, rel=0.03)
+    assert shapely.hausdorff_distance(line, plot) < 1.5 * cell
+    outer = (shapely.convex_hull(cells).area - plot.area) / plot.length
+    inner = (shapely.convex_hull(line).area - plot.area) / plot.length
+    assert abs(inner) < outer
+    assert polygons.same_outline(polygons.centre_line(plot, cell), plot, 1e-9)
+
+
+def test_a_plot_of_straight_cells_keeps_its_corners():
+    # an L of whole cells: its corners are between long segments, no stairs
+    ell = Polygon([(0, 0), (30, 0), (30, 10), (10, 10), (10, 25), (0, 25)])
+    assert polygons.same_outline(polygons.centre_line(ell, 1.0), ell)
+    assert polygons.centre_line(ell, None) is ell
