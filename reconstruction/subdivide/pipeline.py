@@ -16,6 +16,7 @@ from ..core.errors import InputError
 from ..core.options import integer_column
 from ..core.register import bag_ids, column_named
 from ..geom.polygons import polygon_parts
+from .plots import OVERLAP_TOLERANCE
 from .previous import PreviousEpoch, identities
 from .stage import Subdivision, subdivide
 
@@ -73,10 +74,14 @@ def read_previous(plots, cats, footprints, columns, config):
     (with their categories) and its footprints with their table. A footprint's
     identity is its ``building`` column, else the BAG id of an aligned one,
     else ``building_<cat>`` (what v.histo.lod2 names a footprint's building)."""
-    # one footprint per polygon (GRASS hands back single polygons as MultiPolygons)
+    # one footprint per polygon (GRASS hands back single polygons as MultiPolygons),
+    # without the slivers of a rounding error that GRASS's cleaning can leave
+    # beside a footprint under its category (each would be a building of its own)
     keep, parts = [], []
     for i, g in enumerate(footprints):
-        for part in polygon_parts(g) if g is not None else []:
+        pieces = polygon_parts(g) if g is not None else []
+        solid = [p for p in pieces if p.area >= OVERLAP_TOLERANCE]
+        for part in solid or pieces:
             keep.append(i)
             parts.append(part)
     footprints = parts
