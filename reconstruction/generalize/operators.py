@@ -16,7 +16,8 @@ Morlighem (2021, Sections 3.2.2-3.2.3):
   segments of all rings become lines ranked by length; shorter segments are
   merged into a line while all their end points lie within ``distance`` of
   it and their direction within ``angle``; each final line is the
-  length-weighted average of its members; consecutive lines along each ring
+  orthogonal least-squares line of its members (:class:`_LineSet`);
+  consecutive lines along each ring
   are intersected back into a polygon (nearly parallel ones joined by a
   short step). Holes and concave shapes are kept; plots that touch are
   generalised together, so a shared edge becomes one line and stays shared.
@@ -217,41 +218,65 @@ def _ring_arrays(polygon):
 
 
 class _LineSet:
-    """Lines made of merged segments (length-weighted axial direction and position)."""
+    """Lines made of merged segments, each the orthogonal least-squares line of its
+    segments (every point of them weighted alike, so a long edge outweighs a short
+    corner cut that joined it: an axial mean of the segments' directions let a 4 m
+    corner segment at 19 degrees turn a 100 m edge by 1.9 degrees, which put the
+    edge 1.5 m out at its far end; issue 32). Coordinates are kept relative to the
+    first segment's start (the squares of map coordinates would lose the metres)."""
 
     def __init__(self, distance, angle, capacity):
         self.distance = distance
         self.angle = math.radians(min(angle, 90.0))  # axial directions differ by <= 90 deg
         self.n = 0
-        self.dir2 = np.zeros((capacity, 2))    # sum of length * (cos 2a, sin 2a)
-        self.centre = np.zeros((capacity, 2))  # sum of length * midpoint
+        self.ref = None                        # the first point added: the local origin
         self.weight = np.zeros(capacity)       # total length
+        self.centre = np.zeros((capacity, 2))  # sum of length * midpoint
+        self.moment = np.zeros((capacity, 3))  # sums of the integrals of x², xy, y²
+        self.theta = np.zeros(capacity)        # direction (radians, axial)
         self.origin = np.zeros((capacity, 2))  # weighted centre
         self.unit = np.zeros((capacity, 2))    # unit direction
         self.points = []                       # (k, 2) end points of the members
 
     def line(self, k):
-        return self.origin[k], self.unit[k]
+        return self.origin[k] + self.ref, self.unit[k]
+
+    @staticmethod
+    def _moments(p, q, length):
+        """length x (mean of x², xy, y²) along segment pq."""
+        m = (np.outer(p, p) + np.outer(q, q)) / 3 + (np.outer(p, q) + np.outer(q, p)) / 6
+        return length * np.array([m[0, 0], m[0, 1], m[1, 1]])
+
+    @staticmethod
+    def _direction(weight, centre, moment):
+        """The principal direction (radians) of segments with these sums."""
+        c = centre / weight
+        xx, xy, yy = moment / weight - (c[0] * c[0], c[0] * c[1], c[1] * c[1])
+        return 0.5 * math.atan2(2 * xy, xx - yy)
+
+    def set_direction(self, k, theta):
+        self.theta[k] = theta
+        self.unit[k] = (math.cos(theta), math.sin(theta))
 
     def update(self, k):
-        theta = math.atan2(self.dir2[k, 1], self.dir2[k, 0]) / 2
-        self.unit[k] = (math.cos(theta), math.sin(theta))
         self.origin[k] = self.centre[k] / self.weight[k]
+        self.set_direction(k, self._direction(self.weight[k], self.centre[k], self.moment[k]))
 
-    def _fits(self, k, p, q, length, direction2):
-        dir2 = self.dir2[k] + length * direction2
-        centre = (self.centre[k] + length * (p + q) / 2) / (self.weight[k] + length)
-        theta = math.atan2(dir2[1], dir2[0]) / 2
+    def _fits(self, k, p, q, length):
+        weight = self.weight[k] + length
+        centre = self.centre[k] + length * (p + q) / 2
+        theta = self._direction(weight, centre, self.moment[k] + self._moments(p, q, length))
         normal = np.array([-math.sin(theta), math.cos(theta)])
         points = np.concatenate([self.points[k], [p, q]])
-        return np.abs((points - centre) @ normal).max() <= self.distance
+        return np.abs((points - centre / weight) @ normal).max() <= self.distance
 
     def add(self, p, q):
         """Merge segment pq into the nearest line it fits, or start a line; its index."""
+        if self.ref is None:
+            self.ref = np.array(p, dtype=float)
+        p, q = p - self.ref, q - self.ref
         v = q - p
         length = float(np.hypot(*v))
-        a = math.atan2(v[1], v[0])
-        direction2 = np.array([math.cos(2 * a), math.sin(2 * a)])
         best = -1
         if self.n:
             origin, unit = self.origin[:self.n], self.unit[:self.n]
@@ -261,7 +286,7 @@ class _LineSet:
             cosine = np.abs(unit @ v) / length
             ok = np.flatnonzero((d <= self.distance) & (cosine >= math.cos(self.angle + 1e-9)))
             for k in ok[np.argsort(d[ok], kind="stable")]:
-                if self._fits(k, p, q, length, direction2):
+                if self._fits(k, p, q, length):
                     best = int(k)
                     break
         if best < 0:
@@ -270,8 +295,8 @@ class _LineSet:
             self.points.append(np.array([p, q]))
         else:
             self.points[best] = np.concatenate([self.points[best], [p, q]])
-        self.dir2[best] += length * direction2
         self.centre[best] += length * (p + q) / 2
+        self.moment[best] += self._moments(p, q, length)
         self.weight[best] += length
         self.update(best)
         return best
@@ -310,7 +335,7 @@ def _absorb_interruptions(lines, seg_line, ring_segments, seg_points):
 def _orthogonalize(lines, tolerance_deg=20.0):
     """Snap line directions to the dominant direction or its perpendicular."""
     weights = lines.weight[:lines.n]
-    thetas = np.arctan2(lines.dir2[:lines.n, 1], lines.dir2[:lines.n, 0]) / 2
+    thetas = lines.theta[:lines.n]
     dominant = math.atan2((weights * np.sin(4 * thetas)).sum(),
                           (weights * np.cos(4 * thetas)).sum()) / 4
     tol = math.radians(tolerance_deg)
@@ -318,8 +343,7 @@ def _orthogonalize(lines, tolerance_deg=20.0):
         off = (theta - dominant + math.pi / 4) % (math.pi / 2) - math.pi / 4
         if abs(off) <= tol:
             new = theta - off
-            lines.dir2[k] = weights[k] * np.array([math.cos(2 * new), math.sin(2 * new)])
-            lines.update(k)
+            lines.set_direction(k, new)
 
 
 def _join(la, lb, corner, min_angle, max_shift, offset):
@@ -548,7 +572,21 @@ def remove_overlaps(polygons):
             polygons[k] = poly
     # what is left: a plot lying wholly inside a neighbour's generalisation
     # keeps its own shape and is cut out of the neighbour (which may get a hole)
-    return _plain_differences(polygons, overlapping_pairs(polygons))
+    return _out_of_holes(_plain_differences(polygons, overlapping_pairs(polygons)))
+
+
+def _out_of_holes(polygons):
+    """A plot in a neighbour's hole that :func:`_clean` kept 1 cm off the neighbour's
+    outline (the hole shrunk: the two overlap by that centimetre) gives the
+    centimetre up."""
+    for i, j in overlapping_pairs(polygons):
+        for inner, outer in ((i, j), (j, i)):
+            if shapely.difference(polygons[inner], Polygon(polygons[outer].exterior)).area < 1e-6:
+                cut = _plot_kept(shapely.difference(polygons[inner], polygons[outer]))
+                if cut is not None:
+                    polygons[inner] = cut
+                break
+    return polygons
 
 
 def _plot_kept(geometry):

@@ -192,7 +192,9 @@ def test_a_plot_generalised_from_its_raster_cells_is_not_pushed_outwards(angle, 
     # the cells of a rotated plot, generalised as v.histo.generalize does (alpha 12,
     # lines 5 m apart): the alpha shape of the cells' stairs ran along their outer
     # corners, 0.25-0.55 cell outside the plot on average (issue 32); on the stairs'
-    # centre line the plot's outline is within 0.3 of a cell of the true one
+    # centre line the plot's outline lies at most 0.15 of a cell outside the true one
+    # and 0.4 inside (over 243 such plots, angles 15-75 degrees, cells 0.5-1.5: mean
+    # -0.05 cell, from -0.32 (the corners cut) to +0.10)
     from reconstruction.generalize import operators as op
 
     plot = affinity.rotate(box(0, 0, length, depth), angle, origin=(0, 0))
@@ -204,5 +206,5 @@ def test_a_plot_generalised_from_its_raster_cells_is_not_pushed_outwards(angle, 
     cells = shapely.union_all(shapely.box(i * cell, j * cell, (i + 1) * cell, (j + 1) * cell))
     result = op.generalize_plots([cells], ("alpha", "lines"), alpha=12, distance=5, angle=180)
     offset = sm.outline_agreement(result.plots, [plot]).offsets[0]
-    assert abs(offset) < 0.3 * cell
+    assert -0.4 * cell < offset < 0.15 * cell
 
