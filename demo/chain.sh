@@ -19,7 +19,7 @@ set -e
 # Parameters
 # ---------------------------------------------------------------------------
 OUT=${1:-demo-output}   # folder for the files: report, CityJSON, pictures
-SEED=1                  # one seed for everything: the same outputs run to run
+SEED=${SEED:-1}          # one seed for everything: the same outputs run to run
 SIZE=600                # synthetic map: pixels per side (1 m each)
 MAP=map                 # prefix of the map: rasters map.red/.green/.blue, vectors map_*
 BUILDING=1              # label of the building class in the training points
