@@ -15,19 +15,21 @@ writes the plots and files and prints :func:`report`.
 - ``pipeline``: the whole sequence (:func:`run`);
 - ``stage``: raw plots (:func:`raw_plots`), their generalisation, metrics
   and scores (:func:`generalize_map`) and its records;
-- ``operators``: alpha shapes, buffered lines, simplification, overlaps;
+- ``operators``: alpha shapes, simplification, overlaps, the chain of steps
+  (:func:`~.operators.generalize_plots`);
+- ``lines``: the buffered lines (:func:`~.lines.buffered_lines`);
 - ``shape_metrics``: shape metrics and turning-function distances;
 - ``assessment``: precision, recall and F-score against ground truth;
 - ``report``: the messages after the run (:func:`report`, :func:`shell_figures`).
 """
 
-from . import assessment, config, operators, pipeline, shape_metrics, stage
+from . import assessment, config, lines, operators, pipeline, shape_metrics, stage
 from .config import GeneralizeConfig, read_config
 from .pipeline import GeneralizeInputs, run
 from .report import report, shell_figures
 from .stage import GeneralizedPlots, GeneralizeReport, RawPlots, generalize_map, raw_plots
 
 __all__ = ["GeneralizeConfig", "GeneralizeInputs", "GeneralizeReport", "GeneralizedPlots",
-           "RawPlots", "assessment", "config", "generalize_map", "operators", "pipeline",
+           "RawPlots", "assessment", "config", "generalize_map", "lines", "operators", "pipeline",
            "raw_plots", "read_config", "report", "run", "shape_metrics", "shell_figures",
            "stage"]

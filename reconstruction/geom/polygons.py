@@ -13,6 +13,7 @@ number of geometries.
 
 import numpy as np
 import shapely
+from shapely.geometry import Polygon
 
 _POLYGON = 3  # shapely.GeometryType.POLYGON
 _MULTIPART = 4  # type ids from here on (multi-points, -lines, -polygons, collections) have parts
@@ -69,6 +70,29 @@ def largest_polygon(geometry):
     if len(parts) <= 1:
         return parts[0] if parts else None
     return parts[int(np.argmax(shapely.area(parts)))]
+
+
+def clean_polygon(polygon, tolerance=1e-6):
+    """``polygon`` without repeated and collinear vertices (within ``tolerance``), its
+    holes kept 1 cm off its outline and each other; None when nothing valid remains."""
+    if polygon is None or polygon.is_empty:
+        return None
+    cleaned = shapely.simplify(polygon, tolerance, preserve_topology=True)
+    cleaned = largest_polygon(cleaned if cleaned.is_valid else shapely.make_valid(cleaned))
+    if cleaned is not None and cleaned.interiors:
+        # a hole touching the outline or another hole becomes one self-touching ring in
+        # GRASS's topology, invalid once exported: shrink such holes 1 cm off (issue 13)
+        holes = [Polygon(h) for h in cleaned.interiors]
+        edges = [cleaned.exterior, *cleaned.interiors]
+        kept = []
+        for k, hole in enumerate(holes):
+            if min(hole.distance(e) for j, e in enumerate(edges) if j != k + 1) < 0.01:
+                shrunk = shapely.get_parts(shapely.buffer(hole, -0.01, join_style="mitre"))
+                kept.extend(h for h in shrunk if h.geom_type == "Polygon" and not h.is_empty)
+            else:
+                kept.append(hole)
+        cleaned = Polygon(cleaned.exterior, [h.exterior for h in kept])
+    return shapely.orient_polygons(cleaned) if cleaned is not None else None
 
 
 def _made_valid(geometries):

@@ -260,7 +260,7 @@ def test_a_short_corner_cut_does_not_turn_a_long_edge():
     # the second ending in a 4 m corner cut at 19 degrees: the line runs along both
     # edges; the mean of the segments' directions weighted by length turned it by
     # 1.5 degrees, 1.7 m off the first edge (issue 32)
-    from reconstruction.generalize.operators import _LineSet
+    from reconstruction.generalize.lines import _LineSet
 
     lines = _LineSet(5, 180, 3)
     ends = [((0, 0), (22, 0)), ((75, 0.5), (100, 0.5)), ((100, 0.5), (104, -0.9))]
