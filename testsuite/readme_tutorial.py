@@ -66,7 +66,9 @@ def chain_commands(path=CHAIN):
     for name, value in re.findall(r"(?:^|;\s*|then\s+)([A-Z][A-Z_]*)=(\"[^\"]*\"|[^\s;]*)",
                                   text, re.M):
         if name not in KEPT and value.strip('"'):
-            values[name] = value.strip('"')
+            # a value the environment may set (SEED=${SEED:-1}): its default
+            default = re.fullmatch(r"\$\{" + name + r":-([^}]*)\}", value.strip('"'))
+            values[name] = default.group(1) if default else value.strip('"')
 
     def expand(line):
         for _ in range(5):  # values that name other variables
