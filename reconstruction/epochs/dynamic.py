@@ -249,9 +249,10 @@ def epoch_years(document):
                    for y in (obj.get("attributes") or {}).get("epochs", ())})
 
 
-def snapshot(document, year):
-    """The CityJSON document of the town in ``year`` (see the module doc) from a merged
-    model (:func:`merge_epochs`); InputError for a year before the first epoch."""
+def standing_versions(document, year):
+    """{top-level object id: the epoch whose geometry and attributes it has} of the
+    buildings standing in ``year`` in a merged model (the snapshot's rule, see the
+    module doc); InputError for a year before the first epoch."""
     years = epoch_years(document)
     if not years:
         raise InputError("The model has no epochs (not a model of v.histo.timeline)")
@@ -261,9 +262,8 @@ def snapshot(document, year):
     shown = max(y for y in years if y <= year)
     later = [y for y in years if y > shown]
     following = later[0] if later else None
-    objects = document["CityObjects"]
     chosen = {}
-    for oid, obj in objects.items():
+    for oid, obj in document["CityObjects"].items():
         if obj.get("parents"):
             continue
         a = obj.get("attributes") or {}
@@ -272,6 +272,14 @@ def snapshot(document, year):
         elif following is not None and following in a.get("epochs", ()) and isinstance(
                 a.get("dateOfConstruction"), int) and shown < a["dateOfConstruction"] <= year:
             chosen[oid] = following
+    return chosen
+
+
+def snapshot(document, year):
+    """The CityJSON document of the town in ``year`` (see the module doc) from a merged
+    model (:func:`merge_epochs`); InputError for a year before the first epoch."""
+    objects = document["CityObjects"]
+    chosen = standing_versions(document, year)
     out, used = {}, []
     for oid, epoch in chosen.items():
         for member in object_tree(objects, oid):

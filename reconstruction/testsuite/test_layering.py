@@ -10,6 +10,8 @@ down or stay inside its own package:
   the only package that imports GRASS (``grass.script``, ``grass.exceptions``);
 - ``epochs`` (several dated maps of one town: plots matched between epochs,
   lifespans, the model of all epochs) imports ``core``, ``geom`` and ``cityjson``;
+- ``view`` (a model made ready for a browser or glTF) imports ``core``, ``geom``,
+  ``cityjson`` and ``epochs``;
 - the stages ``classify``, ``generalize``, ``align``, ``subdivide``, ``lod2``
   and the module v.histo.timeline's ``timeline``
   import the packages above and their own modules, never another stage.
@@ -38,10 +40,11 @@ LAYERS = {
     "cityjson": {"core", "geom"},
     "grassio": {"core", "geom"},
     "epochs": {"core", "geom", "cityjson"},
+    "view": {"core", "geom", "cityjson", "epochs"},
 }
 STAGES = ("classify", "generalize", "align", "subdivide", "lod2", "timeline")
 for _stage in STAGES:
-    LAYERS[_stage] = {"core", "geom", "cityjson", "grassio", "epochs"}
+    LAYERS[_stage] = {"core", "geom", "cityjson", "grassio", "epochs", "view"}
 
 GRASS_PACKAGE = "grassio"
 
@@ -59,7 +62,8 @@ LAZY = {
     "sklearn.pipeline",
     "sklearn.preprocessing",
     "sklearn.svm",
-    "pyvista",                 # VTK: about 1 s, only v.histo.lod2 render=
+    "pyvista",                 # VTK: about 1 s, only v.histo.lod2 render= and viewer=
+    "PIL",                     # only the map of a viewer
     "pySVCGAL.pySVCGAL",       # CGAL's skeleton (a native library): only concave roofs
     "orjson",                  # only where copied buildings are written
     "jsonschema",              # only the schema check of written models

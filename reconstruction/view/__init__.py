@@ -1,0 +1,14 @@
+"""City models for people to look at: a browser viewer and glTF (issue 29).
+
+- ``scene``: a CityJSON model (of one date, or of v.histo.timeline over
+  several) as triangles by building in typed arrays (:func:`build_scene`,
+  a :class:`Scene`).
+
+Imports ``core``, ``geom``, ``cityjson`` and ``epochs``; used by the stages
+that write models (``lod2``, ``timeline``).
+"""
+
+from . import scene
+from .scene import Scene, build_scene
+
+__all__ = ["Scene", "build_scene", "scene"]
