@@ -331,6 +331,13 @@
 # % guisection: Output
 # %end
 
+# %option G_OPT_F_OUTPUT
+# % key: viewer
+# % required: no
+# % description: HTML page that shows the model in a web browser, offline: orbit, click a building for its facts, search by id
+# % guisection: Output
+# %end
+
 # %option
 # % key: view
 # % type: double
@@ -343,7 +350,7 @@
 # %option G_OPT_R_INPUTS
 # % key: map
 # % required: no
-# % description: Red, green and blue rasters of the historical map, draped on the ground of the picture
+# % description: Red, green and blue rasters of the historical map, draped on the ground of the picture and the viewer
 # % guisection: Output
 # %end
 
@@ -403,7 +410,7 @@ def main(options, flags):
     from reconstruction import lod2
 
     grassio.require_projected()      # (a missing input map: when reading it)
-    grassio.check_outputs(options, files=("output", "render"),
+    grassio.check_outputs(options, files=("output", "render", "viewer"),
                           inputs={"file": ("rules", "existing", "previous")})
     config = lod2.read_config(options, flags, grassio.location_epsg(), street_labels(options,
                                                                                   flags))

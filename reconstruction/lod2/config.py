@@ -53,8 +53,10 @@ class OutputRequest:
     :data:`FORMATS`), ``reference_system`` (EPSG code or URL, or None),
     ``title``; ``render``: path of a PNG picture (None: none), its ``view``
     (:class:`~reconstruction.lod2.render.View`) and ``map_image``
-    (:class:`~reconstruction.geom.grid.MapImage` or None); ``maps``: the
-    red, green and blue rasters of ``map_image`` (read by the script)."""
+    (:class:`~reconstruction.geom.grid.MapImage` or None); ``viewer``: path
+    of the HTML page that shows the model in a browser (None: none;
+    :mod:`reconstruction.view`); ``maps``: the red, green and blue rasters of
+    ``map_image`` (read by the script), draped in the picture and the page."""
     path: str
     format: str = "cityjson"
     reference_system: Union[str, int, None] = None
@@ -63,6 +65,7 @@ class OutputRequest:
     view: Optional[View] = None
     map_image: Optional[MapImage] = None
     maps: tuple = ()
+    viewer: Optional[str] = None
 
 
 @dataclass(frozen=True)
@@ -153,7 +156,7 @@ class Lod2Config:
     existing: Optional[ExistingRequest] = None
     #: the earlier epoch's model (previous=, a dynamic chain: issue 28), None: none
     previous: Optional[str] = None
-    #: map= given without render= (ignored, with a warning)
+    #: map= given without render= or viewer= (ignored, with a warning)
     map_ignored: bool = False
     #: the location's EPSG code (the existing model's must agree)
     location_epsg: Optional[int] = None
@@ -218,7 +221,8 @@ def read_config(options, flags, location_epsg=None, street_labels=None):
         year_column=options["year_column"], plot_column=options["plot_column"],
         source_column=options["source_column"], id_column=options["id_column"],
         heights=heights, streets=None if flags["s"] else _streets(options, street_labels),
-        output=output, existing=existing, map_ignored=bool(options["map"] and not output.render),
+        output=output, existing=existing,
+        map_ignored=bool(options["map"] and not (output.render or output.viewer)),
         location_epsg=location_epsg, validate=bool(flags["v"]),
         previous=options.get("previous") or None)
 
@@ -234,11 +238,11 @@ def _streets(options, labels):
 def _requests(options, reference_system=None, title=None):
     """The :class:`OutputRequest` and :class:`ExistingRequest` (None without
     ``existing=``) of the options."""
-    render = options.get("render") or None
-    maps = tuple(options["map"].split(",")) if options.get("map") and render else ()
+    render, viewer = options.get("render") or None, options.get("viewer") or None
+    maps = tuple(options["map"].split(",")) if options.get("map") and (render or viewer) else ()
     request = OutputRequest(path=options["output"], format=parse_format(options.get("format")),
                             reference_system=reference_system, title=title, render=render,
-                            view=parse_view(options.get("view")), maps=maps)
+                            view=parse_view(options.get("view")), maps=maps, viewer=viewer)
     if not options.get("existing"):
         for key in ("id_column", "id_prefix", "existing_lod"):
             if options.get(key):

@@ -24,6 +24,7 @@ The sequence, after the buildings are built (:func:`reconstruction.lod2.stage.bu
 """
 
 import json
+import os
 from contextlib import nullcontext
 from dataclasses import dataclass, field, replace
 from typing import Optional
@@ -40,6 +41,7 @@ from ..core.contract import PLOT, SOURCE, SOURCE_ALIGNED
 from ..core.errors import InputError
 from ..geom.grid import Extent
 from ..geom.solidset import concat, semantics, take
+from .. import view
 from . import render
 from . import stage as lod2
 from .config import FORMATS, ExistingRequest, OutputRequest  # noqa: F401 (also read here)
@@ -383,9 +385,11 @@ def write_model(result, footprints, request, match=None, doing=nullcontext, say=
         copied, report = _copied(match, footprints, fmt, validate)
         report = replace(report, generated=len(result.ids), replaced=before - len(result.ids))
     drawn = drawn_footprints(footprints.geometries) if request.render else None
+    every_copied = copied                # the picture may draw some of them, the viewer all
     with safefile.together() as files:
         model_file = files.reserve(request.path)
         picture_file = files.reserve(request.render, ".png") if request.render else None
+        viewer_file = files.reserve(request.viewer, ".html") if request.viewer else None
         pieces = None
         with doing("writing '{}'".format(request.path)), open(model_file, "wb") as f:
             if fmt == "cityjson":
@@ -407,7 +411,24 @@ def write_model(result, footprints, request, match=None, doing=nullcontext, say=
             report = _render(pieces or _single_text(result, copied, request), picture_file,
                              request, copied, report, drawn, doing, say,
                              match.kept_previous if match is not None else frozenset())
+        if request.viewer:
+            _view(model_file, viewer_file, request, every_copied, doing, match)
     return report
+
+
+def _view(model_file, path, request, copied, doing, match=None):
+    """Write the page of ``viewer=`` to ``path`` (its temporary file) from the model
+    just written to ``model_file``: every building, copied ones in their colours."""
+    kept = match.kept_previous if match is not None else frozenset()
+    with doing("writing the viewer '{}'".format(request.viewer)):
+        with open(model_file, encoding="utf-8") as f:
+            document = (json.load(f) if request.format == "cityjson" else
+                        cityjsonseq.collect(f, request.path))
+        scene = view.build_scene(document, copied=[i for i in copied.ids if i not in kept]
+                                 if copied is not None else ())
+        title = request.title or os.path.basename(request.path)
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(view.viewer_html(scene, title, request.map_image))
 
 
 def _render(pieces, path, request, copied, report, drawn, doing, say, kept=frozenset()):
@@ -445,10 +466,12 @@ def write_in_steps(prepared, config, footprints, request, match=None, doing=null
     if match is not None:
         copied, report = _copied(match, footprints, request.format, validate)
     drawn = drawn_footprints(footprints.geometries) if request.render else None
+    every_copied = copied                # the picture may draw some of them, the viewer all
     steps, kept, invalid = [], [], [] if validate else None
     with safefile.together() as files:
         model_file = files.reserve(request.path)
         picture_file = files.reserve(request.render, ".png") if request.render else None
+        viewer_file = files.reserve(request.viewer, ".html") if request.viewer else None
         with doing("writing '{}'".format(request.path)), open(model_file, "wb") as f:
             writer = cityjsonseq.SeqWriter(f, _origin(prepared, copied), request.reference_system,
                                            request.title, copied)
@@ -476,6 +499,8 @@ def write_in_steps(prepared, config, footprints, request, match=None, doing=null
             report = _render(_single_text(_joined(kept), copied, request), picture_file,
                              request, copied, report, drawn, doing, say,
                              match.kept_previous if match is not None else frozenset())
+        if request.viewer:
+            _view(model_file, viewer_file, request, every_copied, doing, match)
     return lod2.summary(steps, prepared.report), report, invalid
 
 

@@ -51,7 +51,8 @@ def config_messages(config):
                                FORMAT_NAMES[config.output.format], named,
                                FORMAT_NAMES[named])))
     if config.map_ignored:
-        out.append(warning("map= is drawn only in the picture of render=: ignored"))
+        out.append(warning("map= is drawn only in the picture of render= and the page of "
+                           "viewer=: ignored"))
     return out
 
 

@@ -2,13 +2,16 @@
 
 - ``scene``: a CityJSON model (of one date, or of v.histo.timeline over
   several) as triangles by building in typed arrays (:func:`build_scene`,
-  a :class:`Scene`).
+  a :class:`Scene`);
+- ``html``: the self-contained page that shows a scene in a browser
+  (:func:`viewer_html`; its script ``viewer.js`` and style ``viewer.css``).
 
 Imports ``core``, ``geom``, ``cityjson`` and ``epochs``; used by the stages
 that write models (``lod2``, ``timeline``).
 """
 
-from . import scene
+from . import html, scene
+from .html import viewer_html
 from .scene import Scene, build_scene
 
-__all__ = ["Scene", "build_scene", "scene"]
+__all__ = ["Scene", "build_scene", "html", "scene", "viewer_html"]

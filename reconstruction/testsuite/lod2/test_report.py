@@ -45,7 +45,8 @@ def test_config_messages():
     assert config_messages(CONFIG) == []
     assert config_messages(replace(CONFIG, output=OutputRequest("o"), map_ignored=True)) == [
         W("The location has no EPSG code and crs= is not given: the CityJSON file has no "
-          "reference system"), W("map= is drawn only in the picture of render=: ignored")]
+          "reference system"),
+        W("map= is drawn only in the picture of render= and the page of viewer=: ignored")]
 
 
 @pytest.mark.parametrize("path,fmt,ending,named", [
