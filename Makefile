@@ -66,9 +66,13 @@ PYTEST_ARGS ?=
 # GRASS 8.2 (core + Make system), what g.extension wants (make, gcc, svn),
 # venv for Debian's python3, man for `g.manual -m`; the run-time libraries of
 # val3dity (../shared/tools/val3dity, the tests' oracle of valid solids); EGL
-# and Mesa's drivers for pyvista's off-screen rendering without a display.
+# and Mesa's drivers for pyvista's off-screen rendering without a display;
+# chromium, the real browser the HTML 3D viewer's tests drive headless
+# through Playwright (never a browser Playwright downloads), and libjs-three
+# (three.js r111), which the viewer inlines so it opens from file:// offline.
 DEBIAN_PACKAGES := grass-core grass-dev subversion make gcc python3-venv man-db \
-	libboost-filesystem1.74.0 libmpfr6 libgmp10 libgeos-c1v5 libegl1 libgl1-mesa-dri
+	libboost-filesystem1.74.0 libmpfr6 libgmp10 libgeos-c1v5 libegl1 libgl1-mesa-dri \
+	chromium libjs-three
 
 .PHONY: deps debian-packages venv build test demo bench user-install clean-dist
 

@@ -7,6 +7,9 @@ Fixtures:
   (EPSG:28992) with the suite staged in ``dist/`` on the module path, for
   module tests; skips when GRASS is not installed.
 - ``mapset``: a fresh mapset in that location for one test, made current.
+- ``browser_page``: a page of Debian's headless chromium, offline, for the
+  HTML viewer's tests (``testsuite/browser.py``; ``chromium``: the browser,
+  started once per test file); skips when chromium or Playwright is missing.
 """
 
 import os
@@ -48,6 +51,7 @@ if TESTSUITE not in sys.path:
 def pytest_configure(config):
     config.addinivalue_line("markers", "grass: needs GRASS GIS and the staged suite")
     config.addinivalue_line("markers", "acceptance: runs on the reference data in ../shared/data")
+    config.addinivalue_line("markers", "browser: drives Debian's headless chromium (Playwright)")
 
 
 def _need(path, what):
@@ -152,3 +156,28 @@ def synthetic(grass_session):
         gs.run_command("g.mapset", mapset=current, quiet=True)
     full = {key: name + "@PERMANENT" for key, name in names.items()}
     return types.SimpleNamespace(smap=smap, region=smap.region(), **full)
+
+
+@pytest.fixture(scope="module")
+def chromium():
+    """Debian's chromium, headless and offline, shared by a test file's tests.
+
+    Once per file, not per session: a start costs 0.3 s, and the browser
+    should not hold its memory through the rest of a `make test` run.
+    """
+    import browser
+
+    problem = browser.missing()
+    if problem:
+        pytest.skip(problem)
+    with browser.launch() as started:
+        yield started
+
+
+@pytest.fixture
+def browser_page(chromium):
+    """A :class:`browser.BrowserPage` in a fresh context of ``chromium``, closed after the test."""
+    import browser
+
+    with browser.open_page(chromium) as page:
+        yield page
