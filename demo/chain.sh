@@ -84,10 +84,11 @@ subdivide_stage
 #    inferred from them (the robust neighbourhood rule, the plots for the
 #    thesis's fallback); without aligned footprints, drawn from the ranges.
 #    Gable ends and stepped facades go on the street edge, found with the
-#    classified map's streets and water.
+#    classified map's streets and water. city.html shows the model in a web
+#    browser, offline (orbit, click a house, search by id).
 # ---------------------------------------------------------------------------
 lod2_stage $HEIGHT $ATTIC ${MAP}_classes $STREET_CLASSES \
-    year=$YEAR render="$OUT/model.png" map=$MAP.red,$MAP.green,$MAP.blue
+    year=$YEAR render="$OUT/model.png" viewer="$OUT/city.html" map=$MAP.red,$MAP.green,$MAP.blue
 
 # ---------------------------------------------------------------------------
 # Pictures: one per stage, $SIZE pixels wide (demo/pictures.sh; model.png is

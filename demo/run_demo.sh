@@ -27,7 +27,7 @@ if [ ! -d "$DIST/scripts" ]; then
 fi
 
 # What a run leaves in DIR, besides the location.
-FILES="generalize.json generalize_metrics.csv align.json model.city.json model.png map.png classes.png plots.png aligned.png footprints.png"
+FILES="generalize.json generalize_metrics.csv align.json model.city.json city.html model.png map.png classes.png plots.png aligned.png footprints.png"
 
 NEXT=$OUT/.demo-next
 rm -rf "$NEXT"

@@ -22,7 +22,7 @@ RUN_DEMO = os.path.join(ROOT, "demo", "run_demo.sh")
 # one picture per stage (demo/pictures.sh, model.png by v.histo.lod2 render=)
 PICTURES = ("map.png", "classes.png", "plots.png", "aligned.png", "footprints.png", "model.png")
 OUTPUT_FILES = ("generalize.json", "generalize_metrics.csv", "align.json",
-                "model.city.json") + PICTURES
+                "model.city.json", "city.html") + PICTURES
 
 pytestmark = pytest.mark.grass
 
@@ -268,3 +268,34 @@ def test_readme_tutorial_quotes_what_the_demo_prints(demo):
     assert len(quoted) >= 5
     missing = [q for q in quoted if q not in printed]
     assert not missing, missing
+
+
+@pytest.mark.browser
+def test_the_demo_s_city_html_in_a_browser(demo, browser_page):
+    # issue 29: city.html in headless chromium, offline: the first frame is not blank,
+    # every building of the model is drawn, a click on a house names it and its roof
+    import json
+
+    from browser import pixel_variance
+
+    model = json.loads((demo["out"] / "model.city.json").read_text())
+    buildings = {o: v for o, v in model["CityObjects"].items() if not v.get("parents")}
+    browser_page.open(str(demo["out"] / "city.html"))
+    waited = browser_page.wait_ready("window.histo && window.histo.ready === true")
+    page = browser_page.page
+    assert pixel_variance(browser_page.screenshot()) > 100
+    assert page.evaluate("histo.buildings") == page.evaluate("histo.drawn()") == len(buildings)
+    page.evaluate("histo.view('top')")
+    # the tallest building: nothing in front of it from above
+    tallest = max(buildings, key=lambda o: buildings[o]["attributes"]["eaves_height"]
+                  + buildings[o]["attributes"].get("roof_height", 0))
+    x, y = page.evaluate("histo.screenPosition({})".format(json.dumps(tallest)))
+    page.mouse.click(x, y)
+    info = page.inner_text("#info")
+    assert page.evaluate("histo.selected") == tallest
+    assert tallest in info
+    assert "roof_type " + buildings[tallest]["attributes"]["roof_type"] in info
+    print("\ncity.html: {:.1f} MB, first frame after {:.2f} s ({:.0f} ms in the page)".format(
+        (demo["out"] / "city.html").stat().st_size / 1e6, waited,
+        page.evaluate("histo.firstFrameMs")))
+    assert browser_page.errors == [] and browser_page.blocked == []

@@ -53,7 +53,7 @@ def town(grass_session, tmp_path_factory):
     merged = str(out / "merged.city.json")
     rc, stdout, err = run_module("v.histo.timeline", flags="g", models=",".join(
         models[y] for y in YEARS), years=",".join(map(str, YEARS)), register="town_current",
-        output=merged)
+        output=merged, viewer=str(out / "town.html"))
     assert rc == 0, err
     snapshots = {}
     for y in YEARS:
@@ -74,7 +74,7 @@ def town(grass_session, tmp_path_factory):
             "models": {y: read(p) for y, p in models.items()},
             "merged": read(merged), "merged_path": merged, "counts": key_values(stdout),
             "snapshots": {y: read(p) for y, p in snapshots.items()},
-            "snapshot_paths": snapshots, "model_paths": models}
+            "snapshot_paths": snapshots, "model_paths": models, "viewer": str(out / "town.html")}
 
 
 def test_unchanged_plots_keep_their_buildings(town):
@@ -145,3 +145,26 @@ def test_the_merged_model_is_valid_and_its_solids_too(town, schemas):
         r = val3dity_report(town["snapshot_paths"][y])
         print("val3dity, snapshot {}: {}".format(y, r))
         assert r.objects > 0 and r.valid == r.objects
+
+
+@pytest.mark.browser
+def test_the_viewer_s_year_slider_shows_each_year_s_snapshot(town, browser_page):
+    # issue 29: v.histo.timeline viewer= in headless chromium, offline; the slider at
+    # each epoch and between them draws as many buildings as that year's snapshot
+    from reconstruction.epochs.dynamic import snapshot
+
+    def top_level(document):
+        return [o for o, v in document["CityObjects"].items() if not v.get("parents")]
+
+    browser_page.open(town["viewer"])
+    waited = browser_page.wait_ready("window.histo && window.histo.ready === true")
+    page = browser_page.page
+    assert page.evaluate("histo.buildings") == len(top_level(town["merged"]))
+    drawn = {}
+    for year in (1880, 1900, 1915, 1940, 1961):
+        page.evaluate("histo.setYear({})".format(year))
+        drawn[year] = page.evaluate("histo.drawn()")
+        assert drawn[year] == len(top_level(snapshot(town["merged"], year))), year
+    print("\nviewer: first frame after {:.2f} s; buildings drawn by year {}".format(
+        waited, drawn))
+    assert browser_page.errors == [] and browser_page.blocked == []

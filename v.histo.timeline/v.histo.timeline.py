@@ -88,6 +88,11 @@
 # % required: no
 # % description: JSON file with the counts and every conflict between the maps and the register
 # %end
+# %option G_OPT_F_OUTPUT
+# % key: viewer
+# % required: no
+# % description: HTML page that shows the model in a web browser, offline, with a year slider: the buildings standing in each year
+# %end
 # %flag
 # % key: g
 # % description: Print the counts in shell script style (key=value)
@@ -122,7 +127,7 @@ def main(options, flags):
     from reconstruction import grassio, timeline
 
     start = time.perf_counter()
-    grassio.check_outputs(options, files=("output", "report"),
+    grassio.check_outputs(options, files=("output", "report", "viewer"),
                           inputs={"file": ("models", "input")})
     config = timeline.read_config(options, flags)
     result = timeline.run(config, grassio.read_table, grassio.doing)

@@ -14,8 +14,9 @@ class TimelineConfig:
     """``models`` (paths) of the epochs' ``years``, or ``input``: a merged model;
     ``register``: today's footprints map (ids in ``id_column``, construction years
     in ``year_column``; None: the first of the usual names); ``output`` (a file of
-    ``format``), ``snapshot`` (a year, or None for the whole model), ``report_file``
-    and ``shell`` (-g)."""
+    ``format``), ``snapshot`` (a year, or None for the whole model), ``report_file``,
+    ``viewer`` (the HTML page that shows the model in a browser, with a year slider
+    for the whole model; None: none) and ``shell`` (-g)."""
 
     output: str
     models: tuple = ()
@@ -29,6 +30,7 @@ class TimelineConfig:
     report_file: Optional[str] = None
     title: Optional[str] = None
     shell: bool = False
+    viewer: Optional[str] = None
 
 
 def _list(text):
@@ -64,4 +66,4 @@ def read_config(options, flags):
         year_column=options.get("year_column") or None, format=fmt,
         snapshot=None if snapshot is None else _year(snapshot, "snapshot"),
         report_file=options.get("report") or None, title=options.get("title") or None,
-        shell=bool(flags.get("g")))
+        shell=bool(flags.get("g")), viewer=options.get("viewer") or None)

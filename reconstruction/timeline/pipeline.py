@@ -14,6 +14,7 @@ from ..core import register as bag
 from ..core.errors import InputError
 from ..core.safefile import together
 from ..epochs.dynamic import Epoch, MergeReport, epoch_years, merge_epochs, snapshot
+from .. import view
 
 
 @dataclass(frozen=True)
@@ -92,7 +93,8 @@ def _lines(document):
 
 
 def write(result, config, report_json=None):
-    """Write the model (and the JSON report) together: both appear, or neither."""
+    """Write the model (and the JSON report and the viewer's page) together: all appear,
+    or none."""
     with together() as files:
         with files.open(config.output, mode="wb", encoding=None) as f:
             if config.format == "cityjsonseq":
@@ -103,4 +105,8 @@ def write(result, config, report_json=None):
         if config.report_file and report_json is not None:
             with files.open(config.report_file) as f:
                 f.write(orjson.dumps(report_json, option=orjson.OPT_INDENT_2).decode())
+        if config.viewer:
+            page = view.viewer_html(view.build_scene(result.document), _title(config))
+            with files.open(config.viewer) as f:
+                f.write(page)
     return os.path.getsize(config.output)
