@@ -21,7 +21,7 @@
 # v.histo.lod2's default crs, the location's EPSG:3857.
 #
 # OUT (default brussels-output) gets: report.json and report.txt (demo/
-# brussels_report.py), times.txt, lod2.txt, model.city.json, model.png.
+# brussels_report.py), times.txt, lod2.txt, model.city.json, model.png, city.html.
 # Derived from the shared data: keep them out of the repository.
 
 set -e
@@ -42,7 +42,7 @@ timed "$TIMES" import v.in.ogr -o input="$DATA/bxls_1924/thesis_output/final_plo
 g.region vector=plots
 
 subdivide_stage length=8,15 depth=23,30 area_threshold=300
-lod2_stage 6.7,17 2.6,6 - - year=$YEAR render="$OUT/model.png"
+lod2_stage 6.7,17 2.6,6 - - year=$YEAR render="$OUT/model.png" viewer="$OUT/city.html"
 
 python3 "$HERE/brussels_report.py" "$OUT" "$DATA"
 echo "--- chain done in ${SECONDS} s; report: $OUT/report.json, $OUT/report.txt"

@@ -13,7 +13,7 @@
 # OUT (default delft-output) gets: report.json and report.txt (demo/
 # delft_report.py: each stage's figures and wall time), times.txt,
 # import.json, generalize.json, generalize_metrics.csv, align.json, lod2.txt,
-# model.city.json, model.png. Those are derived from the shared data: keep
+# model.city.json, model.png, city.html. Those are derived from the shared data: keep
 # them out of the repository. DATA (default ../shared/data) is the shared data
 # folder; the CityJSON schemas are read from DATA/../schemas.
 
@@ -43,7 +43,7 @@ align_stage current $YEAR buffer=10 overlap=0.6
 subdivide_stage length=5,5 depth=12,16 area_threshold=100
 # the ranges are not used: the heights come from the aligned footprints
 lod2_stage 6.7,17 2.6,6 delft_classes $STREET_CLASSES year=$YEAR crs=7415 \
-    render="$OUT/model.png" map=delft.red,delft.green,delft.blue
+    render="$OUT/model.png" viewer="$OUT/city.html" map=delft.red,delft.green,delft.blue
 
 python3 "$HERE/delft_report.py" "$OUT" "$DATA"
 echo "--- chain done in ${SECONDS} s; report: $OUT/report.json, $OUT/report.txt"

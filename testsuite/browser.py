@@ -133,8 +133,9 @@ class BrowserPage:
         try:
             self.page.wait_for_function(hook, timeout=timeout_ms)
         except Exception as error:
-            raise AssertionError("the page never got ready ({}); its errors: {}".format(
-                hook, self.errors or "none")) from error
+            raise AssertionError("the page never got ready ({}: {}); its errors: {}".format(
+                hook, str(error).splitlines()[0] if str(error) else type(error).__name__,
+                self.errors or "none")) from error
         return time.perf_counter() - start
 
     def screenshot(self):

@@ -6,10 +6,13 @@ The demo writes one picture per stage of the synthetic map (demo/pictures.sh,
 600 x 600 pixels, and v.histo.lod2's 3D view model.png, 1600 x 1200); this
 copies them here made small: 32 colours (the map's scan noise otherwise
 weighs 700 kB a picture), the 3D view cropped to the model and scaled to
-600 pixels wide. Only pictures of the synthetic map belong here, never of the
-shared real maps.
+600 pixels wide; and the web page city.html (v.histo.lod2 viewer=) as
+headless chromium shows it, a house clicked (city.png; testsuite/browser.py,
+which `make build` sets up). Only pictures of the synthetic map belong here,
+never of the shared real maps.
 """
 
+import io
 import os
 import sys
 
@@ -17,6 +20,7 @@ import numpy as np
 from PIL import Image
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "testsuite"))
 STAGES = ("map.png", "classes.png", "plots.png", "aligned.png", "footprints.png")
 WIDTH = 600
 COLOURS = 32
@@ -46,9 +50,31 @@ def main(demo_dir):
     height = round(model.height * WIDTH / model.width)
     model = model.convert("RGB").resize((WIDTH, height), Image.Resampling.LANCZOS)
     small(model).save(os.path.join(HERE, "model.png"), optimize=True)
-    for name in STAGES + ("model.png",):
+    viewer(os.path.join(demo_dir, "city.html"), os.path.join(HERE, "city.png"))
+    for name in STAGES + ("model.png", "city.png"):
         print("{}: {} bytes".format(os.path.join(HERE, name),
                                     os.path.getsize(os.path.join(HERE, name))))
+
+
+def viewer(page_path, png_path, width=800, height=560):
+    """The viewer's page as a browser shows it, the tallest building clicked."""
+    import json
+
+    from browser import headless_page
+
+    with headless_page({"width": width, "height": height}) as view:
+        view.open(page_path)
+        view.wait_ready("window.histo && window.histo.ready === true")
+        page = view.page
+        ids = page.evaluate("Object.keys(histo)") and page.evaluate(
+            "JSON.parse(document.getElementById('histo-meta').textContent).ids")
+        attributes = page.evaluate(
+            "JSON.parse(document.getElementById('histo-meta').textContent).attributes")
+        tallest = max(range(len(ids)), key=lambda i: attributes[i].get("eaves_height", 0))
+        x, y = page.evaluate("histo.screenPosition({})".format(json.dumps(ids[tallest])))
+        page.mouse.click(x, y)
+        image = Image.open(io.BytesIO(view.screenshot()))
+    small(image).save(png_path, optimize=True)
 
 
 if __name__ == "__main__":
