@@ -161,7 +161,8 @@ def glb_bytes(scene, year=None):
     buffer, materials, material_of = _Buffer(), [], {}
     nodes, meshes, drawn = [], [], {}
     for k in chunks:
-        drawn.setdefault(int(scene.chunk_building[k]), []).append(int(k))
+        if scene.chunk_start[k + 1] > scene.chunk_start[k]:
+            drawn.setdefault(int(scene.chunk_building[k]), []).append(int(k))
     for b, ks in drawn.items():
         copied = bool(scene.copied[b])
         vertex = np.concatenate([np.arange(scene.chunk_vertex[k], scene.chunk_vertex[k + 1])

@@ -139,6 +139,19 @@ def test_a_dynamic_model_gives_the_buildings_of_one_year():
         glb_bytes(scene, 1850)
 
 
+def gone_by(scene, year):
+    """``scene`` with every version of every building demolished before ``year``."""
+    spans = tuple(((year - 50, year - 1),) for _ in scene.chunk_years)
+    return dataclasses.replace(scene, years=(year - 50, year), chunk_years=spans)
+
+
+def test_a_year_with_no_building_gives_an_empty_scene():
+    glb = glb_bytes(gone_by(build_scene(document({"a": (SQUARE, 6.0)})), 1900), 1900)
+    gltf = json_chunk(glb)
+    assert "nodes" not in gltf and "nodes" not in gltf["scenes"][0] and "buffers" not in gltf
+    assert gltf["scenes"][0]["extras"]["year"] == 1900
+
+
 @settings(max_examples=25, deadline=None)
 @given(st.lists(st.tuples(st.floats(-500, 500), st.floats(-500, 500), st.floats(2, 40),
                           st.floats(2, 40), st.floats(2.5, 30)), min_size=1, max_size=4))
@@ -217,7 +230,8 @@ def test_khronos_validator_finds_no_problem(tmp_path):
     files = {"static.glb": glb_bytes(build_scene(early, copied=["kept"])),
              "dynamic.glb": glb_bytes(build_scene(merge_epochs(
                  [Epoch(1880, early), Epoch(1915, late)]).document), 1900),
-             "uint32.glb": glb_bytes(strip_scene(70000))}
+             "uint32.glb": glb_bytes(strip_scene(70000)),
+             "empty.glb": glb_bytes(gone_by(build_scene(early), 1900), 1900)}
     for name, glb in files.items():
         path = tmp_path / name
         path.write_bytes(glb)
