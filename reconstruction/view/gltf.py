@@ -156,7 +156,8 @@ def _chunks(scene, year):
 def glb_bytes(scene, year=None):
     """The binary glTF (bytes) of ``scene`` (a :class:`~reconstruction.view.scene.Scene`):
     for a dynamic model the buildings standing in ``year`` (default: its last year).
-    InputError when ``year`` lies outside the model's years."""
+    A building with no triangle to draw has no node. InputError when ``year`` lies
+    outside the model's years."""
     chunks, year = _chunks(scene, year)
     buffer, materials, material_of = _Buffer(), [], {}
     nodes, meshes, drawn = [], [], {}
