@@ -63,6 +63,11 @@ VENV_ENV := PATH="$(VENV)/bin:$$PATH"
 DIST ?= $(CURDIR)/dist
 DEMO_DIR ?= $(CURDIR)/demo-output
 PYTEST_ARGS ?=
+# Khronos's glTF validator (npm, no dependencies of its own), which the tests
+# of the glTF export run on a written file; in NODE_DIR, outside the checkout
+# like the venv. Without npm it is left out and that test is skipped.
+NODE_DIR ?= $(HOME)/.local/share/histo/node
+GLTF_VALIDATOR := gltf-validator@2.0.0-dev.3.10
 # GRASS 8.2 (core + Make system), what g.extension wants (make, gcc, svn),
 # venv for Debian's python3, man for `g.manual -m`; the run-time libraries of
 # val3dity (../shared/tools/val3dity, the tests' oracle of valid solids); EGL
@@ -74,7 +79,7 @@ DEBIAN_PACKAGES := grass-core grass-dev subversion make gcc python3-venv man-db 
 	libboost-filesystem1.74.0 libmpfr6 libgmp10 libgeos-c1v5 libegl1 libgl1-mesa-dri \
 	chromium libjs-three
 
-.PHONY: deps debian-packages venv build test demo bench user-install clean-dist
+.PHONY: deps debian-packages venv node-tools build test demo bench user-install clean-dist
 
 # Installs only what is missing (apt needs root; on a machine that has it all
 # nothing is asked for).
@@ -90,7 +95,16 @@ debian-packages:
 venv: debian-packages
 	@bash tools/venv.sh "$(VENV)" "$(SYSTEM_PYTHON)"
 
-deps: debian-packages venv
+node-tools:
+	@if ! command -v npm > /dev/null; then \
+	  echo "npm not found: $(GLTF_VALIDATOR) left out, its test will be skipped"; \
+	elif [ "$$(cat $(NODE_DIR)/.histo-node 2>/dev/null)" != "$(GLTF_VALIDATOR)" ]; then \
+	  echo "installing $(GLTF_VALIDATOR) into $(NODE_DIR)"; mkdir -p $(NODE_DIR) && \
+	  flock $(NODE_DIR).lock npm install -q --prefix $(NODE_DIR) --no-save --no-audit --no-fund \
+	    $(GLTF_VALIDATOR) && echo $(GLTF_VALIDATOR) > $(NODE_DIR)/.histo-node; \
+	fi
+
+deps: debian-packages venv node-tools
 
 # Stage the built suite in dist/ (never the system tree); fail on any error
 # that GRASS's Dir.make would only log.

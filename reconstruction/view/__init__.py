@@ -4,14 +4,17 @@
   several) as triangles by building in typed arrays (:func:`build_scene`,
   a :class:`Scene`);
 - ``html``: the self-contained page that shows a scene in a browser
-  (:func:`viewer_html`; its script ``viewer.js`` and style ``viewer.css``).
+  (:func:`viewer_html`; its script ``viewer.js`` and style ``viewer.css``);
+- ``gltf``: a scene as one binary glTF file, a node per building
+  (:func:`glb_bytes`).
 
 Imports ``core``, ``geom``, ``cityjson`` and ``epochs``; used by the stages
 that write models (``lod2``, ``timeline``).
 """
 
-from . import html, scene
+from . import gltf, html, scene
+from .gltf import glb_bytes
 from .html import viewer_html
 from .scene import Scene, build_scene
 
-__all__ = ["Scene", "build_scene", "html", "scene", "viewer_html"]
+__all__ = ["Scene", "build_scene", "glb_bytes", "gltf", "html", "scene", "viewer_html"]
