@@ -338,6 +338,13 @@
 # % guisection: Output
 # %end
 
+# %option G_OPT_F_OUTPUT
+# % key: gltf
+# % required: no
+# % description: Binary glTF (.glb) of the model for Blender, CesiumJS and other 3D tools: one node per building, its attributes in extras
+# % guisection: Output
+# %end
+
 # %option
 # % key: view
 # % type: double
@@ -410,7 +417,7 @@ def main(options, flags):
     from reconstruction import lod2
 
     grassio.require_projected()      # (a missing input map: when reading it)
-    grassio.check_outputs(options, files=("output", "render", "viewer"),
+    grassio.check_outputs(options, files=("output", "render", "viewer", "gltf"),
                           inputs={"file": ("rules", "existing", "previous")})
     config = lod2.read_config(options, flags, grassio.location_epsg(), street_labels(options,
                                                                                   flags))

@@ -54,8 +54,8 @@ class OutputRequest:
     ``title``; ``render``: path of a PNG picture (None: none), its ``view``
     (:class:`~reconstruction.lod2.render.View`) and ``map_image``
     (:class:`~reconstruction.geom.grid.MapImage` or None); ``viewer``: path
-    of the HTML page that shows the model in a browser (None: none;
-    :mod:`reconstruction.view`); ``maps``: the red, green and blue rasters of
+    of the HTML page that shows the model in a browser and ``gltf`` of its
+    binary glTF (None: none; :mod:`reconstruction.view`); ``maps``: the red, green and blue rasters of
     ``map_image`` (read by the script), draped in the picture and the page."""
     path: str
     format: str = "cityjson"
@@ -66,6 +66,7 @@ class OutputRequest:
     map_image: Optional[MapImage] = None
     maps: tuple = ()
     viewer: Optional[str] = None
+    gltf: Optional[str] = None
 
 
 @dataclass(frozen=True)
@@ -242,7 +243,8 @@ def _requests(options, reference_system=None, title=None):
     maps = tuple(options["map"].split(",")) if options.get("map") and (render or viewer) else ()
     request = OutputRequest(path=options["output"], format=parse_format(options.get("format")),
                             reference_system=reference_system, title=title, render=render,
-                            view=parse_view(options.get("view")), maps=maps, viewer=viewer)
+                            view=parse_view(options.get("view")), maps=maps, viewer=viewer,
+                            gltf=options.get("gltf") or None)
     if not options.get("existing"):
         for key in ("id_column", "id_prefix", "existing_lod"):
             if options.get(key):

@@ -390,6 +390,7 @@ def write_model(result, footprints, request, match=None, doing=nullcontext, say=
         model_file = files.reserve(request.path)
         picture_file = files.reserve(request.render, ".png") if request.render else None
         viewer_file = files.reserve(request.viewer, ".html") if request.viewer else None
+        gltf_file = files.reserve(request.gltf, ".glb") if request.gltf else None
         pieces = None
         with doing("writing '{}'".format(request.path)), open(model_file, "wb") as f:
             if fmt == "cityjson":
@@ -411,24 +412,30 @@ def write_model(result, footprints, request, match=None, doing=nullcontext, say=
             report = _render(pieces or _single_text(result, copied, request), picture_file,
                              request, copied, report, drawn, doing, say,
                              match.kept_previous if match is not None else frozenset())
-        if request.viewer:
-            _view(model_file, viewer_file, request, every_copied, doing, match)
+        if request.viewer or request.gltf:
+            _views(model_file, viewer_file, gltf_file, request, every_copied, doing, match)
     return report
 
 
-def _view(model_file, path, request, copied, doing, match=None):
-    """Write the page of ``viewer=`` to ``path`` (its temporary file) from the model
-    just written to ``model_file``: every building, copied ones in their colours."""
+def _views(model_file, viewer_path, gltf_path, request, copied, doing, match=None):
+    """Write the page of ``viewer=`` and the glTF of ``gltf=`` to their temporary files
+    (``viewer_path``, ``gltf_path``; None: not asked for) from the model just written
+    to ``model_file``: every building, the copied ones in their colours."""
     kept = match.kept_previous if match is not None else frozenset()
-    with doing("writing the viewer '{}'".format(request.viewer)):
+    with doing("reading back '{}' for the viewer and glTF".format(request.path)):
         with open(model_file, encoding="utf-8") as f:
             document = (json.load(f) if request.format == "cityjson" else
                         cityjsonseq.collect(f, request.path))
         scene = view.build_scene(document, copied=[i for i in copied.ids if i not in kept]
                                  if copied is not None else ())
-        title = request.title or os.path.basename(request.path)
-        with open(path, "w", encoding="utf-8") as f:
-            f.write(view.viewer_html(scene, title, request.map_image))
+    if viewer_path:
+        with doing("writing the viewer '{}'".format(request.viewer)):
+            title = request.title or os.path.basename(request.path)
+            with open(viewer_path, "w", encoding="utf-8") as f:
+                f.write(view.viewer_html(scene, title, request.map_image))
+    if gltf_path:
+        with doing("writing the glTF '{}'".format(request.gltf)), open(gltf_path, "wb") as f:
+            f.write(view.glb_bytes(scene))
 
 
 def _render(pieces, path, request, copied, report, drawn, doing, say, kept=frozenset()):
@@ -472,6 +479,7 @@ def write_in_steps(prepared, config, footprints, request, match=None, doing=null
         model_file = files.reserve(request.path)
         picture_file = files.reserve(request.render, ".png") if request.render else None
         viewer_file = files.reserve(request.viewer, ".html") if request.viewer else None
+        gltf_file = files.reserve(request.gltf, ".glb") if request.gltf else None
         with doing("writing '{}'".format(request.path)), open(model_file, "wb") as f:
             writer = cityjsonseq.SeqWriter(f, _origin(prepared, copied), request.reference_system,
                                            request.title, copied)
@@ -499,8 +507,8 @@ def write_in_steps(prepared, config, footprints, request, match=None, doing=null
             report = _render(_single_text(_joined(kept), copied, request), picture_file,
                              request, copied, report, drawn, doing, say,
                              match.kept_previous if match is not None else frozenset())
-        if request.viewer:
-            _view(model_file, viewer_file, request, every_copied, doing, match)
+        if request.viewer or request.gltf:
+            _views(model_file, viewer_file, gltf_file, request, every_copied, doing, match)
     return lod2.summary(steps, prepared.report), report, invalid
 
 

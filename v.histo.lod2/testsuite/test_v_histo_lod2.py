@@ -321,3 +321,30 @@ def test_acceptance_delft_1880_val3dity(mapset, shared_data, tmp_path):
     rep = report(stdout)
     assert int(rep["solids"]) == 3783 and rep["percent_valid"] == "100.00"
     assert_val3dity_valid(out, rep)
+
+
+def test_viewer_and_gltf_are_written_with_the_model(footprints, tmp_path):
+    # issue 29: viewer= and gltf= beside the model, all three or none; the glTF read back
+    # with trimesh holds every building, named by its id, within the model's extent
+    import trimesh
+
+    out, page, glb = (str(tmp_path / n) for n in ("model.city.json", "city.html", "city.glb"))
+    rc, _out, err = run(input=footprints, output=out, viewer=page, gltf=glb, seed=3)
+    assert rc == 0, err
+    model = load(out)
+    with open(page, encoding="utf-8") as f:
+        html = f.read()
+    assert all('"{}"'.format(oid) in html for oid in model["CityObjects"])
+    scene = trimesh.load(glb, force="scene")
+    names = {scene.graph[n][1] for n in scene.graph.nodes_geometry}
+    nodes = set(scene.graph.nodes) - {scene.graph.base_frame}
+    assert set(model["CityObjects"]) <= nodes and len(names) >= len(model["CityObjects"])
+    # a failure while the page is written leaves no file at all: an existing page is kept
+    with open(page, "w") as f:
+        f.write("keep")
+    os.remove(out)
+    rc, _out, err = run(input=footprints, output=out, viewer=page, gltf=glb + "2", seed=3)
+    assert rc != 0 and "ERROR" in err
+    assert not os.path.exists(out) and not os.path.exists(glb + "2")
+    with open(page) as f:
+        assert f.read() == "keep"
