@@ -123,20 +123,28 @@ class BrowserPage:
         """Open a local file as a user would (file://); return the Playwright response."""
         return self.page.goto(pathlib.Path(path).resolve().as_uri())
 
-    def wait_ready(self, hook="window.ready === true", timeout_ms=TIMEOUT_MS):
+    def wait_ready(self, hook="window.ready === true", timeout_ms=TIMEOUT_MS, every_ms=50):
         """Wait until the page says it has drawn (``hook`` true); return the seconds waited.
 
-        On a timeout the error names the errors the page had, which are
-        usually why it never got ready.
+        Polled with ``page.evaluate`` (DevTools' own evaluation), not
+        ``wait_for_function``, whose predicate Playwright compiles with eval in
+        the page: a page whose Content Security Policy forbids eval (the
+        viewer's does) would refuse it. On a timeout the error names the
+        errors the page had, which are usually why it never got ready.
         """
         start = time.perf_counter()
-        try:
-            self.page.wait_for_function(hook, timeout=timeout_ms)
-        except Exception as error:
-            raise AssertionError("the page never got ready ({}: {}); its errors: {}".format(
-                hook, str(error).splitlines()[0] if str(error) else type(error).__name__,
-                self.errors or "none")) from error
-        return time.perf_counter() - start
+        while True:
+            try:
+                if self.page.evaluate("Boolean({})".format(hook)):
+                    return time.perf_counter() - start
+                failure = None
+            except Exception as error:          # e.g. the page crashed or navigated
+                failure = error
+            if (time.perf_counter() - start) * 1000 > timeout_ms:
+                raise AssertionError("the page never got ready ({}{}); its errors: {}".format(
+                    hook, ": {}".format(str(failure).splitlines()[0]) if failure else "",
+                    self.errors or "none"))
+            self.page.wait_for_timeout(every_ms)
 
     def screenshot(self):
         """The viewport as PNG bytes."""

@@ -295,6 +295,11 @@ def test_the_demo_s_city_html_in_a_browser(demo, browser_page):
     assert page.evaluate("histo.selected") == tallest
     assert tallest in info
     assert "roof_type " + buildings[tallest]["attributes"]["roof_type"] in info
+    # the search box finds a building by its id
+    other = sorted(buildings)[0]
+    page.fill("#search", other)
+    page.press("#search", "Enter")
+    assert page.evaluate("histo.selected") == other and other in page.inner_text("#info")
     print("\ncity.html: {:.1f} MB, first frame after {:.2f} s ({:.0f} ms in the page)".format(
         (demo["out"] / "city.html").stat().st_size / 1e6, waited,
         page.evaluate("histo.firstFrameMs")))
