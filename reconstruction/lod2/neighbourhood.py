@@ -46,6 +46,7 @@ neighbouring plots), or ``""`` when nothing was measured anywhere.
 """
 
 from dataclasses import dataclass
+from typing import Optional
 
 import numpy as np
 
@@ -76,6 +77,10 @@ class HeightRule:
     near: float = 60.0
     #: at most this many nearest aligned footprints count
     donors: int = 256
+    #: the uncertainty interval of an inferred height: these weighted quantiles of the
+    #: neighbours' heights it comes from (issue 31; on Delft 1880's held-out aligned
+    #: footprints, see InferredHeights)
+    interval: tuple = (0.1, 0.9)
 
     def __post_init__(self):
         if self.method not in ("robust", "plot"):
@@ -95,11 +100,17 @@ class Plots:
 @dataclass(frozen=True)
 class InferredHeights:
     """Eaves (above the ground) and attic (above the eaves) of every footprint,
-    NaN where nothing could be inferred, and where each came from."""
+    NaN where nothing could be inferred, and where each came from; ``low`` and
+    ``high`` (F, 2): the interval of the eaves and of the total height (eaves
+    + attic), the value itself where measured, the rule's quantiles of the
+    neighbours' heights (:attr:`HeightRule.interval`) where the robust rule
+    inferred it, NaN where the plot rule did (it gives no spread)."""
 
     eaves: np.ndarray
     attic: np.ndarray
     source: np.ndarray
+    low: Optional[np.ndarray] = None
+    high: Optional[np.ndarray] = None
 
     @property
     def total(self):
@@ -240,21 +251,30 @@ def _row_median(v):
     return np.where(n > 0, med, np.nan)
 
 
-def _row_weighted_median(v, w):
-    """Weighted median of every row (NaN values and their weights ignored)."""
+def _row_weighted_quantile(v, w, q):
+    """Weighted ``q`` quantile (0-1: the first value whose cumulative weight reaches
+    ``q`` of the row's) of every row (NaN values and their weights ignored)."""
     w = np.where(np.isfinite(v), w, 0.0)
     order = np.argsort(np.where(np.isfinite(v), v, np.inf), axis=1, kind="stable")
     sv = np.take_along_axis(v, order, axis=1)
     cw = np.cumsum(np.take_along_axis(w, order, axis=1), axis=1)
     total = cw[:, -1:] if v.shape[1] else np.zeros((len(v), 1))
-    first = np.argmax(cw >= 0.5 * total - 1e-12 * np.maximum(total, 1.0), axis=1)
+    first = np.argmax(cw >= q * total - 1e-12 * np.maximum(total, 1.0), axis=1)
     out = sv[np.arange(len(v)), first] if v.shape[1] else np.full(len(v), np.nan)
     return np.where(total[:, 0] > 0, out, np.nan)
 
 
-def _robust_estimate(v, dist, la_t, la_d, beta, rule):
+def _row_weighted_median(v, w):
+    """Weighted median of every row (NaN values and their weights ignored)."""
+    return _row_weighted_quantile(v, w, 0.5)
+
+
+def _robust_estimate(v, dist, la_t, la_d, beta, rule, quantiles=()):
     """Per target row: the rule's estimate of one height from its neighbours'
-    heights ``v`` (T, K) (NaN = no neighbour) at distances ``dist``."""
+    heights ``v`` (T, K) (NaN = no neighbour) at distances ``dist``; with
+    ``quantiles``, also the weighted quantiles of the same neighbours' heights
+    (outliers left out, moved by the size step, the same weights): a list of
+    (T,) arrays after the estimate."""
     n = np.sum(np.isfinite(v), axis=1)
     M = _row_median(v)
     mad = np.maximum(_MAD_SCALE * _row_median(np.abs(v - M[:, None])), 0.1 * np.abs(M))
@@ -262,12 +282,16 @@ def _robust_estimate(v, dist, la_t, la_d, beta, rule):
     out = big[:, None] & (np.abs(v - M[:, None]) > rule.k_mad * mad[:, None])
     v = np.where(out, np.nan, v)
     adj = v + beta * (la_t[:, None] - la_d)
-    est = _row_weighted_median(adj, 1.0 / (dist + rule.offset))
+    weights = 1.0 / (dist + rule.offset)
+    est = _row_weighted_median(adj, weights)
     est = np.where(big, np.clip(est, M - rule.k_mad * mad, M + rule.k_mad * mad), est)
     with np.errstate(invalid="ignore"):
         lo, hi = np.nanmin(np.where(np.isfinite(v), v, np.inf), axis=1), \
             np.nanmax(np.where(np.isfinite(v), v, -np.inf), axis=1)
-    return np.where(np.isfinite(lo), np.clip(est, lo, hi), est)
+    est = np.where(np.isfinite(lo), np.clip(est, lo, hi), est)
+    if not quantiles:
+        return est
+    return [est] + [_row_weighted_quantile(adj, weights, q) for q in quantiles]
 
 
 def _area_slope(self_idx, self_dist, values, la_d, rule):
@@ -284,12 +308,14 @@ def _area_slope(self_idx, self_dist, values, la_d, rule):
     return float(np.sum(x[ok] * y[ok]) / sxx) if sxx > 1e-9 else 0.0
 
 
-def robust_heights(targets, donors, donor_values, rule=None, sized=None):
+def robust_heights(targets, donors, donor_values, rule=None, sized=None, interval=None):
     """The robust rule for footprints ``targets`` from measured footprints
     ``donors`` with heights ``donor_values`` (K, Q), estimated column by
     column; ``sized`` (Q,) says which columns take the size step (default:
     all, when ``rule.area``). Returns (T, Q) estimates, NaN where no donor is
-    within the radius."""
+    within the radius; with ``interval`` (low, high quantiles, e.g. (0.1,
+    0.9)), also the (T, Q) low and high ends of the neighbours' heights'
+    weighted quantiles: ``(estimates, low, high)``."""
     import shapely
 
     rule = rule or HeightRule()
@@ -299,8 +325,9 @@ def robust_heights(targets, donors, donor_values, rule=None, sized=None):
     d_geoms, values = d_geoms[good], values[good]
     T, Q = len(t_geoms), values.shape[1]
     out = np.full((T, Q), np.nan)
+    low, high = out.copy(), out.copy()
     if not T or not len(d_geoms):
-        return out
+        return out if interval is None else (out, low, high)
     la_t = np.log(np.maximum(shapely.area(t_geoms), 1e-6))
     la_d = np.log(np.maximum(shapely.area(d_geoms), 1e-6))
     sized = np.broadcast_to(np.asarray(True if sized is None else sized, dtype=bool), (Q,)) \
@@ -312,8 +339,12 @@ def robust_heights(targets, donors, donor_values, rule=None, sized=None):
     for q in range(Q):
         beta = _area_slope(self_idx, self_dist, values[:, q], la_d, rule) if sized[q] else 0.0
         v = np.append(values[:, q], np.nan)[idx]
-        out[:, q] = _robust_estimate(v, dist, la_t, la_pad, beta, rule)
-    return out
+        if interval is None:
+            out[:, q] = _robust_estimate(v, dist, la_t, la_pad, beta, rule)
+        else:
+            out[:, q], low[:, q], high[:, q] = _robust_estimate(v, dist, la_t, la_pad, beta,
+                                                                rule, tuple(interval))
+    return out if interval is None else (out, low, high)
 
 
 # ---------------------------------------------------------------------------
@@ -341,16 +372,18 @@ def infer_heights(footprints, eaves, attic, plot=None, plots=None, rule=None,
     known = np.isfinite(eaves) & np.isfinite(attic) & (eaves > 0)
     values = np.stack([eaves, eaves + np.maximum(attic, 0.0)], axis=1)
     out = np.where(known[:, None], values, np.nan)
+    low, high = out.copy(), out.copy()
     source = np.where(known, measured_label, "").astype(object)
     todo = np.nonzero(~known)[0]
     if not len(todo) or not known.any():
-        return _result(out, source)
+        return _result(out, source, low, high)
     if rule.method == "robust":
         # the size step for the total height only: the roof grows with the
         # span; the eaves (storeys) do not follow the area (it made them worse)
-        est = robust_heights(geoms[todo], geoms[known], values[known], rule, sized=(False, True))
+        est, lo, hi = robust_heights(geoms[todo], geoms[known], values[known], rule,
+                                     sized=(False, True), interval=rule.interval)
         got = np.isfinite(est).all(axis=1)
-        out[todo[got]] = est[got]
+        out[todo[got]], low[todo[got]], high[todo[got]] = est[got], lo[got], hi[got]
         source[todo[got]] = NEIGHBOURS
         todo = todo[~got]
     if len(todo) and plot is not None:
@@ -383,7 +416,7 @@ def infer_heights(footprints, eaves, attic, plot=None, plots=None, rule=None,
         nb = np.asarray(nb).reshape(len(todo), -1)
         out[todo] = np.median(values[known][nb], axis=1)
         source[todo] = NEIGHBOURS
-    return _result(out, source)
+    return _result(out, source, low, high)
 
 
 def _plot_hulls(geoms, owner, n):
@@ -396,7 +429,8 @@ def _plot_hulls(geoms, owner, n):
     return _geometry_array([shapely.convex_hull(shapely.GeometryCollection(p)) for p in parts])
 
 
-def _result(values, source):
+def _result(values, source, low=None, high=None):
     eaves = values[:, 0]
     attic = np.maximum(values[:, 1] - values[:, 0], 0.0)
-    return InferredHeights(eaves, np.where(np.isfinite(eaves), attic, np.nan), source)
+    return InferredHeights(eaves, np.where(np.isfinite(eaves), attic, np.nan), source, low,
+                           high)
