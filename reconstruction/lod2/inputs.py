@@ -104,11 +104,23 @@ class HeightReport:
 @dataclass(frozen=True)
 class FootprintHeights:
     """The :class:`~reconstruction.lod2.stage.Heights` of the footprints, the
-    ``height_source`` of each and the :class:`HeightReport`."""
+    ``height_source`` of each and the :class:`HeightReport`; ``interval``: (F, 4)
+    the low and high ends of each footprint's eaves height and ridge height (eaves
+    + roof) above the ground (:data:`INTERVAL_ATTRIBUTES`): a measured height is
+    its own interval, an inferred one spans its neighbours'
+    (:class:`~reconstruction.lod2.neighbourhood.InferredHeights`), a drawn one its
+    range; NaN where nothing says how sure it is (heights given in columns, the
+    plot rule), or None."""
 
     heights: lod2.Heights
     source: np.ndarray
     report: HeightReport
+    interval: Optional[np.ndarray] = None
+
+
+#: the attributes of a building's height interval (issue 31), in FootprintHeights.interval's order
+INTERVAL_ATTRIBUTES = ("eaves_height_low", "eaves_height_high", "ridge_height_low",
+                       "ridge_height_high")
 
 
 def _array(geoms):
@@ -277,6 +289,7 @@ def footprint_heights(geometries, columns, plot=None, options=None):
     n = len(geoms)
     ground, report = _ground(geoms, columns, opts)
     source = np.full(n, HEIGHTS_COLUMN, dtype=object)
+    interval = np.full((n, 4), np.nan)
     if opts.aligned is not None or opts.building_points is not None:
         eaves, attic, label, (dg, de, da, dp) = _measured(geoms, ground, opts, report)
         plot = np.full(n, None, dtype=object) if plot is None else np.asarray(plot, dtype=object)
@@ -285,6 +298,7 @@ def footprint_heights(geometries, columns, plot=None, options=None):
                              plots=opts.plots, rule=opts.rule)
         eaves, attic = r.eaves[:n], r.attic[:n]
         source = np.where(label != "", label, r.source[:n]).astype(object)
+        interval = np.column_stack([r.low[:n, 0], r.high[:n, 0], r.low[:n, 1], r.high[:n, 1]])
     else:
         eaves = lod2.numeric_column(columns, opts.eaves_column, "eaves height") \
             if opts.eaves_range is None else None
@@ -293,12 +307,15 @@ def footprint_heights(geometries, columns, plot=None, options=None):
     if opts.eaves_range is not None:
         eaves = lod2.Uniform(*opts.eaves_range)
         source = np.full(n, HEIGHTS_RANGE, dtype=object)
+        interval[:, :2] = opts.eaves_range
+        interval[:, 2:] = np.add(opts.eaves_range, opts.attic_range) \
+            if opts.attic_range is not None else np.nan
     if opts.attic_range is not None:
         attic = lod2.Uniform(*opts.attic_range)
     labels, counts = np.unique(source.astype(str), return_counts=True)
     report["sources"] = {k or "none": int(c) for k, c in zip(labels, counts)}
     return FootprintHeights(lod2.Heights(eaves, attic, ground, float(opts.ground)), source,
-                            HeightReport(**report))
+                            HeightReport(**report), interval)
 
 
 # ---------------------------------------------------------------------------
@@ -343,7 +360,14 @@ def with_attributes(prepared, **per_ring):
         (name, np.asarray(values).tolist()) for name, values in per_ring.items()))
 
 
-def with_height_source(prepared, source):
-    """``prepared`` with the ``height_source`` attribute (values per footprint)."""
+def with_height_source(prepared, source, interval=None):
+    """``prepared`` with the ``height_source`` attribute (values per footprint) and,
+    given the (F, 4) ``interval`` of :class:`FootprintHeights`, the attributes of
+    :data:`INTERVAL_ATTRIBUTES` (rounded to the centimetre; null where unknown)."""
     source = np.asarray(source, dtype=object)
-    return with_attributes(prepared, **{HEIGHT_SOURCE: source[prepared.source]})
+    prepared = with_attributes(prepared, **{HEIGHT_SOURCE: source[prepared.source]})
+    if interval is None:
+        return prepared
+    ends = np.round(np.asarray(interval, dtype=float)[prepared.source], 2)
+    return with_attributes(prepared, **{name: ends[:, k] for k, name in
+                                        enumerate(INTERVAL_ATTRIBUTES)})

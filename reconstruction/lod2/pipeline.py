@@ -37,6 +37,7 @@ from ..geom.grid import Extent, Grid, MapImage
 from . import inputs as lod2_inputs
 from . import output as lod2_output
 from . import previous as lod2_previous
+from .certainty import certainty
 from .config import ExistingRequest
 from .neighbourhood import Plots
 from .report import (build_messages, built_messages, config_messages, existing_messages,
@@ -130,7 +131,9 @@ def run(inputs, config):
         match = lod2_previous.with_previous(match, kept, config.existing, len(geoms))
 
     prepared = prepare(footprints, found.heights, requests, config)
-    prepared = lod2_inputs.with_height_source(prepared, found.source)
+    prepared = lod2_inputs.with_height_source(prepared, found.source, found.interval)
+    prepared = lod2_inputs.with_attributes(prepared, certainty=certainty(
+        footprints.source, found.source)[prepared.source])
     if config.streets is not None:
         prepared, edges = lod2_inputs.with_street_edges(
             prepared, _street_options(inputs, config.streets, geoms))

@@ -15,7 +15,9 @@
   var COLOURS = [[150, 150, 150], [245, 245, 245], [200, 30, 25], [190, 190, 190]];
   var COPIED = [[150, 150, 150], [205, 222, 240], [35, 85, 170], [190, 200, 215]];
   var PICKED = [255, 200, 0];
-  var SHOWN = ["roof_type", "eaves_height", "roof_height", "height_source", "source", "plot",
+  var CERTAINTY = {4: "measured", 3: "aligned", 2: "generated", 1: "drawn"};
+  var SHOWN = ["certainty", "roof_type", "eaves_height", "eaves_height_low", "eaves_height_high",
+               "roof_height", "ridge_height_low", "ridge_height_high", "height_source", "source", "plot",
                "footprint", "map_year", "epochs", "dateOfConstruction",
                "dateOfConstructionEarliest", "dateOfConstructionLatest",
                "dateOfDemolitionEarliest", "dateOfDemolitionLatest", "standing", "conflict"];
@@ -162,6 +164,7 @@
           .forEach(function (name) {
             if (a[name] === undefined || a[name] === null) return;
             var v = typeof a[name] === "object" ? JSON.stringify(a[name]) : String(a[name]);
+            if (name === "certainty" && CERTAINTY[a[name]]) v += " (" + CERTAINTY[a[name]] + ")";
             rows.push("<span class=\"name\">" + escape(name) + "</span> " + escape(v));
           });
         info.innerHTML = rows.join("<br>");

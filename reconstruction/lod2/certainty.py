@@ -1,0 +1,49 @@
+"""How sure a building of the model is: one class on an ordinal scale (issue 31).
+
+Historians working with reconstructions ask for degrees of certainty and
+for the provenance (paradata) of every element. Each building says where
+its values came from (``source``: an aligned current footprint or one the
+plot's subdivision generated; ``height_source``: measured, inferred from
+measured neighbours, drawn from a range; and the interval of its heights,
+:data:`~reconstruction.lod2.inputs.INTERVAL_ATTRIBUTES`), and, in
+``certainty``, one class that sums them up, from the surest:
+
+==  ============  ==========================================================
+4   measured      a current footprint that stood at the map's date, with
+                  its heights measured (3D BAG, building points)
+3   aligned       a current footprint that stood at the map's date, its
+                  heights inferred from measured neighbours or given; or a
+                  generated footprint with measured heights
+2   generated     a footprint generated in its plot, its heights inferred
+                  from measured neighbours or given in the footprints' columns
+1   drawn         heights drawn from ranges, or nothing measured anywhere
+==  ============  ==========================================================
+
+A building copied from an existing 3D model keeps that model's attributes.
+Pure: numpy.
+"""
+
+import numpy as np
+
+from ..core.contract import (HEIGHTS_COLUMN, HEIGHTS_MEASURED, HEIGHTS_NEIGHBOURS,
+                             HEIGHTS_PLOT, HEIGHTS_POINTS, SOURCE_ALIGNED)
+
+MEASURED, ALIGNED, GENERATED, DRAWN = 4, 3, 2, 1
+#: the classes' names, surest first
+CLASSES = {MEASURED: "measured", ALIGNED: "aligned", GENERATED: "generated", DRAWN: "drawn"}
+
+
+def certainty(footprint_source, height_source):
+    """The certainty class (:data:`CLASSES`) of every footprint from its footprint
+    source (``aligned`` or anything else, e.g. ``2pm``; None: unknown, counted as
+    generated) and its height source (a ``height_source`` value)."""
+    height = np.asarray(height_source, dtype=object)
+    aligned = np.asarray([s == SOURCE_ALIGNED for s in
+                          (footprint_source if footprint_source is not None
+                           else [None] * len(height))], dtype=bool)
+    measured = np.isin(height, [HEIGHTS_MEASURED, HEIGHTS_POINTS])
+    inferred = np.isin(height, [HEIGHTS_NEIGHBOURS, HEIGHTS_PLOT, HEIGHTS_COLUMN])
+    out = np.full(len(height), DRAWN, dtype=np.int64)
+    out[inferred] = np.where(aligned[inferred], ALIGNED, GENERATED)
+    out[measured] = np.where(aligned[measured], MEASURED, ALIGNED)
+    return out
