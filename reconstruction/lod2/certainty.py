@@ -4,8 +4,10 @@ Historians working with reconstructions ask for degrees of certainty and
 for the provenance (paradata) of every element. Each building says where
 its values came from (``source``: an aligned current footprint or one the
 plot's subdivision generated; ``height_source``: measured, inferred from
-measured neighbours, drawn from a range; and the interval of its heights,
-:data:`~reconstruction.lod2.inputs.INTERVAL_ATTRIBUTES`), and, in
+measured neighbours, drawn from a range; the interval of its heights,
+:data:`~reconstruction.lod2.inputs.INTERVAL_ATTRIBUTES`; ``roof_source``:
+why it has its roof type, :class:`~reconstruction.lod2.stage.RoofRequests`),
+and, in
 ``certainty``, one class that sums them up, from the surest:
 
 ==  ============  ==========================================================

@@ -31,6 +31,8 @@ from contextlib import nullcontext
 from dataclasses import dataclass, replace
 from typing import Callable, ContextManager, Optional
 
+import numpy as np
+
 from ..core.contract import BUILDING
 from ..core.errors import InputError
 from ..geom.grid import Extent, Grid, MapImage
@@ -134,6 +136,9 @@ def run(inputs, config):
     prepared = lod2_inputs.with_height_source(prepared, found.source, found.interval)
     prepared = lod2_inputs.with_attributes(prepared, certainty=certainty(
         footprints.source, found.source)[prepared.source])
+    if requests.source is not None:
+        prepared = lod2_inputs.with_attributes(
+            prepared, roof_source=np.asarray(requests.source, dtype=object)[prepared.source])
     if config.streets is not None:
         prepared, edges = lod2_inputs.with_street_edges(
             prepared, _street_options(inputs, config.streets, geoms))

@@ -17,6 +17,7 @@ the same way (:mod:`reconstruction.lod2.output`).
 """
 
 from dataclasses import dataclass, replace
+from typing import Optional
 
 import numpy as np
 
@@ -26,6 +27,7 @@ from ..geom.polygons import polygon_parts, same_outline
 from .config import AUTO, ExistingRequest
 from .output import ExistingMatch
 from .roofs.plan import ROOF_TYPES
+from .stage import ROOF_EARLIER
 
 #: the same footprint: its outline within this (m) of the earlier one (the model's
 #: millimetre grid and a GRASS round trip)
@@ -56,12 +58,14 @@ class PreviousReport:
 class PreviousMatch:
     """The earlier ``model`` and, per footprint, the index of its kept building in
     ``model.buildings`` (``building``, -1: built in this epoch) and the earlier roof
-    type of its identity (``roof_type``, None: none); the :class:`PreviousReport`."""
+    type of its identity (``roof_type``, None: none) and why it had it
+    (``roof_source``, None: not said); the :class:`PreviousReport`."""
 
     model: existing.ExistingModel
     building: np.ndarray
     roof_type: list
     report: PreviousReport
+    roof_source: Optional[list] = None
 
 
 def _height(attributes, name):
@@ -88,7 +92,7 @@ def match_previous(model, identities, geometries, eaves=None, attic=None, source
     sources = [None] * n if sources is None else list(sources)
     fps = existing.footprints(model)
     building = np.full(n, -1, dtype=np.int64)
-    roof_type = [None] * n
+    roof_type, roof_source = [None] * n, [None] * n
     counts = dict(footprints=0, kept=0, measured=0, reshaped=0, new=0)
     for i, (identity, geom) in enumerate(zip(identities, geometries)):
         if identity is None or geom is None:
@@ -99,7 +103,7 @@ def match_previous(model, identities, geometries, eaves=None, attic=None, source
             counts["new"] += 1
             continue
         attributes = model.objects[model.buildings[b]].get("attributes") or {}
-        roof_type[i] = attributes.get("roof_type")
+        roof_type[i], roof_source[i] = attributes.get("roof_type"), attributes.get("roof_source")
         before, parts = polygon_parts(fps.geometry(b)), polygon_parts(geom)
         if len(parts) != 1 or len(before) != 1 or \
                 not same_outline(before[0], parts[0], OUTLINE_TOLERANCE):
@@ -115,7 +119,7 @@ def match_previous(model, identities, geometries, eaves=None, attic=None, source
         building[i] = b
         counts["kept"] += 1
     return PreviousMatch(_this_epoch(model, building, map_year), building, roof_type,
-                         PreviousReport(**counts))
+                         PreviousReport(**counts), roof_source)
 
 
 def _this_epoch(model, building, map_year):
@@ -137,12 +141,18 @@ def _this_epoch(model, building, map_year):
 def with_earlier_roofs(requests, previous):
     """The :class:`~reconstruction.lod2.stage.RoofRequests` with the earlier roof type
     asked for where a building of an earlier identity is built anew (another outline,
-    other measured heights) and the roof was to be drawn: it keeps its roof."""
+    other measured heights) and the roof was to be drawn: it keeps its roof, and why
+    it had it (the earlier ``roof_source``, else
+    :data:`~reconstruction.lod2.stage.ROOF_EARLIER`)."""
     types = np.asarray(requests.types, dtype=object).copy()
+    source = None if requests.source is None else np.asarray(requests.source, dtype=object).copy()
+    why = previous.roof_source or [None] * len(types)
     for i, (b, earlier) in enumerate(zip(previous.building, previous.roof_type)):
         if b < 0 and earlier in ROOF_TYPES and types[i] == AUTO:
             types[i] = earlier
-    return replace(requests, types=types)
+            if source is not None:
+                source[i] = why[i] or ROOF_EARLIER
+    return replace(requests, types=types, source=source)
 
 
 def with_previous(match, previous, request, count):

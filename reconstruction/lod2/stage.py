@@ -79,6 +79,15 @@ class RoofRequests:
     #: per footprint, its construction year (or the map's); nan = unknown,
     #: which draws as built before the split year
     years: np.ndarray
+    #: per footprint, why it gets that roof (the ``roof_source`` attribute, issue 31):
+    #: :data:`ROOF_RULE` (drawn by the map's year), :data:`ROOF_OPTION` (roof=),
+    #: :data:`ROOF_COLUMN` (roof_column=) or :data:`ROOF_EARLIER` (the earlier
+    #: epoch's building); None: not said
+    source: Optional[np.ndarray] = None
+
+
+#: why a building has its roof type (RoofRequests.source)
+ROOF_RULE, ROOF_OPTION, ROOF_COLUMN, ROOF_EARLIER = "rule", "option", "column", "earlier epoch"
 
 
 @dataclass(frozen=True)
@@ -237,6 +246,7 @@ def requests_from_columns(columns, count, roof=AUTO, roof_column=None, map_year=
     its column where known and not after ``map_year`` (later values, e.g.
     9999, are unknown), else ``map_year``."""
     requested = np.full(count, roof, dtype=object)
+    source = np.full(count, ROOF_RULE if roof == AUTO else ROOF_OPTION, dtype=object)
     if roof_column:
         if roof_column not in columns:
             raise InputError("Column <{}> (roof type) not found in the input map".format(
@@ -248,6 +258,8 @@ def requests_from_columns(columns, count, roof=AUTO, roof_column=None, map_year=
             raise InputError("Unknown roof types in column <{}>: {} (known: {})".format(
                 roof_column, ", ".join(unknown), ", ".join(ROOF_TYPES)))
         requested = np.array([v if v not in (None, "") else roof for v in values], dtype=object)
+        source = np.where([v not in (None, "") for v in values], ROOF_COLUMN, source)
+        source[requested == AUTO] = ROOF_RULE           # "auto" in the column: drawn
     years = np.full(count, np.nan if map_year is None else float(map_year))
     if year_column:
         built = numeric_column(columns, year_column, "construction year")
@@ -255,7 +267,7 @@ def requests_from_columns(columns, count, roof=AUTO, roof_column=None, map_year=
         if map_year is not None:
             known &= built <= map_year
         years = np.where(known, built, years)
-    return RoofRequests(requested, years)
+    return RoofRequests(requested, years, source.astype(object))
 
 
 # ---------------------------------------------------------------------------

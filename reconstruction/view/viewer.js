@@ -16,7 +16,7 @@
   var COPIED = [[150, 150, 150], [205, 222, 240], [35, 85, 170], [190, 200, 215]];
   var PICKED = [255, 200, 0];
   var CERTAINTY = {4: "measured", 3: "aligned", 2: "generated", 1: "drawn"};
-  var SHOWN = ["certainty", "roof_type", "eaves_height", "eaves_height_low", "eaves_height_high",
+  var SHOWN = ["certainty", "roof_type", "roof_source", "eaves_height", "eaves_height_low", "eaves_height_high",
                "roof_height", "ridge_height_low", "ridge_height_high", "height_source", "source", "plot",
                "footprint", "map_year", "epochs", "dateOfConstruction",
                "dateOfConstructionEarliest", "dateOfConstructionLatest",
