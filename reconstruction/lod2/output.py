@@ -426,8 +426,7 @@ def _views(model_file, viewer_path, gltf_path, request, copied, doing, match=Non
         with open(model_file, encoding="utf-8") as f:
             document = (json.load(f) if request.format == "cityjson" else
                         cityjsonseq.collect(f, request.path))
-        scene = view.build_scene(document, copied=[i for i in copied.ids if i not in kept]
-                                 if copied is not None else ())
+        scene = view.build_scene(document, copied=_shown_copied(copied, kept))
     if viewer_path:
         with doing("writing the viewer '{}'".format(request.viewer)):
             title = request.title or os.path.basename(request.path)
@@ -436,6 +435,12 @@ def _views(model_file, viewer_path, gltf_path, request, copied, doing, match=Non
     if gltf_path:
         with doing("writing the glTF '{}'".format(request.gltf)), open(gltf_path, "wb") as f:
             f.write(view.glb_bytes(scene))
+
+
+def _shown_copied(copied, kept):
+    """The ids of the copied buildings drawn in the copied buildings' colours: those of
+    ``copied`` (None: none) but the earlier epoch's (``kept``), drawn as generated ones."""
+    return [i for i in copied.ids if i not in kept] if copied is not None else ()
 
 
 def _render(pieces, path, request, copied, report, drawn, doing, say, kept=frozenset()):
@@ -447,8 +452,7 @@ def _render(pieces, path, request, copied, report, drawn, doing, say, kept=froze
     with doing("drawing the picture '{}'".format(request.render)):
         document = json.loads(cityjson.joined_text(pieces))
         render.render(document, path, request.view, map_image=request.map_image,
-                      copied=[i for i in copied.ids if i not in kept] if copied is not None
-                      else ())
+                      copied=_shown_copied(copied, kept))
     return replace(report, rendered=request.render,
                    drawn=None if drawn is None else int(drawn.sum()))
 

@@ -20,14 +20,8 @@ import numpy as np
 
 from ..cityjson import geometry as citygeometry
 from ..core.errors import InputError
-
-#: colours (RGB 0-255) by surface kind: ground, wall, roof, other
-COLOURS = np.array([[150, 150, 150], [245, 245, 245], [200, 30, 25], [190, 190, 190]],
-                   dtype=np.uint8)
-COPIED_COLOURS = np.array([[150, 150, 150], [205, 222, 240], [35, 85, 170], [190, 200, 215]],
-                          dtype=np.uint8)
-BACKGROUND = (214, 224, 235)
-KIND = {"GroundSurface": 0, "WallSurface": 1, "RoofSurface": 2, "ClosureSurface": 3}
+# the suite's one palette (the web page's and the glTF's too), and the surfaces' kinds
+from ..view.scene import BACKGROUND, COLOURS, COPIED_COLOURS, KIND
 
 
 @dataclass(frozen=True)

@@ -47,20 +47,15 @@ import struct
 import numpy as np
 
 from ..core.errors import InputError
-from .scene import GROUND, OTHER, ROOF, WALL
+from .scene import COLOURS as PALETTE, COPIED_COLOURS, GROUND, OTHER, ROOF, WALL
 
 GENERATOR = "histo (GRASS GIS addon suite), reconstruction.view.gltf"
-#: sRGB colour of each (copied, kind of surface), as the HTML viewer draws them
-COLOURS = {
-    (False, GROUND): ("ground", (150, 150, 150)),
-    (False, WALL): ("wall", (245, 245, 245)),
-    (False, ROOF): ("roof", (200, 30, 25)),
-    (False, OTHER): ("other", (190, 190, 190)),
-    (True, GROUND): ("copied ground", (150, 150, 150)),
-    (True, WALL): ("copied wall", (205, 222, 240)),
-    (True, ROOF): ("copied roof", (35, 85, 170)),
-    (True, OTHER): ("copied other", (190, 200, 215)),
-}
+#: the material (name, sRGB colour) of each (copied, kind of surface): the suite's palette
+COLOURS = {(copied, kind): (("copied " if copied else "") + name,
+                            tuple(int(v) for v in (COPIED_COLOURS if copied else PALETTE)[kind]))
+           for copied in (False, True)
+           for kind, name in ((GROUND, "ground"), (WALL, "wall"), (ROOF, "roof"),
+                              (OTHER, "other"))}
 # glTF's constants: component types, buffer view targets, primitive mode
 FLOAT, UINT16, UINT32 = 5126, 5123, 5125
 ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER = 34962, 34963

@@ -21,6 +21,7 @@ import os
 import numpy as np
 
 from ..core.errors import InputError
+from .scene import BACKGROUND, COLOURS, COPIED_COLOURS, GROUND, ROOF, WALL
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 #: where Debian's libjs-three puts three.js and the notice of its licence
@@ -115,7 +116,7 @@ PAGE = """<!DOCTYPE html>
 <canvas id="view"></canvas>
 <div id="panel">
   <div id="title"></div>
-  <div><span class="swatch" style="background:#c81e19"></span>roof<span class="swatch" style="background:#f5f5f5"></span>wall<span class="swatch" style="background:#969696"></span>ground{copied_legend}</div>
+  <div>{legend}</div>
   <div id="map-row"><label><input type="checkbox" id="map-toggle" checked> historical map</label></div>
   <input id="search" type="search" placeholder="building id" aria-label="find a building by its id">
   <div id="time"><label>year <input id="year" type="range" step="1"> <b id="year-label"></b></label></div>
@@ -152,17 +153,27 @@ def viewer_html(scene, title, map_image=None, three_root=THREE):
             "chunkYears": [[list(s) for s in spans] for spans in scene.chunk_years],
             "years": list(scene.years), "origin": [float(v) for v in scene.origin],
             "crs": scene.crs, "localIndices": local, "arrays": layout,
+            "colours": COLOURS.tolist(), "copiedColours": COPIED_COLOURS.tolist(),
+            "background": list(BACKGROUND),
             "map": _map_png(map_image, scene.origin) if map_image is not None else None}
     with open(os.path.join(HERE, "viewer.css"), encoding="utf-8") as f:
         css = f.read()
     with open(os.path.join(HERE, "viewer.js"), encoding="utf-8") as f:
         viewer = f.read()
-    copied = ('<span class="swatch" style="background:#2355aa"></span>copied'
-              if scene.copied.any() else "")
     return PAGE.format(title=_escape(title), css=css, meta=_json(meta),
                        data=base64.b64encode(packed).decode("ascii"),
                        notice=notice.replace("--", "- -"), three=three, controls=controls,
-                       viewer=viewer, copied_legend=copied)
+                       viewer=viewer, legend=_legend(scene.copied.any()))
+
+
+def _legend(copied):
+    """The legend's swatches in the palette's colours (copied buildings' roofs with
+    ``copied``)."""
+    entries = [(COLOURS[ROOF], "roof"), (COLOURS[WALL], "wall"), (COLOURS[GROUND], "ground")]
+    if copied:
+        entries.append((COPIED_COLOURS[ROOF], "copied"))
+    return "".join('<span class="swatch" style="background:#{:02x}{:02x}{:02x}"></span>{}'
+                   .format(*(int(v) for v in rgb), name) for rgb, name in entries)
 
 
 def _escape(text):

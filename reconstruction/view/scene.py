@@ -34,6 +34,15 @@ from ..epochs.dynamic import epoch_years, standing_versions
 GROUND, WALL, ROOF, OTHER = 0, 1, 2, 3
 KIND = {"GroundSurface": GROUND, "WallSurface": WALL, "RoofSurface": ROOF,
         "ClosureSurface": OTHER}
+#: the suite's colours (sRGB 0-255) by surface kind, for every picture, page and glTF:
+#: roofs red, walls white, ground grey, as in the thesis's Fig. 5.22; the buildings
+#: copied from an existing model in a second scheme (blue roofs, pale blue walls)
+COLOURS = np.array([[150, 150, 150], [245, 245, 245], [200, 30, 25], [190, 190, 190]],
+                   dtype=np.uint8)
+COPIED_COLOURS = np.array([[150, 150, 150], [205, 222, 240], [35, 85, 170], [190, 200, 215]],
+                          dtype=np.uint8)
+#: the background behind a model
+BACKGROUND = (214, 224, 235)
 #: attributes of a dynamic model's building that describe its versions, not the building
 VERSION_ATTRIBUTES = ("geometry_epochs",)
 
@@ -117,8 +126,8 @@ def _spans(document, tops, keys):
     objects = document["CityObjects"]
     built = {a.get("dateOfConstruction") for a in
              ((objects[o].get("attributes") or {}) for o in tops)}
-    breaks = sorted({y for y in years} | {y for y in built
-                                          if isinstance(y, int) and years[0] < y < years[-1]})
+    breaks = sorted(set(years) | {y for y in built
+                                  if isinstance(y, int) and years[0] < y < years[-1]})
     shown = {b: standing_versions(document, b) for b in breaks}
     out = []
     for building, epochs in keys:

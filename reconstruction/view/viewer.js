@@ -2,7 +2,7 @@
  *
  * Written into one self-contained HTML file by reconstruction/view/html.py, after
  * three.js (r111, the global THREE) and its OrbitControls. The model comes in two
- * script elements: #histo-meta (JSON: buildings, attributes, years, the map) and
+ * script elements: #histo-meta (JSON: buildings, attributes, years, the map, the palette) and
  * #histo-data (base64 of the gzip of the typed arrays, unpacked with the browser's
  * DecompressionStream: nothing is fetched). Coordinates: x east, y up, z south.
  *
@@ -12,8 +12,6 @@
  */
 (function () {
   "use strict";
-  var COLOURS = [[150, 150, 150], [245, 245, 245], [200, 30, 25], [190, 190, 190]];
-  var COPIED = [[150, 150, 150], [205, 222, 240], [35, 85, 170], [190, 200, 215]];
   var PICKED = [255, 200, 0];
   var CERTAINTY = {4: "measured", 3: "aligned", 2: "generated", 1: "drawn"};
   var SHOWN = ["certainty", "roof_type", "roof_source", "eaves_height", "eaves_height_low", "eaves_height_high",
@@ -61,7 +59,7 @@
     function paint(k, rgb) {
       var b = arrays.chunkBuilding[k];
       for (var v = arrays.chunkVertex[k]; v < arrays.chunkVertex[k + 1]; v++) {
-        var c = rgb || (meta.copied[b] ? COPIED : COLOURS)[arrays.kinds[v]];
+        var c = rgb || (meta.copied[b] ? meta.copiedColours : meta.colours)[arrays.kinds[v]];
         colour[3 * v] = c[0]; colour[3 * v + 1] = c[1]; colour[3 * v + 2] = c[2];
       }
     }
@@ -76,7 +74,8 @@
     var mesh = new THREE.Mesh(geometry, material);
     mesh.rotation.x = -Math.PI / 2;           // model z up -> three.js y up
     var scene = new THREE.Scene();
-    scene.background = new THREE.Color(0xd6e0eb);
+    scene.background = new THREE.Color(meta.background[0] / 255, meta.background[1] / 255,
+                                       meta.background[2] / 255);
     scene.add(mesh);
     scene.add(new THREE.HemisphereLight(0xffffff, 0x888888, 0.75));
     var sun = new THREE.DirectionalLight(0xffffff, 0.55);
