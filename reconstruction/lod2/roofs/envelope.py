@@ -27,11 +27,12 @@ MAX_VERTICES = 24
 BATCH_BYTES = 64 * 2 ** 20
 
 
-def batch_rows(n, has_top=False):
+def batch_rows(n, has_top=False, raised=0):
     """How many footprints of ``n`` vertices :func:`envelope_arrays` solves
     at once within :data:`BATCH_BYTES` (its largest arrays hold about 16
-    numbers of 8 bytes per plane and candidate point)."""
-    P = n + 1 if has_top else n
+    numbers of 8 bytes per plane and candidate point), with a flat top or not
+    and ``raised`` planes."""
+    P = n + int(has_top) + raised
     C = P * (P - 1) * (P - 2) // 6
     return max(1, BATCH_BYTES // (16 * 8 * P * (C + 2 + n)))
 
@@ -73,20 +74,37 @@ class Envelope:
                          self.counts[rows], self.zmax[rows])
 
 
-def envelope_arrays(xy, slopes, top=None):
+@dataclass(frozen=True)
+class Raised:
+    """Planes that rise from a line parallel to a footprint edge, above the
+    eaves: plane ``k`` of row ``b`` is ``z = height + slope * d(x)``, ``d`` the
+    distance inside from edge ``edge`` (all (B, E) arrays). Over a vertical
+    gable end it cuts the gable's top (a half-hip); beside a steep edge plane
+    it is the upper, flatter slope of a gambrel."""
+
+    edge: np.ndarray
+    slope: np.ndarray
+    height: np.ndarray
+
+
+def envelope_arrays(xy, slopes, top=None, raised=None):
     """Roofs over convex footprints with the same number of vertices, as arrays.
 
     ``xy``: (B, n, 2) counter-clockwise footprints in local coordinates;
     ``slopes``: (B, n) tangent of each edge's pitch, ``inf`` for a vertical
-    (gable) end; ``top``: (B,) height of a flat top (mansard) or None.
+    (gable) end; ``top``: (B,) height of a flat top (mansard) or None;
+    ``raised``: :class:`Raised` planes (the same number in every row) or None.
     Returns the :class:`Envelope` (unscaled: the ridge is where the slopes
-    put it).
+    put it); a plane with no part in the roof has no face (fewer than 3
+    entries).
     """
     xy = np.asarray(xy, dtype=float)
     B, n, _ = xy.shape
     slopes = np.asarray(slopes, dtype=float)
     has_top = top is not None
-    P = n + 1 if has_top else n
+    E = 0 if raised is None else np.asarray(raised.edge).shape[1]
+    T = n + int(has_top)                                       # the raised planes' first row
+    P = T + E
     nxt = np.roll(xy, -1, axis=1)
     t = nxt - xy
     length = np.hypot(t[..., 0], t[..., 1])
@@ -106,6 +124,15 @@ def envelope_arrays(xy, slopes, top=None):
         top = np.asarray(top, dtype=float)
         rows[:, n, 2] = 1.0
         rhs[:, n] = top
+    if E:
+        r_edge = np.asarray(raised.edge, dtype=np.int64)
+        r_slope = np.asarray(raised.slope, dtype=float)
+        r_height = np.asarray(raised.height, dtype=float)
+        r_nrm = np.take_along_axis(nrm, r_edge[..., None], axis=1)           # (B, E, 2)
+        r_c = np.take_along_axis(c, r_edge, axis=1)
+        rows[:, T:, :2] = r_slope[..., None] * r_nrm
+        rows[:, T:, 2] = -1.0
+        rhs[:, T:] = r_slope * r_c - r_height
     norm = np.linalg.norm(rows, axis=-1)
     rows_u = rows / norm[..., None]
     rhs_u = rhs / norm
@@ -123,6 +150,10 @@ def envelope_arrays(xy, slopes, top=None):
     env = plane_z.min(axis=-1)
     if has_top:
         env = np.minimum(env, top[:, None])
+    if E:
+        d_r = np.einsum("bcx,bex->bce", nodes[..., :2], r_nrm) - r_c[:, None, :]   # (B, C, E)
+        raised_z = r_height[:, None, :] + r_slope[:, None, :] * d_r
+        env = np.minimum(env, raised_z.min(axis=-1))
     z = nodes[..., 2]
     scale = 1.0 + np.abs(xy).max(axis=(1, 2))[:, None]
     tol = _TOL * scale
@@ -132,6 +163,8 @@ def envelope_arrays(xy, slopes, top=None):
                                np.abs(plane_z - z[..., None]) < tol[..., None] * (1 + np.abs(z[..., None])))
     if has_top:
         active[..., n] = np.abs(z - top[:, None]) < tol * (1 + np.abs(z))
+    if E:
+        active[..., T:] = np.abs(raised_z - z[..., None]) < tol[..., None] * (1 + np.abs(z[..., None]))
     active &= valid[..., None]
     # candidate points of every face: 2 base vertices + C nodes
     K = C + 2

@@ -39,12 +39,15 @@ import shapely
 
 from ..outlines import end_edges, opposite_edges, outline_facts
 from .envelope import MAX_VERTICES as ENVELOPE_MAX_VERTICES
-from .envelope import batch_rows, envelope_arrays
+from .envelope import Raised, batch_rows, envelope_arrays
 from .model import RoofConfig, flat_group
+from .pyramid import apexes, pyramid_group
+from .shed import shed_group
 from .skeleton import cgal_roofs
 from .stepped import clip_strips, stepped_arrays
 
-ROOF_TYPES = ("flat", "hip", "gable", "mansard", "stepped")
+ROOF_TYPES = ("flat", "hip", "gable", "mansard", "stepped", "half_hip", "pyramid", "gambrel",
+              "shed", "cornice")
 
 #: Roof type probabilities (weights in percent) by period of construction and
 #: footprint shape, as in the thesis's Table B.1 as implemented in its published
@@ -122,6 +125,9 @@ class EnvelopeJob:
     top: Optional[float]
     #: True for the main body of a stepped roof (its facade is in ``RoofPlan.facades``)
     body: bool = False
+    #: planes rising above the eaves (half-hip ends, a gambrel's upper slopes):
+    #: a :class:`~reconstruction.lod2.roofs.envelope.Raised` of (E,) arrays, or None
+    raised: Optional[Raised] = None
 
 
 @dataclass(frozen=True)
@@ -165,6 +171,10 @@ class RoofPlan:
     #: edges with a vertical gable end, a hip end steeper than the long faces
     #: or a crow-stepped facade
     ends: dict
+    #: pyramid roofs: (footprint, apex (2,)) pairs
+    pyramids: list = dataclasses.field(default_factory=list)
+    #: shed roofs: (footprint, high edge) pairs
+    sheds: list = dataclasses.field(default_factory=list)
 
 
 def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None, shared=None):
@@ -192,6 +202,7 @@ def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None
     wanted = lo + (hi - lo) * uniforms[:, 1]                  # the mansards' insets, uncapped
     caps = mansard_caps(footprints, [k == "mansard" and not f for k, f in zip(roof_types, flat)],
                         wanted)
+    apex = _pyramid_apexes(footprints, [k == "pyramid" and not f for k, f in zip(roof_types, flat)])
     plan = RoofPlan(kinds, {}, [], {}, [], {})
     for i, (xy, kind) in enumerate(zip(footprints, roof_types)):
         h = float(attic[i])
@@ -202,6 +213,37 @@ def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None
             continue
         end = end_all[i]
         convex = convex_all[i] and n <= ENVELOPE_MAX_VERTICES
+        if kind == "pyramid":
+            if i in apex:
+                plan.pyramids.append((i, apex[i]))
+                continue
+            kind = "hip"                         # no apex sees every edge: a tent roof is a hip
+        if kind == "shed":
+            plan.sheds.append((i, _high_edge(xy, mask, None if street is None else street[i])))
+            continue
+        if kind == "cornice" and n >= 4:
+            sides = [(end - 1) % n, (end + 1) % n]          # the ends beside the street edge
+            plan.ends[i] = [(e, "gable") for e in sides]
+            if convex:
+                slopes = np.ones(n)
+                slopes[sides] = np.inf
+                plan.envelope.append(EnvelopeJob(i, xy, slopes, None))
+            else:
+                pitch = np.full(n, 45.0)
+                pitch[sides] = 90.0
+                plan.skeleton.append(SkeletonJob(i, xy, pitch, None))
+            continue
+        if kind in ("half_hip", "gambrel") and convex:
+            job, ends, kind = _raised_job(kind, i, xy, h, end if _free(mask, end) else -1,
+                                          opp_all[i] if _free(mask, opp_all[i]) else -1,
+                                          float(facts.end_length[i]), uniforms[i], config)
+            plan.envelope.append(job)
+            kinds[i] = kind
+            if ends:
+                plan.ends[i] = ends
+            continue
+        if kind in ("half_hip", "gambrel", "cornice"):
+            kind = "gable"           # TODO(issue 31): concave half-hip and gambrel roofs
         if kind == "mansard":
             ins = max(min(wanted[i], caps[i]), 1e-3)
             if convex:
@@ -246,6 +288,82 @@ def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None
         if ends:
             plan.ends[i] = ends
     return plan
+
+
+#: half-hip: the gable wall rises to this share of the ridge height (low, high) ...
+HALF_HIP_SHARE = (0.5, 0.75)
+#: ... and the small hip above it is steeper than the long faces, up to this pitch (degrees)
+HALF_HIP_PITCH = 75.0
+#: gambrel: the knee is this share of the half span in from the eaves (low, high) ...
+GAMBREL_KNEE = (0.3, 0.45)
+#: ... and the lower faces this many times as steep as the upper ones (low, high)
+GAMBREL_RATIO = (3.0, 4.0)
+
+
+def _raised_job(kind, i, xy, h, end, opp, end_length, u, config):
+    """The envelope job of a half-hip or gambrel roof on a convex footprint
+    whose free ends are ``end`` and ``opp`` (-1: shared or none), the ends
+    it gets and the kind it really is.
+
+    Half-hip: the free ends are gable walls up to :data:`HALF_HIP_SHARE` of
+    the ridge height (drawn by ``u[1]``) under a small hip between the long
+    faces' pitch and :data:`HALF_HIP_PITCH` (``u[0]``); with no free end it
+    is a hip roof. Gambrel: every edge but the free ends has a lower face
+    :data:`GAMBREL_RATIO` times as steep as the upper one (``u[0]``), the
+    knee :data:`GAMBREL_KNEE` of the half span in (``u[1]``); the free ends
+    are gable walls (with none, a hipped gambrel). Heights are before the
+    roof is scaled to its height (the long faces at slope 1, the half span
+    ``end_length / 2`` high), which keeps every ratio."""
+    n = len(xy)
+    free = [e for e in (end, opp) if e >= 0]
+    if kind == "half_hip" and not free:
+        slopes = _convex_slopes("hip", n, h, -1, -1, end_length, u[0], config.pitch_min)
+        return EnvelopeJob(i, xy, slopes, None), [], "hip"
+    slopes = np.ones(n)
+    slopes[free] = np.inf
+    half = end_length / 2.0
+    if kind == "half_hip":
+        p_long = math.degrees(math.atan2(h, half))
+        p_hip = p_long + (max(HALF_HIP_PITCH, p_long) - p_long) * u[0]
+        ratio = math.tan(math.radians(p_hip)) / math.tan(math.radians(p_long))
+        share = HALF_HIP_SHARE[0] + (HALF_HIP_SHARE[1] - HALF_HIP_SHARE[0]) * u[1]
+        lengths = np.hypot(*(np.roll(xy, -1, axis=0) - xy).T)
+        raised = Raised(np.array(free), np.full(len(free), ratio),
+                        share * lengths[free] / 2.0)
+        return EnvelopeJob(i, xy, slopes, None, raised=raised), \
+            [(e, "half_hip") for e in free], kind
+    ratio = GAMBREL_RATIO[0] + (GAMBREL_RATIO[1] - GAMBREL_RATIO[0]) * u[0]
+    knee = (GAMBREL_KNEE[0] + (GAMBREL_KNEE[1] - GAMBREL_KNEE[0]) * u[1]) * half
+    sides = np.array([e for e in range(n) if e not in free])
+    slopes[sides] = ratio
+    raised = Raised(sides, np.ones(len(sides)), np.full(len(sides), (ratio - 1.0) * knee))
+    return EnvelopeJob(i, xy, slopes, None, raised=raised), [(e, "gable") for e in free], kind
+
+
+def _pyramid_apexes(footprints, which):
+    """footprint -> the apex of its pyramid roof, for the footprints ``which``
+    that have one (see :mod:`~reconstruction.lod2.roofs.pyramid`)."""
+    out = {}
+    idx = np.nonzero(np.asarray(which, dtype=bool))[0]
+    by_n = {}
+    for i in idx:
+        by_n.setdefault(len(footprints[i]), []).append(int(i))
+    for ids in by_n.values():
+        apex, sees = apexes(np.stack([footprints[i] for i in ids]))
+        out.update((i, a) for i, a, ok in zip(ids, apex, sees) if ok)
+    return out
+
+
+def _high_edge(xy, shared, street):
+    """The high edge of a shed roof: its longest edge shared with a
+    neighbour (the house it leans on), else the street edge, else its
+    longest edge (the roof falls across the narrow span)."""
+    lengths = np.hypot(*(np.roll(xy, -1, axis=0) - xy).T)
+    if shared is not None and np.any(shared[:len(xy)]):
+        return int(np.argmax(np.where(np.asarray(shared[:len(xy)], dtype=bool), lengths, -1.0)))
+    if street is not None and 0 <= int(street) < len(xy):
+        return int(street)
+    return int(np.argmax(lengths))
 
 
 def mansard_caps(footprints, which, wanted=None):
@@ -370,6 +488,8 @@ def make_roofs(footprints, roof_types, attic, uniforms, street=None, config=None
     plan = plan_roofs(footprints, roof_types, attic, uniforms, config, street, shared)
     groups = _envelope_roofs(plan, footprints, attic, config.thickness)
     groups.extend(_flat_roofs(plan, footprints))
+    groups.extend(_pyramid_roofs(plan, footprints, attic))
+    groups.extend(_shed_roofs(plan, footprints, attic))
     single = [None] * len(footprints)
     for i, roof in _skeleton_roofs(plan, attic):
         single[i] = roof
@@ -406,16 +526,21 @@ def _batch_envelope(jobs):
     (jobs, envelope)."""
     batches = {}
     for job in jobs:
-        batches.setdefault((len(job.xy), job.top is not None), []).append(job)
+        E = 0 if job.raised is None else len(job.raised.edge)
+        batches.setdefault((len(job.xy), job.top is not None, E), []).append(job)
     out = []
-    for (n, has_top), jobs_n in batches.items():
-        rows = batch_rows(n, has_top)
+    for (n, has_top, E), jobs_n in batches.items():
+        rows = batch_rows(n, has_top, E)
         for k in range(0, len(jobs_n), rows):
             items = jobs_n[k:k + rows]
             xy = np.stack([it.xy for it in items])
             slopes = np.stack([it.slopes for it in items])
             top = np.array([it.top for it in items], dtype=float) if has_top else None
-            out.append((items, envelope_arrays(xy, slopes, top)))
+            raised = None
+            if E:
+                raised = Raised(*(np.stack([getattr(it.raised, f) for it in items])
+                                  for f in ("edge", "slope", "height")))
+            out.append((items, envelope_arrays(xy, slopes, top, raised)))
     return out
 
 
@@ -423,6 +548,29 @@ def _flat_roofs(plan, footprints):
     """The flat roofs of the plan, one group per vertex count."""
     return [flat_group(np.array(idx, dtype=int), np.stack([footprints[i] for i in idx]))
             for idx in plan.flat.values()]
+
+
+def _by_vertex_count(footprints, pairs):
+    """(footprint, value) pairs grouped by the footprints' vertex counts:
+    a list of (index array, footprints (G, n, 2), values)."""
+    by_n = {}
+    for i, value in pairs:
+        by_n.setdefault(len(footprints[i]), []).append((i, value))
+    return [(np.array([i for i, _ in items], dtype=int),
+             np.stack([footprints[i] for i, _ in items]), [v for _, v in items])
+            for items in by_n.values()]
+
+
+def _pyramid_roofs(plan, footprints, attic):
+    """The pyramid roofs of the plan, one group per vertex count."""
+    return [pyramid_group(idx, xy, np.stack(apex), attic[idx])
+            for idx, xy, apex in _by_vertex_count(footprints, plan.pyramids)]
+
+
+def _shed_roofs(plan, footprints, attic):
+    """The shed roofs of the plan, one group per vertex count."""
+    return [shed_group(idx, xy, np.array(high), attic[idx])
+            for idx, xy, high in _by_vertex_count(footprints, plan.sheds)]
 
 
 def _skeleton_roofs(plan, attic):

@@ -28,6 +28,8 @@ from .vertex_budget import MAX_ROOF_VERTICES, needs_budget, simplify_rings
 
 #: Fallback chain when a roof type fails validation.
 FALLBACK = {"stepped": "gable", "gable": "mansard", "hip": "mansard", "mansard": "flat",
+            "half_hip": "gable", "gambrel": "gable", "cornice": "gable", "pyramid": "hip",
+            "shed": "flat",
             "flat": None}
 
 

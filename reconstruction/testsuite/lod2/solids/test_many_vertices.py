@@ -147,7 +147,7 @@ def test_envelope_batches_are_cut_without_changing_the_roofs(monkeypatch):
                                + ORIGIN + [i * 20.0, 0])[0] for i in range(30)]
     kinds = list(rng.choice(["hip", "gable", "mansard", "stepped"], 30))
     whole = build(fps, kinds)
-    monkeypatch.setattr(roofs, "batch_rows", lambda n, has_top=False: 4)
+    monkeypatch.setattr(roofs, "batch_rows", lambda n, has_top=False, raised=0: 4)
     cut = build(fps, kinds)
     assert list(cut.types) == list(whole.types)
     for s in range(30):
