@@ -44,6 +44,7 @@ from .model import RoofConfig, flat_group
 from .pyramid import apexes, pyramid_group
 from .shed import shed_group
 from .skeleton import cgal_roofs
+from .staged import staged_roofs
 from .stepped import clip_strips, stepped_arrays
 
 ROOF_TYPES = ("flat", "hip", "gable", "mansard", "stepped", "half_hip", "pyramid", "gambrel",
@@ -143,6 +144,20 @@ class SkeletonJob:
 
 
 @dataclass(frozen=True)
+class StagedJob:
+    """A two-slope roof of a concave footprint for
+    :func:`~reconstruction.lod2.roofs.staged.staged_roofs` (half-hip, gambrel)."""
+
+    index: int
+    xy: np.ndarray
+    #: pitch of each edge below and above the knee (degrees, 90 = vertical)
+    lower: np.ndarray
+    upper: np.ndarray
+    #: knee height (before the roof is scaled to its height)
+    knee: float
+
+
+@dataclass(frozen=True)
 class Facade:
     """The crow-stepped facade of a stepped roof."""
 
@@ -175,6 +190,8 @@ class RoofPlan:
     pyramids: list = dataclasses.field(default_factory=list)
     #: shed roofs: (footprint, high edge) pairs
     sheds: list = dataclasses.field(default_factory=list)
+    #: two-slope roofs of concave footprints (:class:`StagedJob`)
+    staged: list = dataclasses.field(default_factory=list)
 
 
 def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None, shared=None):
@@ -242,8 +259,14 @@ def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None
             if ends:
                 plan.ends[i] = ends
             continue
+        if kind in ("half_hip", "gambrel") and n >= 4:
+            ends = [e for e in (end_edges(xy) or [end]) if _free(mask, e)]
+            plan.staged.append(_staged_job(kind, i, xy, ends, h, uniforms[i], config))
+            kinds[i] = kind
+            plan.ends[i] = [(e, "half_hip" if kind == "half_hip" else "gable") for e in ends]
+            continue
         if kind in ("half_hip", "gambrel", "cornice"):
-            kind = "gable"           # TODO(issue 31): concave half-hip and gambrel roofs
+            kind = "gable"                    # a triangle: no second slope, no cornice
         if kind == "mansard":
             ins = max(min(wanted[i], caps[i]), 1e-3)
             if convex:
@@ -338,6 +361,32 @@ def _raised_job(kind, i, xy, h, end, opp, end_length, u, config):
     slopes[sides] = ratio
     raised = Raised(sides, np.ones(len(sides)), np.full(len(sides), (ratio - 1.0) * knee))
     return EnvelopeJob(i, xy, slopes, None, raised=raised), [(e, "gable") for e in free], kind
+
+
+def _staged_job(kind, i, xy, ends, h, u, config):
+    """The :class:`StagedJob` of a half-hip or gambrel roof on a concave
+    footprint with free ends ``ends``, in the proportions of
+    :func:`_raised_job` (the half span: half the narrowest free end, else
+    the radius of the largest circle inside)."""
+    n = len(xy)
+    lengths = np.hypot(*(np.roll(xy, -1, axis=0) - xy).T)
+    half = float(lengths[ends].min() / 2.0) if ends else float(shapely.length(
+        shapely.maximum_inscribed_circle(shapely.Polygon(xy), tolerance=1e-2)))
+    lower = np.full(n, 45.0)
+    upper = np.full(n, 45.0)
+    if kind == "half_hip":
+        lower[ends] = 90.0
+        p_long = math.degrees(math.atan2(h, half))
+        p_hip = p_long + (max(HALF_HIP_PITCH, p_long) - p_long) * u[0]
+        ratio = math.tan(math.radians(p_hip)) / math.tan(math.radians(p_long))
+        upper[ends] = math.degrees(math.atan(ratio))
+        share = HALF_HIP_SHARE[0] + (HALF_HIP_SHARE[1] - HALF_HIP_SHARE[0]) * u[1]
+        return StagedJob(i, xy, lower, upper, share * half)
+    ratio = GAMBREL_RATIO[0] + (GAMBREL_RATIO[1] - GAMBREL_RATIO[0]) * u[0]
+    knee = (GAMBREL_KNEE[0] + (GAMBREL_KNEE[1] - GAMBREL_KNEE[0]) * u[1]) * half
+    lower[:] = math.degrees(math.atan(ratio))
+    lower[ends] = upper[ends] = 90.0
+    return StagedJob(i, xy, lower, upper, ratio * knee)
 
 
 def _pyramid_apexes(footprints, which):
@@ -493,6 +542,8 @@ def make_roofs(footprints, roof_types, attic, uniforms, street=None, config=None
     single = [None] * len(footprints)
     for i, roof in _skeleton_roofs(plan, attic):
         single[i] = roof
+    for i, roof in _staged_roofs(plan, attic):
+        single[i] = roof
     return RoofSet(plan.kinds, groups, single)
 
 
@@ -581,6 +632,16 @@ def _skeleton_roofs(plan, attic):
     res = cgal_roofs([j.xy for j in jobs], [j.pitches for j in jobs], [j.top for j in jobs])
     return [(j.index, roof if j.top is not None else scale_roof(roof, float(attic[j.index])))
             for j, roof in zip(jobs, res)]
+
+
+def _staged_roofs(plan, attic):
+    """(footprint, roof or None) of the two-slope roofs of concave footprints."""
+    jobs = plan.staged
+    if not jobs:
+        return []
+    res = staged_roofs([j.xy for j in jobs], [j.lower for j in jobs], [j.upper for j in jobs],
+                       [j.knee for j in jobs])
+    return [(j.index, scale_roof(roof, float(attic[j.index]))) for j, roof in zip(jobs, res)]
 
 
 def scale_roof(roof, height):
