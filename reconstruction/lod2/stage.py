@@ -33,6 +33,7 @@ from ..core.errors import InputError
 from ..geom.solidset import SolidSet, concat, semantics
 from .config import AUTO, Lod2Config
 from .outlines import clean_rings, footprint_polygons, rings_are_simple
+from .roofs.codes import code_attributes
 from .roofs.plan import ROOF_TYPES, draw_roof_types
 from .solids.build import Buildings, build_solids, build_solids_steps
 from .solids.vertex_budget import needs_budget
@@ -405,6 +406,7 @@ def _result(prepared, built, count, config):
 
     attributes = {
         "roof_type": list(got),
+        **code_attributes(got),
         "eaves_height": np.round(prepared.eaves[fsrc], 3),
         "roof_height": np.round(np.where(got == "flat", 0.0, prepared.attic[fsrc]), 3),
         "ground_height": np.round(prepared.ground[fsrc], 3),

@@ -171,3 +171,13 @@ def test_each_family_on_concave_footprints(kind, shape, a, b, frac, ang, attic, 
     # a pyramid needs an apex that sees every edge: else a hip (a tent roof)
     allowed = {kind, "hip"} if kind == "pyramid" else {kind}
     assert set(result.types) <= allowed, result.log
+
+
+def test_every_roof_type_has_its_standard_codes():
+    from reconstruction.lod2.roofs.codes import ROOF_CODES, code_attributes
+    assert set(roofs.ROOF_TYPES) <= set(ROOF_CODES)
+    got = code_attributes(["half_hip", "shed", "stepped", "hip"])
+    assert got == {"roof_shape": ["half-hipped", "skillion", "gabled", "hipped"],
+                   "citygml_roof_type": ["1050", "1010", "1030", "1040"],
+                   "alkis_roof_form": ["3300", "2100", "3100", "3200"],
+                   "gable_profile": ["plain", "", "stepped", ""]}
