@@ -11,7 +11,7 @@ footprints, heights and roof requests calls ``build(prepare(...), config)``:
 2. the footprints taken apart into polygons and cleaned into rings
    (:mod:`~reconstruction.lod2.outlines`), counting what is left out and why;
 3. roof types drawn with the thesis's probabilities where "auto" is
-   requested (:func:`reconstruction.lod2.roofs.plan.draw_roof_types`);
+   requested (:meth:`reconstruction.lod2.roofs.rules.RoofRules.draw`);
 4. the solids (:func:`reconstruction.lod2.solids.build.build_solids`), their ids
    (``building_<cat>``, ``building_<cat>_<part>`` for footprints of several
    polygons), attributes and semantic surfaces;
@@ -34,7 +34,8 @@ from ..geom.solidset import SolidSet, concat, semantics
 from .config import AUTO, Lod2Config
 from .outlines import clean_rings, footprint_polygons, rings_are_simple
 from .roofs.codes import code_attributes
-from .roofs.plan import ROOF_TYPES, draw_roof_types
+from .roofs.plan import ROOF_TYPES
+from .roofs.rules import DEFAULT_RULES, footprint_spans
 from .solids.build import Buildings, build_solids, build_solids_steps
 from .solids.vertex_budget import needs_budget
 
@@ -298,8 +299,9 @@ def prepare(footprints, heights, requests, config=None):
         ground = np.where(bad_ground, float(heights.ground_default), ground)
     rings, src, part, holes, left_out, reasons = _footprint_rings(footprints.geometries, bad_eaves)
     nverts = np.array([len(r) for r in rings])
-    draw = draw_roof_types if config.rules is None else config.rules.draw
-    drawn = draw(nverts, np.asarray(requests.years)[src], attic[src], u_type[src])
+    rules = DEFAULT_RULES if config.rules is None else config.rules
+    drawn = rules.draw(nverts, np.asarray(requests.years)[src], attic[src], u_type[src],
+                       *footprint_spans(rings))
     types = np.where(requested[src] == AUTO, drawn, requested[src])
     report = Lod2Report(bad_eaves=int(bad_eaves.sum()), bad_attic=int(bad_attic.sum()),
                         bad_ground=int(bad_ground.sum()), holes_filled=holes, left_out=left_out,

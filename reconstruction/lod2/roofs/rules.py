@@ -52,28 +52,79 @@ import json
 import math
 from dataclasses import dataclass
 
+from typing import Optional
+
 import numpy as np
+import shapely
 
 from ...core.errors import InputError
 from . import plan as roofs
 
 
+#: a 4-sided footprint is "square" when its oriented bounding box's long side
+#: is at most this times its short side
+SQUARE_ASPECT = 1.25
+
+
+def footprint_spans(rings):
+    """(span, square) of footprints (rings (n, 2)): the short side of each one's
+    smallest oriented bounding box (m), the width its roof spans, and
+    whether it is a 4-sided footprint within :data:`SQUARE_ASPECT`."""
+    rings = list(rings)
+    if not rings:
+        return np.zeros(0), np.zeros(0, dtype=bool)
+    polygons = np.empty(len(rings), dtype=object)
+    polygons[:] = [shapely.Polygon(np.asarray(r, dtype=float)) for r in rings]
+    boxes = shapely.oriented_envelope(polygons)
+    xy, owner = shapely.get_coordinates(boxes, return_index=True)
+    first = np.searchsorted(owner, np.arange(len(rings)))
+    whole = np.bincount(owner, minlength=len(rings)) >= 4     # a box, not a line or a point
+    corners = np.stack([xy[np.minimum(first + k, len(xy) - 1)] for k in range(3)], axis=1)
+    sides = np.hypot(*np.diff(corners, axis=1).transpose(2, 0, 1))
+    span = np.where(whole, sides.min(axis=1), 0.0)
+    long_side = np.where(whole, sides.max(axis=1), 0.0)
+    counts = np.array([len(r) for r in rings])
+    square = (counts == 4) & (long_side <= SQUARE_ASPECT * span)
+    return span, square
+
+
 @dataclass(frozen=True)
 class RoofRule:
     """One row: a period (``first``..``last`` years, None = open), a shape class
-    (``"4"``, another vertex count, or ``"n"``) and the weights (name, percent)
-    in drawing order."""
+    (``"square"``, ``"4"``, another vertex count, or ``"n"``), optionally a
+    range of spans (``min_width`` <= span < ``max_width``, m, None = open) and
+    the weights (name, percent) in drawing order."""
 
     first: float
     last: float
     shape: str
     weights: tuple
+    min_width: Optional[float] = None
+    max_width: Optional[float] = None
 
-    def matches_shape(self, n_vertices):
+    @property
+    def rank(self):
+        """The order rows of one period are tried in: square, a vertex count, n."""
+        return 0 if self.shape == "square" else 2 if self.shape == "n" else 1
+
+    def matches(self, n_vertices, spans=None, square=None):
+        """(F,) True for the footprints of this row's shape and span."""
         n_vertices = np.asarray(n_vertices)
         if self.shape == "n":
-            return np.ones(n_vertices.shape, dtype=bool)
-        return n_vertices == int(self.shape)
+            ok = np.ones(n_vertices.shape, dtype=bool)
+        elif self.shape == "square":
+            ok = np.zeros(n_vertices.shape, dtype=bool) if square is None else \
+                np.asarray(square, dtype=bool).copy()
+        else:
+            ok = n_vertices == int(self.shape)
+        if self.min_width is not None or self.max_width is not None:
+            span = np.full(n_vertices.shape, np.nan) if spans is None else np.asarray(spans, float)
+            with np.errstate(invalid="ignore"):
+                if self.min_width is not None:
+                    ok &= span >= self.min_width
+                if self.max_width is not None:
+                    ok &= span < self.max_width
+        return ok
 
 
 @dataclass(frozen=True)
@@ -94,8 +145,10 @@ class RoofRules:
                 seen.append((r.first, r.last))
         return sorted(seen, key=lambda p: -math.inf if p[0] is None else p[0])
 
-    def row_of(self, n_vertices, years):
-        """(F,) index into ``rules`` of the row of every footprint."""
+    def row_of(self, n_vertices, years, spans=None, square=None):
+        """(F,) index into ``rules`` of the row of every footprint: in its
+        period, the first row (square rows first, then vertex counts, then
+        ``n``; each in table order) whose shape and span it has."""
         n_vertices = np.asarray(n_vertices)
         years = np.asarray([np.nan if y is None else y for y in np.broadcast_to(
             np.asarray(years, dtype=object), n_vertices.shape)], dtype=float)
@@ -105,19 +158,19 @@ class RoofRules:
         row = np.full(n_vertices.shape, -1, dtype=np.int64)
         for p, bounds in enumerate(periods):
             here = [k for k, r in enumerate(self.rules) if (r.first, r.last) == bounds]
-            # exact vertex counts first, the catch-all "n" last
-            for k in sorted(here, key=lambda k: self.rules[k].shape == "n"):
-                sel = (period == p) & (row < 0) & self.rules[k].matches_shape(n_vertices)
+            for k in sorted(here, key=lambda k: self.rules[k].rank):
+                sel = (period == p) & (row < 0) & self.rules[k].matches(n_vertices, spans, square)
                 row[sel] = k
         return row
 
-    def draw(self, n_vertices, years, attic, uniforms):
+    def draw(self, n_vertices, years, attic, uniforms, spans=None, square=None):
         """A roof type per footprint (object array) from one uniform number in
         [0, 1) per footprint (as :func:`reconstruction.lod2.roofs.plan.draw_roof_types`,
-        which the default rules reproduce exactly)."""
+        which :data:`FIVE_TYPE_RULES` reproduce exactly); ``spans`` and
+        ``square`` (:func:`footprint_spans`) for rows by span and square shape."""
         n_vertices = np.asarray(n_vertices)
         u = np.asarray(uniforms, dtype=float).reshape(n_vertices.shape)
-        row = self.row_of(n_vertices, years)
+        row = self.row_of(n_vertices, years, spans, square)
         out = np.empty(n_vertices.shape, dtype=object)
         for k, rule in enumerate(self.rules):
             sel = row == k
@@ -130,13 +183,17 @@ class RoofRules:
     def table(self):
         """The rules as CSV text (the rules-file format)."""
         names = list(roofs.ROOF_TYPES)
-        lines = ["from,to,shape," + ",".join(names)]
+        lines = ["from,to,shape,min_width,max_width," + ",".join(names)]
         for r in self.rules:
             w = dict(r.weights)
-            lines.append(",".join(["" if r.first is None else "{:g}".format(r.first),
-                                   "" if r.last is None else "{:g}".format(r.last), r.shape]
+            lines.append(",".join([_number_text(r.first), _number_text(r.last), r.shape,
+                                   _number_text(r.min_width), _number_text(r.max_width)]
                                   + ["{:g}".format(w.get(n, 0)) for n in names]))
         return "\n".join(lines) + "\n"
+
+
+def _number_text(value):
+    return "" if value is None else "{:g}".format(value)
 
 
 def _check(rules, where="rules"):
@@ -145,9 +202,16 @@ def _check(rules, where="rules"):
     seen = set()
     for k, r in enumerate(rules):
         what = "row {} ({}, {}-sided)".format(k + 1, _period_text(r.first, r.last), r.shape)
-        if r.shape != "n" and not (r.shape.isdigit() and int(r.shape) >= 3):
-            raise InputError("Roof rules {}: shape must be n or a vertex count of 3 or more, "
-                             "not <{}>".format(what, r.shape))
+        if r.shape not in ("n", "square") and not (r.shape.isdigit() and int(r.shape) >= 3):
+            raise InputError("Roof rules {}: shape must be n, square or a vertex count of 3 or "
+                             "more, not <{}>".format(what, r.shape))
+        for bound in (r.min_width, r.max_width):
+            if bound is not None and not (math.isfinite(bound) and bound >= 0):
+                raise InputError("Roof rules {}: a width must be a number of metres, 0 or "
+                                 "more, not {}".format(what, bound))
+        if r.min_width is not None and r.max_width is not None and r.max_width <= r.min_width:
+            raise InputError("Roof rules {}: max_width {:g} is not above min_width {:g}".format(
+                what, r.max_width, r.min_width))
         for name, w in r.weights:
             if name not in roofs.ROOF_TYPES:
                 raise InputError("Roof rules {}: unknown roof type <{}> (known: {})".format(
@@ -158,10 +222,10 @@ def _check(rules, where="rules"):
         total = sum(w for _, w in r.weights)
         if abs(total - 100.0) > 1e-6:
             raise InputError("Roof rules {}: the weights sum to {:g}, not 100".format(what, total))
-        key = (r.first, r.last, r.shape)
+        key = (r.first, r.last, r.shape, r.min_width, r.max_width)
         if key in seen:
-            raise InputError("Roof rules {}: a second row for the same period and shape".format(
-                what))
+            raise InputError("Roof rules {}: a second row for the same period, shape and "
+                             "widths".format(what))
         seen.add(key)
     periods = sorted({(r.first, r.last) for r in rules},
                      key=lambda p: -math.inf if p[0] is None else p[0])
@@ -175,9 +239,11 @@ def _check(rules, where="rules"):
                              "next starts the year after the last ends)".format(
                                  _period_text(f0, l0), _period_text(f1, l1)))
     for p in periods:
-        if not any((r.first, r.last) == p and r.shape == "n" for r in rules):
+        if not any((r.first, r.last) == p and r.shape == "n" and r.min_width is None
+                   and r.max_width is None for r in rules):
             raise InputError("Roof rules: period {} has no row for n-sided footprints "
-                             "(shape n, every other shape)".format(_period_text(*p)))
+                             "(shape n, every other shape, of any width: min_width and "
+                             "max_width empty)".format(_period_text(*p)))
 
 
 def _period_text(first, last):
@@ -244,6 +310,24 @@ def _weight(text, what):
             what, text)) from None
 
 
+#: the optional columns (keys) of a span range: min_width <= span < max_width (m)
+WIDTH_COLUMNS = ("min_width", "max_width")
+
+
+def _width(text, column, what):
+    """A span bound in metres (empty or None: open). A JSON boolean is refused."""
+    if text is None or (isinstance(text, str) and not text.strip()):
+        return None
+    if isinstance(text, bool):
+        raise InputError("Roof rules {}: {} must be a number of metres, not {}".format(
+            what, column, json.dumps(text)))
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        raise InputError("Roof rules {}: {} must be a number of metres, not <{}>".format(
+            what, column, text)) from None
+
+
 def _from_csv(text):
     lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
     reader = csv.reader(io.StringIO("\n".join(lines)))
@@ -252,7 +336,7 @@ def _from_csv(text):
         if need not in header:
             raise InputError("Roof rules: the CSV header needs columns from, to, shape and one "
                              "per roof type (got {})".format(", ".join(header) or "nothing"))
-    names = [h for h in header if h not in ("from", "to", "shape")]
+    names = [h for h in header if h not in ("from", "to", "shape") + WIDTH_COLUMNS]
     rows = []
     for k, cells in enumerate(reader, start=2):
         if len(cells) != len(header):
@@ -262,7 +346,8 @@ def _from_csv(text):
         what = "line {}".format(k)
         rows.append(RoofRule(_year(cell["from"], what), _year(cell["to"], what),
                              cell["shape"].lower(),
-                             tuple((n, _weight(cell[n], what)) for n in names)))
+                             tuple((n, _weight(cell[n], what)) for n in names),
+                             *(_width(cell.get(c), c, what) for c in WIDTH_COLUMNS)))
     return tuple(rows)
 
 
@@ -282,7 +367,8 @@ def _from_json(text):
         rows.append(RoofRule(_year(item.get("from"), what), _year(item.get("to"), what),
                              str(item.get("shape", "")).strip().lower(),
                              tuple((str(n).strip().lower(), _weight(w, what))
-                                   for n, w in item["weights"].items())))
+                                   for n, w in item["weights"].items()),
+                             *(_width(item.get(c), c, what) for c in WIDTH_COLUMNS)))
     return tuple(rows)
 
 

@@ -153,3 +153,46 @@ def test_a_rules_file_of_another_encoding_is_one_input_error_naming_it(tmp_path,
 def test_a_fractional_year_or_a_boolean_weight_says_what_is_wrong(text, message):
     with pytest.raises(InputError, match=message):
         roof_rules.parse_rules(text)
+
+
+WIDTH_RULES = """from,to,shape,min_width,max_width,flat,hip,gable,cornice,pyramid,shed
+,,square,,,0,0,0,0,100,0
+,,4,,3.5,0,0,0,0,0,100
+,,4,8,,0,0,0,100,0,0
+,,4,,,0,0,100,0,0,0
+,,n,,,0,100,0,0,0,0
+"""
+
+
+def test_rules_by_span_and_square_shape():
+    rules = roof_rules.parse_rules(WIDTH_RULES)
+    rings = [np.array([[0, 0], [9, 0], [9, 10], [0, 10]]),       # square: pyramid
+             np.array([[0, 0], [3, 0], [3, 12], [0, 12]]),        # span 3 m: shed
+             np.array([[0, 0], [14, 0], [14, 9], [0, 9]]),        # span 9 m: cornice
+             np.array([[0, 0], [6, 0], [6, 15], [0, 15]]),        # span 6 m: gable
+             np.array([[0, 0], [9, 0], [9, 9], [4, 12], [0, 9]])]  # 5-sided: hip
+    spans, square = roof_rules.footprint_spans(rings)
+    assert spans.tolist() == pytest.approx([9, 3, 9, 6, 9])
+    got = rules.draw([len(r) for r in rings], [None] * 5, np.full(5, 3.0), np.full(5, 0.5),
+                     spans, square)
+    assert list(got) == ["pyramid", "shed", "cornice", "gable", "hip"]
+    # without spans, only the rows of any width match
+    got = rules.draw([4, 4], [None] * 2, np.full(2, 3.0), np.full(2, 0.5))
+    assert list(got) == ["gable", "gable"]
+    # the table round-trips (with a 0 for every other roof type)
+    back = roof_rules.parse_rules(rules.table()).rules
+    assert [(r.shape, r.min_width, r.max_width, {k: w for k, w in r.weights if w})
+            for r in back] == [(r.shape, r.min_width, r.max_width,
+                                {k: w for k, w in r.weights if w}) for r in rules.rules]
+
+
+@pytest.mark.parametrize("text, message", [
+    (WIDTH_RULES.replace(",,4,8,,", ",,4,8,6,"), "max_width 6 is not above min_width 8"),
+    (WIDTH_RULES.replace(",,4,8,,", ",,4,-1,,"), "0 or more"),
+    (WIDTH_RULES.replace(",,4,8,,", ",,4,wide,,"), "min_width must be a number"),
+    (WIDTH_RULES.replace(",,n,,,", ",,n,2,,"), "of any width"),
+    (WIDTH_RULES.replace(",,square,", ",,round,"), "shape must be n, square or a vertex count"),
+])
+def test_bad_widths_are_refused(text, message):
+    with pytest.raises(InputError, match=message):
+        roof_rules.parse_rules(text)
