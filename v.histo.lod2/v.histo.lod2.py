@@ -153,15 +153,15 @@
 # %option
 # % key: roof
 # % type: string
-# % description: Roof type of every footprint; auto draws one per footprint with the thesis's probabilities
-# % options: flat,hip,gable,mansard,stepped,auto
+# % description: Roof type of every footprint; auto draws one per footprint by the roof rules (period, shape and span)
+# % options: flat,hip,gable,mansard,stepped,half_hip,pyramid,gambrel,shed,cornice,auto
 # % answer: auto
 # % guisection: Roofs
 # %end
 
 # %option G_OPT_DB_COLUMN
 # % key: roof_column
-# % description: Column with a roof type per footprint (flat, hip, gable, mansard, stepped); overrides roof= where not NULL
+# % description: Column with a roof type per footprint (a roof= value); overrides roof= where not NULL
 # % required: no
 # % guisection: Roofs
 # %end
@@ -169,7 +169,7 @@
 # %option
 # % key: year
 # % type: integer
-# % description: Year of the map: footprints count as built before it (roof probabilities differ before and after 1915)
+# % description: Year of the map: footprints count as built before it (roof rules differ by period)
 # % required: no
 # % guisection: Roofs
 # %end
@@ -242,8 +242,8 @@
 
 # %option G_OPT_F_INPUT
 # % key: rules
-# % label: Roof rules file (CSV or JSON): weights per period and footprint shape
-# % description: Rows: from,to,shape,flat,hip,gable,mansard,stepped in percent, each row summing to 100 (default: the thesis's Table B.1 with hip roofs on n-sided footprints)
+# % label: Roof rules file (CSV or JSON): weights per period, footprint shape and span
+# % description: Rows: from,to,shape[,min_width,max_width],<one column per roof type> in percent, each row summing to 100 (default: the suite's rules, see the manual)
 # % required: no
 # % guisection: Roofs
 # %end

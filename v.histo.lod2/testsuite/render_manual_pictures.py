@@ -2,10 +2,13 @@
 
     python3 v.histo.lod2/testsuite/render_manual_pictures.py v.histo.lod2
 
-writes v_histo_lod2_roofs.png (one building per roof type) and
-v_histo_lod2_block.png (a synthetic street block, roof=auto), rendered
-off-screen with pyvista. Walls are light, roofs red, as in the thesis's
-figures.
+writes v_histo_lod2_roofs.png (one building per roof type),
+v_histo_lod2_block.png (a synthetic street block, roof=auto) and
+v_histo_lod2_family_<type>.png (one per roof type but flat: the row houses
+of one plot of the synthetic map, testsuite/synthetic_map.py, seed 1,
+with that roof forced, their street and shared edges found as the module
+finds them), rendered off-screen with pyvista. Walls are light, roofs red,
+as in the thesis's figures.
 """
 
 import os
@@ -15,6 +18,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(os.path.dirname(HERE)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(HERE)), "testsuite"))
 
 from reconstruction.lod2 import outlines  # noqa: E402
 from reconstruction.lod2.roofs import plan as roofs  # noqa: E402
@@ -55,7 +59,7 @@ def render(ss, path, size, elevation=25, azimuth=-60, zoom=1.0):
 
 
 def roof_types_picture(path):
-    fps, kinds = [], list(roofs.ROOF_TYPES)
+    fps, kinds = [], [k for k in roofs.ROOF_TYPES]
     for i, kind in enumerate(kinds):
         xy = np.array([[0, 0], [8, 0], [8, 14], [0, 14]], dtype=float) + [i * 14.0, 0]
         fps.append(outlines.clean_ring(xy)[0])
@@ -65,7 +69,7 @@ def roof_types_picture(path):
     built = solids.build_solids(buildings, RoofConfig(step=(0.6, 0.6)))
     ss, kept, got = built.solids, built.kept, built.types
     assert list(got) == kinds
-    render(ss, path, (1000, 330), elevation=25, azimuth=-35, zoom=2.3)
+    render(ss, path, (160 * len(kinds), 330), elevation=25, azimuth=-35, zoom=2.3)
 
 
 def block_picture(path):
@@ -91,7 +95,53 @@ def block_picture(path):
     render(ss, path, (900, 380), elevation=35, azimuth=-25, zoom=1.75)
 
 
+def synthetic_row(seed=1, radius=30.0):
+    """Footprints of the synthetic map (seed ``seed``): the row houses of the
+    true plot with the most of them, within ``radius`` (m) of its corner
+    house, with their street edges and shared edges as the module finds
+    them: (rings, street, shared)."""
+    import synthetic_map
+    from reconstruction.lod2.street_edges import street_edges
+
+    smap = synthetic_map.generate(seed=seed, size=600)
+    current = smap.current
+    by_plot = {}
+    for k, (plot, kind) in enumerate(zip(current.plot, current.kind)):
+        if kind == "standing" and plot > 0:
+            by_plot.setdefault(plot, []).append(k)
+    chosen = max(by_plot.values(), key=len)
+    centres = np.array([current.polygons[k].centroid.coords[0] for k in chosen])
+    corner = centres[np.argmin(centres.sum(axis=1))]
+    rings = []
+    for k in sorted(k for k, c in zip(chosen, centres) if np.hypot(*(c - corner)) < radius):
+        xy = np.asarray(current.polygons[k].exterior.coords)[:-1]
+        ring, why = outlines.clean_ring(xy)
+        if ring is not None:
+            rings.append(ring)
+    edges = street_edges(rings)
+    start = edges.edges.start
+    shared = [edges.shared[start[r]:start[r + 1]] for r in range(len(rings))]
+    return rings, [int(e) if e >= 0 else None for e in edges.edge], shared
+
+
+def family_pictures(out):
+    """One picture per roof type but flat: a row of the synthetic map's
+    houses, all with that roof."""
+    rings, street, shared = synthetic_row()
+    n = len(rings)
+    rng = np.random.default_rng(3)
+    eaves, attic, u = rng.uniform(8, 11, n), rng.uniform(4, 6, n), rng.random((n, 3))
+    for kind in roofs.ROOF_TYPES:
+        if kind == "flat":
+            continue
+        built = solids.build_solids(solids.Buildings(
+            rings, np.zeros(n), eaves, attic, [kind] * n, u, street=street, shared=shared))
+        render(built.solids, os.path.join(out, "v_histo_lod2_family_{}.png".format(kind)),
+               (480, 300), elevation=30, azimuth=-30, zoom=1.3)
+
+
 if __name__ == "__main__":
     out = sys.argv[1] if len(sys.argv) > 1 else "."
     roof_types_picture(os.path.join(out, "v_histo_lod2_roofs.png"))
     block_picture(os.path.join(out, "v_histo_lod2_block.png"))
+    family_pictures(out)

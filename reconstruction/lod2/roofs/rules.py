@@ -38,12 +38,19 @@ writes "CSV UTF-8", are fine), CSV (``#`` comments allowed) or JSON::
 ``from``/``to``: the period's first and last year, whole numbers (empty: open); periods
 follow each other without gap (``from`` = the previous ``to`` + 1) from an
 open start to an open end; a year belongs to the first period whose ``to``
-is not below it, an unknown year to the first period. ``shape``: ``4``
-(4-sided footprints), another vertex count, or ``n`` (every other shape;
-each period needs one). Weights in percent, one column per roof type
+is not below it, an unknown year to the first period. ``shape``: ``square``
+(4-sided footprints whose oriented bounding box is at most
+:data:`SQUARE_ASPECT` times as long as wide), ``4`` (4-sided footprints),
+another vertex count, or ``n`` (every other shape; each period needs one of
+any width). Optional columns ``min_width`` and ``max_width`` (m, empty:
+open) limit a row to footprints whose span (the short side of their
+oriented bounding box, the width the roof spans) is at least ``min_width``
+and below ``max_width``. In its period a footprint takes the first row that
+fits it: square rows first, then vertex counts, then ``n``, each in the
+file's order. Weights in percent, one column per roof type
 (:data:`reconstruction.lod2.roofs.plan.ROOF_TYPES`), numbers (not ``true``) summing to 100 in every row. JSON:
-``{"rules": [{"from": null, "to": 1915, "shape": "4", "weights": {"flat": 10,
-...}}, ...]}``. Roofs lower than 1 m are flat whatever the rules say.
+``{"rules": [{"from": null, "to": 1915, "shape": "4", "min_width": 8,
+"weights": {"flat": 10, ...}}, ...]}``. Roofs lower than 1 m are flat whatever the rules say.
 """
 
 import csv
