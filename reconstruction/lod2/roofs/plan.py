@@ -22,7 +22,7 @@ which solver family builds it, with which slopes); one function per family
 then solves the plan. The families: flat roofs; the lower envelope of the
 edge planes for convex footprints (:mod:`~reconstruction.lod2.roofs.envelope`, in
 batch), with the crow-stepped facade on top of a stepped roof's body
-(:mod:`~reconstruction.lod2.roofs.stepped`); CGAL's straight skeleton for concave
+(:mod:`~reconstruction.lod2.roofs.facades`); CGAL's straight skeleton for concave
 ones (:mod:`~reconstruction.lod2.roofs.skeleton`). Roofs come as
 :class:`~reconstruction.lod2.roofs.model.RoofGroup` arrays where a family builds
 them in batch, as one :class:`~reconstruction.lod2.roofs.model.Roof` each
@@ -42,7 +42,7 @@ from .envelope import MAX_VERTICES as ENVELOPE_MAX_VERTICES
 from .envelope import batch_rows, envelope_arrays
 from .model import RoofConfig, flat_group
 from .skeleton import cgal_roofs
-from .stepped import clip_strips, stepped_arrays
+from .facades import clip_strips, facade_arrays
 
 ROOF_TYPES = ("flat", "hip", "gable", "mansard", "stepped")
 
@@ -388,9 +388,10 @@ def _envelope_roofs(plan, footprints, attic, thickness):
         if len(bodies):
             owner = np.array([jobs[k].index for k in bodies], dtype=int)
             facades = [plan.facades[i] for i in owner]
-            for group in stepped_arrays(np.stack([footprints[i] for i in owner]),
-                                        [f.end for f in facades], env.take(bodies),
-                                        [f.step for f in facades], thickness):
+            for group in facade_arrays(np.stack([footprints[i] for i in owner]),
+                                       [f.end for f in facades], env.take(bodies),
+                                       ["stepped"] * len(facades), [f.step for f in facades],
+                                       thickness):
                 groups.append(dataclasses.replace(group, index=owner[group.index]))
         plain = np.array([k for k, j in enumerate(jobs) if not j.body], dtype=int)
         plain = plain[env.ok[plain]]

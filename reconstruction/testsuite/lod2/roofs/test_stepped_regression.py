@@ -76,13 +76,14 @@ def bodies(rings, attic, uniforms, config):
 
 
 def test_crow_stepped_facades_are_the_reference_builders_bit_for_bit(reference):
-    from reconstruction.lod2.roofs import stepped as facades
+    from reconstruction.lod2.roofs import facades
     config = RoofConfig(step=(0.12, 0.7))
     rings, attic, uniforms = footprints()
     groups = 0
     for xy, ends, body, steps in bodies(rings, attic, uniforms, config):
         want = reference.stepped_arrays(xy, ends, body, steps, config.thickness)
-        got = facades.stepped_arrays(xy, ends, body, steps, config.thickness)
+        got = facades.facade_arrays(xy, ends, body, ["stepped"] * len(xy), steps,
+                                      config.thickness)
         assert len(got) == len(want)
         for g, w in zip(got, want):
             assert g.kind == w.kind
