@@ -459,7 +459,221 @@ def _stepped_draw(bodies, sel, s, M):
     return Corners(cu, cz, under_u, under_z, wide)
 
 
+#: neck gable (halsgevel): the neck's half width, a share of the facade's
+#: narrower side of the apex (the neck about 2/5 of a symmetric facade's width)
+NECK_WIDTH = 0.4
+#: the claw pieces' radius, a share of the neck's half width, and their segments
+CLAW = 0.5
+CLAW_SEGMENTS = 3
+#: the neck's top (m) above the apex, and the least height of its sides (m)
+NECK_TOP = 0.5
+NECK_SIDE = 0.3
+#: the triangular pediment's height, a share of the neck's half width (about 22 degrees)
+PEDIMENT = 0.4
+#: a neck's least half width and a shoulder's least width (m): narrower, no neck gable
+MIN_NECK = 0.3
+MIN_SHOULDER = 0.1
+#: bell gable (klokgevel): the bell's half width at its foot, a share of the
+#: facade's narrower side of the apex
+BELL_WIDTH = 0.75
+#: the bell's height: this share of the roof's rise over the bell, at least
+#: BELL_ASPECT of its half width
+BELL_RISE = 1.25
+BELL_ASPECT = 0.8
+#: the bell's left half, from its foot (0, 0) to its top (1, 1) as shares of
+#: its half width and height: a hollow (concave) band rising steeply to a
+#: waist, then a rounded (convex) top
+BELL = np.array([[0.0, 0.0], [0.28, 0.10], [0.42, 0.35], [0.48, 0.62], [0.60, 0.85],
+                 [0.80, 0.97], [1.0, 1.0]])
+#: a bell's least half width (m)
+MIN_BELL = 0.5
+#: spout gable (tuitgevel): the spout's half width, a share of the facade's
+#: narrower side of the apex, at least MIN_SPOUT (m)
+SPOUT_WIDTH = 0.15
+MIN_SPOUT = 0.2
+#: the outline's rise (m) above the roof's slopes, the kneelers' width at
+#: its feet (m), the spout's height (a share of its width)
+SPOUT_LIFT = 0.25
+KNEELER = 0.3
+SPOUT_HEIGHT = 1.0
+#: the least turn (degrees) of an outline at a corner: no three nearly
+#: collinear corners (slivers in a face's triangulation)
+MIN_TURN = 5.0
+
+
+def _fixed_count(M, U):
+    """The ``count`` of an outline of ``M`` corners and ``U`` points under them."""
+    def count(bodies, rows, steps):
+        ok = bodies.ok[rows]
+        return np.where(ok, M, 0), np.where(ok, U, 0)
+    return count
+
+
+def _apex(bodies, sel):
+    """``(lo, hi, uc, side, H)`` of rows ``sel``: the facade's ends, the
+    apex's place along the street edge, the room on its narrower side and
+    the profile's height."""
+    lo, hi, H = bodies.lo[sel], bodies.hi[sel], bodies.H[sel]
+    uc = np.take_along_axis(bodies.pu[sel], bodies.iapex[sel, None], axis=1)[:, 0]
+    return lo, hi, uc, np.minimum(uc - lo, hi - uc), H
+
+
+def _profile_at(bodies, sel, u):
+    """The body's gable profile's height at ``u`` (g, Q) (within the inner edge)."""
+    return _at(u, bodies.pu[sel], bodies.pz[sel])
+
+
+def _at(x, xp, fp):
+    """The polyline of corners ``(xp, fp)`` (g, K; ``xp`` non-decreasing) at
+    ``x`` (g, Q) (within its row's range), row by row. Unlike
+    :func:`_interp_rows` exactly the same whatever the other rows: a
+    roof does not depend on the batch it is built in."""
+    seg = np.clip((xp[:, None, :] <= x[:, :, None]).sum(axis=2) - 1, 0, xp.shape[1] - 2)
+    x0, x1 = (np.take_along_axis(xp, seg + k, axis=1) for k in (0, 1))
+    f0, f1 = (np.take_along_axis(fp, seg + k, axis=1) for k in (0, 1))
+    run = x1 - x0
+    share = np.where(run > 0, (x - x0) / np.where(run > 0, run, 1.0), 0.0)
+    return f0 + share * (f1 - f0)
+
+
+def _symmetric(lo, hi, uc, left_u, left_z, top_u, top_z, foot_l, foot_r):
+    """The outline of corners: (lo, 0), (lo, foot_l), the ``left`` corners (g,
+    k), the ``top`` ones (g, j; on the axis ``uc``), the left ones mirrored
+    about ``uc`` in reverse order, (hi, foot_r), (hi, 0)."""
+    g = len(lo)
+    zero = np.zeros((g, 1))
+    cu = np.concatenate([lo[:, None], lo[:, None], left_u, top_u,
+                         (2.0 * uc[:, None] - left_u)[:, ::-1], hi[:, None], hi[:, None]], axis=1)
+    cz = np.concatenate([zero, foot_l[:, None], left_z, top_z, left_z[:, ::-1],
+                         foot_r[:, None], zero], axis=1)
+    return cu, cz
+
+
+def _drawn(bodies, sel, cu, cz, under_u, room):
+    """The :class:`Corners` of an outline with the profile's points under
+    ``under_u``, ok where there is ``room`` and the outline is sound
+    (:func:`_sound`)."""
+    under_z = _profile_at(bodies, sel, under_u)
+    return Corners(cu, cz, under_u, under_z, room & _sound(bodies, sel, cu, cz, under_u))
+
+
+def _sound(bodies, sel, cu, cz, under_u):
+    """True for the rows whose outline a slab can stand on: it goes left to
+    right (vertical segments allowed) in segments of :data:`MIN_SEGMENT` or
+    more, turns by :data:`MIN_TURN` or more at every corner, starts and ends
+    with a tread, stays :data:`MARGIN` above the profile (at its corners
+    and the profile's nodes: both are piecewise linear), and its points on
+    the profile are apart and off the profile's nodes."""
+    du, dz = np.diff(cu, axis=1), np.diff(cz, axis=1)
+    length = np.hypot(du, dz)
+    ok = np.all(du >= 0.0, axis=1) & np.all(length >= MIN_SEGMENT, axis=1)
+    cross = du[:, :-1] * dz[:, 1:] - dz[:, :-1] * du[:, 1:]
+    ok &= np.all(np.abs(cross) >= np.sin(np.radians(MIN_TURN)) * length[:, :-1] * length[:, 1:],
+                 axis=1)
+    ok &= (cz[:, 2] == cz[:, 1]) & (cz[:, -3] == cz[:, -2])
+    ok &= np.all(cz[:, 1:-1] >= _profile_at(bodies, sel, cu[:, 1:-1]) + MARGIN - 1e-9, axis=1)
+    pu, pz = bodies.pu[sel], bodies.pz[sel]
+    inside = (pu > cu[:, :1]) & (pu < cu[:, -1:])
+    at = _at(np.clip(pu, cu[:, :1], cu[:, -1:]), cu, cz)
+    ok &= np.all(~inside | (at >= pz + MARGIN - 1e-9), axis=1)
+    ok &= np.all(np.diff(under_u, axis=1) >= MIN_SEGMENT, axis=1)
+    ok &= np.all(np.abs(under_u[:, :, None] - pu[:, None, :]) >= MIN_SEGMENT, axis=(1, 2))
+    return ok
+
+
+def _neck_draw(bodies, sel, steps, M):
+    """The neck gable: full-width shoulders a margin above the profile at the
+    neck's sides, a claw piece (a quarter circle of :data:`CLAW_SEGMENTS`)
+    in each corner between shoulder and neck, the neck's vertical sides up
+    to :data:`NECK_TOP` above the apex and a triangular pediment."""
+    lo, hi, uc, side, H = _apex(bodies, sel)
+    w = NECK_WIDTH * side
+    r = CLAW * w
+    sides = np.stack([uc - w, uc + w], axis=1)
+    z_sh = _profile_at(bodies, sel, sides).max(axis=1) + MARGIN
+    angle = np.linspace(np.pi, np.pi / 2.0, CLAW_SEGMENTS + 1)
+    claw_u = (uc - w)[:, None] + r[:, None] * np.cos(angle)
+    claw_z = z_sh[:, None] + r[:, None] * np.sin(angle)
+    claw_u[:, -1] = uc - w                      # exactly under the neck's side
+    z_n = np.maximum(H + NECK_TOP, z_sh + r + NECK_SIDE)
+    left_u = np.concatenate([claw_u, (uc - w)[:, None]], axis=1)
+    left_z = np.concatenate([claw_z, z_n[:, None]], axis=1)
+    cu, cz = _symmetric(lo, hi, uc, left_u, left_z, uc[:, None], (z_n + PEDIMENT * w)[:, None],
+                        z_sh, z_sh)
+    under_u = np.concatenate([claw_u, (2.0 * uc[:, None] - claw_u)[:, ::-1]], axis=1)
+    room = (w >= MIN_NECK) & (side - w - r >= MIN_SHOULDER)
+    return _drawn(bodies, sel, cu, cz, under_u, room)
+
+
+def _bell_draw(bodies, sel, steps, M):
+    """The bell gable: shoulders, then the :data:`BELL` curve on each side
+    up to a rounded top on the apex, the whole lifted until it is a margin
+    above the profile everywhere."""
+    lo, hi, uc, side, H = _apex(bodies, sel)
+    W = BELL_WIDTH * side
+    feet = np.stack([uc - W, uc + W], axis=1)
+    rise = H - _profile_at(bodies, sel, feet).max(axis=1)
+    hb = np.maximum(BELL_RISE * rise, BELL_ASPECT * W)
+    left_u = (uc - W)[:, None] + W[:, None] * BELL[None, :-1, 0]
+    left_z = hb[:, None] * BELL[None, :-1, 1]
+    bell_u = np.concatenate([left_u, uc[:, None], (2.0 * uc[:, None] - left_u)[:, ::-1]], axis=1)
+    bell_z = np.concatenate([left_z, hb[:, None], left_z[:, ::-1]], axis=1)
+    # the foot's height: the bell a margin above the profile at its corners
+    # and at the profile's nodes under it
+    need = (_profile_at(bodies, sel, bell_u) + MARGIN - bell_z).max(axis=1)
+    pu, pz = bodies.pu[sel], bodies.pz[sel]
+    under = (pu > bell_u[:, :1]) & (pu < bell_u[:, -1:])
+    at = _at(np.clip(pu, bell_u[:, :1], bell_u[:, -1:]), bell_u, bell_z)
+    need = np.maximum(need, np.where(under, pz + MARGIN - at, -np.inf).max(axis=1))
+    z_sh = np.maximum(need, MARGIN)
+    cu, cz = _symmetric(lo, hi, uc, left_u, z_sh[:, None] + left_z, uc[:, None],
+                        (z_sh + hb)[:, None], z_sh, z_sh)
+    under_u = np.concatenate([left_u, (2.0 * uc[:, None] - left_u)[:, ::-1]], axis=1)
+    room = (W >= MIN_BELL) & (side - W >= MIN_SHOULDER)
+    return _drawn(bodies, sel, cu, cz, under_u, room)
+
+
+def _spout_draw(bodies, sel, steps, M):
+    """The spout gable: from a kneeler at each end, a straight line
+    :data:`SPOUT_LIFT` above the roof's slope (lifted over any node of the
+    profile under it) up to the spout's foot, the spout's vertical sides and
+    its flat crown."""
+    lo, hi, uc, side, H = _apex(bodies, sel)
+    ws = np.maximum(SPOUT_WIDTH * side, MIN_SPOUT)
+    knee = np.stack([lo + KNEELER, hi - KNEELER], axis=1)
+    foot = np.stack([uc - ws, uc + ws], axis=1)
+    z_knee = _profile_at(bodies, sel, knee) + SPOUT_LIFT
+    z_foot = np.repeat(_profile_at(bodies, sel, foot).max(axis=1, keepdims=True), 2,
+                       axis=1) + SPOUT_LIFT
+    # the slopes' lines a lift above the profile's nodes between kneeler and foot
+    pu, pz = bodies.pu[sel], bodies.pz[sel]
+    for k in (0, 1):
+        a_u, b_u = np.minimum(knee[:, k], foot[:, k]), np.maximum(knee[:, k], foot[:, k])
+        span = np.where(np.abs(foot[:, k] - knee[:, k]) > 0, foot[:, k] - knee[:, k], 1.0)
+        share = np.clip((pu - knee[:, k, None]) / span[:, None], 0.0, 1.0)
+        line = z_knee[:, k, None] + share * (z_foot[:, k] - z_knee[:, k])[:, None]
+        between = (pu > a_u[:, None]) & (pu < b_u[:, None])
+        lift = np.maximum(np.where(between, pz + SPOUT_LIFT - line, 0.0).max(axis=1), 0.0)
+        z_knee[:, k] += lift
+        z_foot[:, k] += lift
+    z_foot = np.repeat(z_foot.max(axis=1, keepdims=True), 2, axis=1)
+    z_top = np.maximum(z_foot[:, 0] + SPOUT_HEIGHT * 2.0 * ws, H + SPOUT_LIFT)
+    g = len(sel)
+    zero = np.zeros(g)
+    cu = np.stack([lo, lo, knee[:, 0], foot[:, 0], foot[:, 0], foot[:, 1], foot[:, 1], knee[:, 1],
+                   hi, hi], axis=1)
+    cz = np.stack([zero, z_knee[:, 0], z_knee[:, 0], z_foot[:, 0], z_top, z_top, z_foot[:, 1],
+                   z_knee[:, 1], z_knee[:, 1], zero], axis=1)
+    under_u = np.concatenate([knee[:, :1], foot, knee[:, 1:]], axis=1)
+    room = knee[:, 0] + MIN_SEGMENT <= foot[:, 0]
+    return _drawn(bodies, sel, cu, cz, under_u, room & (foot[:, 1] + MIN_SEGMENT <= knee[:, 1]))
+
+
 #: outlines by profile name
 OUTLINES = {
     "stepped": Outline(_stepped_count, _stepped_draw),
+    "neck": Outline(_fixed_count(9 + 2 * CLAW_SEGMENTS, 2 * (CLAW_SEGMENTS + 1)),
+                    _neck_draw),
+    "bell": Outline(_fixed_count(4 + 2 * len(BELL) - 1, 2 * (len(BELL) - 1)), _bell_draw),
+    "spout": Outline(_fixed_count(10, 4), _spout_draw),
 }

@@ -40,11 +40,13 @@ import shapely
 from ..outlines import end_edges, opposite_edges, outline_facts
 from .envelope import MAX_VERTICES as ENVELOPE_MAX_VERTICES
 from .envelope import batch_rows, envelope_arrays
+from .facades import PROFILES as FACADE_PROFILES
+from .facades import clip_strips, facade_arrays
 from .model import RoofConfig, flat_group
 from .skeleton import cgal_roofs
-from .facades import clip_strips, facade_arrays
 
-ROOF_TYPES = ("flat", "hip", "gable", "mansard", "stepped")
+#: the gable facades (issue 31) are planned as "stepped" is, with their own outline
+ROOF_TYPES = ("flat", "hip", "gable", "mansard", "stepped", "neck", "bell", "spout")
 
 #: Roof type probabilities (weights in percent) by period of construction and
 #: footprint shape, as in the thesis's Table B.1 as implemented in its published
@@ -138,12 +140,14 @@ class SkeletonJob:
 
 @dataclass(frozen=True)
 class Facade:
-    """The crow-stepped facade of a stepped roof."""
+    """The gable facade of a stepped (neck, bell, spout) roof."""
 
     #: the footprint edge it stands on
     end: int
     #: step height (m)
     step: float
+    #: its outline, a name of :data:`~reconstruction.lod2.roofs.facades.PROFILES`
+    profile: str = "stepped"
 
 
 @dataclass(frozen=True)
@@ -211,19 +215,19 @@ def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None
                 plan.skeleton.append(SkeletonJob(i, xy, pitch, h))
             continue
         opp = opp_all[i]
-        if kind == "stepped" and i in bodies and _free(mask, end):
+        if kind in FACADE_PROFILES and i in bodies and _free(mask, end):
             body, body_opp = bodies[i]
             slopes = np.ones(len(body))
             slopes[0] = np.inf
-            plan.ends[i] = [(end, "stepped")]
+            plan.ends[i] = [(end, kind)]
             if body_opp >= 0 and _free(mask, opp):
                 slopes[body_opp] = np.inf
                 plan.ends[i].append((opp, "gable"))
             s_lo, s_hi = config.step
-            plan.facades[i] = Facade(end, s_lo + (s_hi - s_lo) * uniforms[i, 2])
+            plan.facades[i] = Facade(end, s_lo + (s_hi - s_lo) * uniforms[i, 2], kind)
             plan.envelope.append(EnvelopeJob(i, body, slopes, None, body=True))
             continue
-        if kind == "stepped":
+        if kind in FACADE_PROFILES:
             kind = "gable"
         if convex:
             if kind == "gable" and not _free(mask, end) and not _free(mask, opp):
@@ -298,7 +302,7 @@ def _free(shared, edge):
 def _stepped_bodies(footprints, roof_types, flat, facts, thickness):
     """footprint -> (main body ring, the body edge opposite its inner edge or
     -1) of the stepped roofs of convex footprints whose facade strip fits."""
-    want = np.array([k == "stepped" for k in roof_types], dtype=bool) & ~flat & facts.convex
+    want = np.array([k in FACADE_PROFILES for k in roof_types], dtype=bool) & ~flat & facts.convex
     want &= np.array([4 <= len(xy) <= ENVELOPE_MAX_VERTICES for xy in footprints], dtype=bool)
     bodies = {}
     for n in sorted({len(footprints[i]) for i in np.nonzero(want)[0]}):
@@ -390,7 +394,7 @@ def _envelope_roofs(plan, footprints, attic, thickness):
             facades = [plan.facades[i] for i in owner]
             for group in facade_arrays(np.stack([footprints[i] for i in owner]),
                                        [f.end for f in facades], env.take(bodies),
-                                       ["stepped"] * len(facades), [f.step for f in facades],
+                                       [f.profile for f in facades], [f.step for f in facades],
                                        thickness):
                 groups.append(dataclasses.replace(group, index=owner[group.index]))
         plain = np.array([k for k, j in enumerate(jobs) if not j.body], dtype=int)

@@ -27,8 +27,8 @@ from .validation import validate
 from .vertex_budget import MAX_ROOF_VERTICES, needs_budget, simplify_rings
 
 #: Fallback chain when a roof type fails validation.
-FALLBACK = {"stepped": "gable", "gable": "mansard", "hip": "mansard", "mansard": "flat",
-            "flat": None}
+FALLBACK = {"stepped": "gable", "neck": "gable", "bell": "gable", "spout": "gable",
+            "gable": "mansard", "hip": "mansard", "mansard": "flat", "flat": None}
 
 
 class Buildings:
