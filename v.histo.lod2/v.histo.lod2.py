@@ -154,14 +154,14 @@
 # % key: roof
 # % type: string
 # % description: Roof type of every footprint; auto draws one per footprint with the thesis's probabilities
-# % options: flat,hip,gable,mansard,stepped,auto
+# % options: flat,hip,gable,mansard,stepped,neck,bell,spout,auto
 # % answer: auto
 # % guisection: Roofs
 # %end
 
 # %option G_OPT_DB_COLUMN
 # % key: roof_column
-# % description: Column with a roof type per footprint (flat, hip, gable, mansard, stepped); overrides roof= where not NULL
+# % description: Column with a roof type per footprint (flat, hip, gable, mansard, stepped, neck, bell, spout); overrides roof= where not NULL
 # % required: no
 # % guisection: Roofs
 # %end
@@ -243,7 +243,7 @@
 # %option G_OPT_F_INPUT
 # % key: rules
 # % label: Roof rules file (CSV or JSON): weights per period and footprint shape
-# % description: Rows: from,to,shape,flat,hip,gable,mansard,stepped in percent, each row summing to 100 (default: the thesis's Table B.1 with hip roofs on n-sided footprints)
+# % description: Rows: from,to,shape and roof type columns (flat,hip,gable,mansard,stepped,neck,bell,spout; missing ones 0) in percent, each row summing to 100 (default: the thesis's Table B.1 with hip roofs on n-sided footprints)
 # % required: no
 # % guisection: Roofs
 # %end
