@@ -12,7 +12,7 @@ with eaves of 2.5 to 25 m and a roof of 1 m to 0.9 times its shorter side
 (at most 12 m: gables up to 61 degrees, 30 steps), and any crow-step height
 and thickness of :class:`~reconstruction.lod2.roofs.model.RoofConfig`: the
 facade strip fits, no step count reaches
-:data:`~reconstruction.lod2.roofs.stepped.MAX_STEPS` and every step is
+:data:`~reconstruction.lod2.roofs.facades.MAX_STEPS` and every step is
 several centimetres wide, so a valid stepped facade exists on each.
 """
 

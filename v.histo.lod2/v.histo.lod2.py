@@ -154,7 +154,7 @@
 # % key: roof
 # % type: string
 # % description: Roof type of every footprint; auto draws one per footprint by the roof rules (period, shape and span)
-# % options: flat,hip,gable,mansard,stepped,half_hip,pyramid,gambrel,shed,cornice,auto
+# % options: flat,hip,gable,mansard,stepped,neck,bell,spout,half_hip,pyramid,gambrel,shed,cornice,auto
 # % answer: auto
 # % guisection: Roofs
 # %end

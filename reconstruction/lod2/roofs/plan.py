@@ -22,7 +22,7 @@ which solver family builds it, with which slopes); one function per family
 then solves the plan. The families: flat roofs; the lower envelope of the
 edge planes for convex footprints (:mod:`~reconstruction.lod2.roofs.envelope`, in
 batch), with the crow-stepped facade on top of a stepped roof's body
-(:mod:`~reconstruction.lod2.roofs.stepped`); CGAL's straight skeleton for concave
+(:mod:`~reconstruction.lod2.roofs.facades`); CGAL's straight skeleton for concave
 ones (:mod:`~reconstruction.lod2.roofs.skeleton`). Roofs come as
 :class:`~reconstruction.lod2.roofs.model.RoofGroup` arrays where a family builds
 them in batch, as one :class:`~reconstruction.lod2.roofs.model.Roof` each
@@ -40,15 +40,17 @@ import shapely
 from ..outlines import end_edges, opposite_edges, outline_facts
 from .envelope import MAX_VERTICES as ENVELOPE_MAX_VERTICES
 from .envelope import Raised, batch_rows, envelope_arrays
+from .facades import PROFILES as FACADE_PROFILES
+from .facades import clip_strips, facade_arrays
 from .model import RoofConfig, flat_group
 from .pyramid import apexes, pyramid_group
 from .shed import shed_group
 from .skeleton import cgal_roofs
 from .staged import staged_roofs
-from .stepped import clip_strips, stepped_arrays
 
-ROOF_TYPES = ("flat", "hip", "gable", "mansard", "stepped", "half_hip", "pyramid", "gambrel",
-              "shed", "cornice")
+#: the gable facades (neck, bell, spout) are planned as "stepped" is, with their own outline
+ROOF_TYPES = ("flat", "hip", "gable", "mansard", "stepped", "neck", "bell", "spout", "half_hip",
+              "pyramid", "gambrel", "shed", "cornice")
 
 #: Roof type probabilities (weights in percent) by period of construction and
 #: footprint shape, as in the thesis's Table B.1 as implemented in its published
@@ -159,12 +161,14 @@ class StagedJob:
 
 @dataclass(frozen=True)
 class Facade:
-    """The crow-stepped facade of a stepped roof."""
+    """The gable facade of a stepped (neck, bell, spout) roof."""
 
     #: the footprint edge it stands on
     end: int
     #: step height (m)
     step: float
+    #: its outline, a name of :data:`~reconstruction.lod2.roofs.facades.PROFILES`
+    profile: str = "stepped"
 
 
 @dataclass(frozen=True)
@@ -276,19 +280,19 @@ def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None
                 plan.skeleton.append(SkeletonJob(i, xy, pitch, h))
             continue
         opp = opp_all[i]
-        if kind == "stepped" and i in bodies and _free(mask, end):
+        if kind in FACADE_PROFILES and i in bodies and _free(mask, end):
             body, body_opp = bodies[i]
             slopes = np.ones(len(body))
             slopes[0] = np.inf
-            plan.ends[i] = [(end, "stepped")]
+            plan.ends[i] = [(end, kind)]
             if body_opp >= 0 and _free(mask, opp):
                 slopes[body_opp] = np.inf
                 plan.ends[i].append((opp, "gable"))
             s_lo, s_hi = config.step
-            plan.facades[i] = Facade(end, s_lo + (s_hi - s_lo) * uniforms[i, 2])
+            plan.facades[i] = Facade(end, s_lo + (s_hi - s_lo) * uniforms[i, 2], kind)
             plan.envelope.append(EnvelopeJob(i, body, slopes, None, body=True))
             continue
-        if kind == "stepped":
+        if kind in FACADE_PROFILES:
             kind = "gable"
         if convex:
             if kind == "gable" and not _free(mask, end) and not _free(mask, opp):
@@ -465,7 +469,7 @@ def _free(shared, edge):
 def _stepped_bodies(footprints, roof_types, flat, facts, thickness):
     """footprint -> (main body ring, the body edge opposite its inner edge or
     -1) of the stepped roofs of convex footprints whose facade strip fits."""
-    want = np.array([k == "stepped" for k in roof_types], dtype=bool) & ~flat & facts.convex
+    want = np.array([k in FACADE_PROFILES for k in roof_types], dtype=bool) & ~flat & facts.convex
     want &= np.array([4 <= len(xy) <= ENVELOPE_MAX_VERTICES for xy in footprints], dtype=bool)
     bodies = {}
     for n in sorted({len(footprints[i]) for i in np.nonzero(want)[0]}):
@@ -559,9 +563,10 @@ def _envelope_roofs(plan, footprints, attic, thickness):
         if len(bodies):
             owner = np.array([jobs[k].index for k in bodies], dtype=int)
             facades = [plan.facades[i] for i in owner]
-            for group in stepped_arrays(np.stack([footprints[i] for i in owner]),
-                                        [f.end for f in facades], env.take(bodies),
-                                        [f.step for f in facades], thickness):
+            for group in facade_arrays(np.stack([footprints[i] for i in owner]),
+                                       [f.end for f in facades], env.take(bodies),
+                                       [f.profile for f in facades], [f.step for f in facades],
+                                       thickness):
                 groups.append(dataclasses.replace(group, index=owner[group.index]))
         plain = np.array([k for k, j in enumerate(jobs) if not j.body], dtype=int)
         plain = plain[env.ok[plain]]

@@ -27,10 +27,9 @@ from .validation import validate
 from .vertex_budget import MAX_ROOF_VERTICES, needs_budget, simplify_rings
 
 #: Fallback chain when a roof type fails validation.
-FALLBACK = {"stepped": "gable", "gable": "mansard", "hip": "mansard", "mansard": "flat",
+FALLBACK = {"stepped": "gable", "neck": "gable", "bell": "gable", "spout": "gable",
             "half_hip": "gable", "gambrel": "gable", "cornice": "gable", "pyramid": "hip",
-            "shed": "flat",
-            "flat": None}
+            "shed": "flat", "gable": "mansard", "hip": "mansard", "mansard": "flat", "flat": None}
 
 
 class Buildings:

@@ -11,6 +11,7 @@ from reconstruction.cityjson.existing import MatchReport
 from reconstruction.core.messages import Message
 from reconstruction.lod2 import report as lod2_report
 from reconstruction.lod2 import validity_lines
+from reconstruction.lod2.roofs import ROOF_TYPES
 from reconstruction.lod2.config import (ExistingRequest, HeightConfig, Lod2Config, OutputRequest,
                                         StreetConfig)
 from reconstruction.lod2.inputs import HeightReport
@@ -221,9 +222,8 @@ def test_the_validity_report():
         N("Invalid solid: 104 (shell not closed)")]
     assert validity_lines(run) == [
         "solids=3", "valid=2", "percent_valid=66.67", "fallbacks=1", "dropped=1",
-        "simplified=2", "copied_solids=0", "copied_valid=0", "roof_flat=0", "roof_hip=1",
-        "roof_gable=2", "roof_mansard=0", "roof_stepped=0", "roof_half_hip=0", "roof_pyramid=0",
-            "roof_gambrel=0", "roof_shed=0", "roof_cornice=0"]
+        "simplified=2", "copied_solids=0", "copied_valid=0"] + [
+        "roof_{}={}".format(k, {"hip": 1, "gable": 2}.get(k, 0)) for k in ROOF_TYPES]
     empty = replace(run, model=replace(run.model, report=replace(run.model.report, rings=0)),
                     invalid=[])
     assert validity_lines(empty)[:3] == ["solids=0", "valid=0", "percent_valid=100.00"]

@@ -10,7 +10,7 @@ from shapely.geometry import Point, Polygon
 from reconstruction.lod2 import outlines
 from reconstruction.lod2.roofs import envelope as roof_envelope
 from reconstruction.lod2.roofs import skeleton as roof_skeleton
-from reconstruction.lod2.roofs import stepped as roof_stepped
+from reconstruction.lod2.roofs import facades as roof_facades
 from reconstruction.lod2.roofs import plan as roofs
 from reconstruction.lod2.roofs.model import RoofConfig
 
@@ -187,7 +187,7 @@ def test_interp_rows_is_np_interp_per_row():
     fp = rng.uniform(-5, 5, (7, 5))
     xp[:, -1], fp[:, -1] = xp[:, -2], fp[:, -2]      # padding repeats the last point
     x = xp[:, :1] + rng.random((7, 3)) * (xp[:, -1:] - xp[:, :1])
-    got = roof_stepped._interp_rows(x, xp, fp)
+    got = roof_facades._interp_rows(x, xp, fp)
     for r in range(7):
         assert np.allclose(got[r], np.interp(x[r], xp[r], fp[r]), atol=1e-9)
 

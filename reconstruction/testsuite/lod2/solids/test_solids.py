@@ -14,6 +14,7 @@ from reconstruction.lod2.roofs import plan as roofs
 from reconstruction.lod2.solids import build as solids
 from reconstruction.geom import solidset
 from reconstruction.lod2.solids import validation
+from reconstruction.lod2.roofs.facades import PROFILES as FACADE_PROFILES
 from reconstruction.lod2.roofs.model import RoofConfig
 
 ORIGIN = np.array([85123.4567, 446789.0123])
@@ -44,7 +45,7 @@ def test_every_roof_type_on_a_rectangle(kind):
     v, faces = ss.solid(0)
     assert v[:, 2].min() == pytest.approx(1.0)
     top = 1.0 + 8.0 + (0.0 if kind == "flat" else 3.0)
-    if kind != "stepped":
+    if kind not in FACADE_PROFILES:        # gable facades rise above the ridge
         assert v[:, 2].max() == pytest.approx(top, abs=1e-3)
 
 
