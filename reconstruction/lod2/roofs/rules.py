@@ -12,19 +12,35 @@ mansard                 10                    10                   40           
 crow-stepped gable      40                    15                   --                    --
 ======================  ====================  ===================  ====================  ===================
 
-The default (:data:`DEFAULT_RULES`, the suite's
-:data:`reconstruction.lod2.roofs.plan.ROOF_PROBABILITIES`) keeps the 4-sided columns
-and changes the n-sided ones to **flat 15, hip 65, mansard 20 before 1915;
-flat 40, hip 40, mansard 20 after**. Why: the thesis gave n-sided footprints
-only flat and mansard roofs because its procedural tool (BCGA in Blender)
-could not build other roofs on them; its published script carries these
-"complex hip" weights for n-sided footprints and overrides them with the
-table's only for that reason. Here hip roofs are built on any footprint (the
-straight skeleton, CGAL for concave ones), so 60 % flat roofs on the L, T and
-U shaped houses of 19th-century blocks would be an artefact of the old tool,
-not a finding about the buildings. The split year stays the table's 1915
-(the script used 1930). :data:`THESIS_RULES` is the table as printed; a
-``rules=`` file reproduces it or any other.
+:data:`FIVE_TYPE_RULES` (the suite's
+:data:`reconstruction.lod2.roofs.plan.ROOF_PROBABILITIES`, its default until
+it had more roof families) keeps the 4-sided columns and changes the
+n-sided ones to **flat 15, hip 65, mansard 20 before 1915; flat 40, hip 40,
+mansard 20 after**. Why: the thesis gave n-sided footprints only flat and
+mansard roofs because its procedural tool (BCGA in Blender) could not build
+other roofs on them; its published script carries these "complex hip"
+weights for n-sided footprints and overrides them with the table's only for
+that reason. Here hip roofs are built on any footprint (the straight
+skeleton, CGAL for concave ones), so 60 % flat roofs on the L, T and U
+shaped houses of 19th-century blocks would be an artefact of the old tool,
+not a finding about the buildings. :data:`THESIS_RULES` is the table as
+printed; a ``rules=`` file reproduces it or any other.
+
+The default (:data:`DEFAULT_RULES`, :data:`DEFAULT_TABLE`) extends that to
+the roof families of Dutch and Belgian town houses of 1600-1950, by period
+and by the footprint's span (the short side of its oriented bounding box):
+the crow-stepped gable about 1600-1665, the spout gable 1620-1720, the neck
+gable 1640-1780, the bell gable 1740-1780 (most common 1740-1770); wide
+footprints (a span of 8 m or more, double-width houses) mostly get the ridge
+along the street behind a cornice (dwarskap behind a lijstgevel) from the
+later 17th century on; small ones (under 3.5 m: outbuildings, lean-tos) a
+shed roof; square ones a pyramid (tent) or hip roof; other shapes the
+five-type rules' n-sided weights. The last period (from 1916) is the
+thesis's "after 1915" column with a share of every family: a footprint of
+unknown construction year on a 20th-century map falls there, and the map
+shows the buildings that stand, most of them older. The shares are the
+suite's reading of the architectural literature's periods, not measured
+frequencies; a ``rules=`` file changes them.
 
 A rules file is UTF-8 text (a byte order mark and CRLF line ends, as Excel
 writes "CSV UTF-8", are fine), CSV (``#`` comments allowed) or JSON::
@@ -264,8 +280,9 @@ def _rules_from_probabilities(probabilities, split):
                            for (period, shape), weights in probabilities.items()))
 
 
-#: the suite's default, :data:`reconstruction.lod2.roofs.plan.ROOF_PROBABILITIES` (see the module doc)
-DEFAULT_RULES = _rules_from_probabilities(roofs.ROOF_PROBABILITIES, roofs.SPLIT_YEAR)
+#: the suite's rules with the thesis's five roof types
+#: (:data:`reconstruction.lod2.roofs.plan.ROOF_PROBABILITIES`, see the module doc)
+FIVE_TYPE_RULES = _rules_from_probabilities(roofs.ROOF_PROBABILITIES, roofs.SPLIT_YEAR)
 #: the thesis's Table B.1 as printed
 THESIS_RULES = _rules_from_probabilities({
     ("before", 4): {"flat": 10, "hip": 20, "gable": 20, "mansard": 10, "stepped": 40},
@@ -413,3 +430,55 @@ def read_rules(path):
         raise InputError("The roof rules file '{}' is a binary file, not UTF-8 text: save it "
                          "as CSV UTF-8 or JSON".format(path))
     return parse_rules(text)
+
+
+#: the default rules as a rules file (see the module doc); percent per row
+DEFAULT_TABLE = """\
+from,to,shape,min_width,max_width,flat,hip,gable,mansard,stepped,neck,bell,spout,half_hip,pyramid,gambrel,shed,cornice
+# before 1600: gables, hipped and half-hipped roofs
+,1599,4,,3.5,30,0,20,0,0,0,0,0,0,0,0,50,0
+,1599,4,3.5,8,5,10,60,0,15,0,0,0,10,0,0,0,0
+,1599,4,8,,10,30,40,0,0,0,0,0,20,0,0,0,0
+,1599,square,,,10,40,0,10,0,0,0,0,0,40,0,0,0
+,1599,n,,,15,65,0,20,0,0,0,0,0,0,0,0,0
+# 1600-1639: the crow-stepped gable, the first spout gables
+1600,1639,4,,3.5,30,0,20,0,0,0,0,0,0,0,0,50,0
+1600,1639,4,3.5,8,5,5,25,0,45,0,0,15,5,0,0,0,0
+1600,1639,4,8,,10,25,20,0,25,0,0,0,0,0,0,0,20
+1600,1639,square,,,10,40,0,10,0,0,0,0,0,40,0,0,0
+1600,1639,n,,,15,65,0,20,0,0,0,0,0,0,0,0,0
+# 1640-1665: crow-stepped, spout and the first neck gables
+1640,1665,4,,3.5,30,0,20,0,0,0,0,0,0,0,0,50,0
+1640,1665,4,3.5,8,5,5,20,0,35,20,0,15,0,0,0,0,0
+1640,1665,4,8,,10,25,20,0,25,0,0,0,0,0,0,0,20
+1640,1665,square,,,10,40,0,10,0,0,0,0,0,40,0,0,0
+1640,1665,n,,,15,65,0,20,0,0,0,0,0,0,0,0,0
+# 1666-1739: the neck gable; wide houses with the ridge along the street
+1666,1739,4,,3.5,30,0,20,0,0,0,0,0,0,0,0,50,0
+1666,1739,4,3.5,8,5,10,30,0,5,35,0,10,5,0,0,0,0
+1666,1739,4,8,,10,25,15,10,0,0,0,0,0,0,0,0,40
+1666,1739,square,,,10,40,0,10,0,0,0,0,0,40,0,0,0
+1666,1739,n,,,15,65,0,20,0,0,0,0,0,0,0,0,0
+# 1740-1780: bell and neck gables
+1740,1780,4,,3.5,30,0,20,0,0,0,0,0,0,0,0,50,0
+1740,1780,4,3.5,8,5,10,20,5,0,25,30,0,0,0,5,0,0
+1740,1780,4,8,,10,20,5,20,0,0,0,0,0,0,0,0,45
+1740,1780,square,,,10,40,0,10,0,0,0,0,0,40,0,0,0
+1740,1780,n,,,15,65,0,20,0,0,0,0,0,0,0,0,0
+# 1781-1915: straight cornice facades, mansard and gambrel roofs
+1781,1915,4,,3.5,30,0,20,0,0,0,0,0,0,0,0,50,0
+1781,1915,4,3.5,8,15,15,35,15,0,5,5,0,5,0,5,0,0
+1781,1915,4,8,,20,20,0,20,0,0,0,0,0,0,0,0,40
+1781,1915,square,,,10,40,0,10,0,0,0,0,0,40,0,0,0
+1781,1915,n,,,15,65,0,20,0,0,0,0,0,0,0,0,0
+# from 1916 (and a 20th-century map's footprints of unknown year): the thesis's
+# "after 1915" column with a share of the older families
+1916,,4,,3.5,30,0,20,0,0,0,0,0,0,0,0,50,0
+1916,,4,3.5,8,25,20,20,10,10,3,2,0,5,0,5,0,0
+1916,,4,8,,30,25,10,10,0,0,0,0,0,0,5,0,20
+1916,,square,,,30,30,0,10,0,0,0,0,0,30,0,0,0
+1916,,n,,,40,40,0,20,0,0,0,0,0,0,0,0,0
+"""
+#: the suite's default rules (:data:`DEFAULT_TABLE`, see the module doc)
+DEFAULT_RULES = parse_rules(DEFAULT_TABLE)
+

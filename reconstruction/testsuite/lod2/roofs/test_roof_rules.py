@@ -50,7 +50,7 @@ def test_the_default_draws_exactly_what_roofs_draws_today():
     n = rng.integers(3, 9, 5000)
     years = rng.choice([1700, 1880, 1915, 1915.5, 1916, 1961, np.nan], 5000)
     attic = rng.uniform(0, 5, 5000)
-    a = roof_rules.DEFAULT_RULES.draw(n, years, attic, U(len(n), 2))
+    a = roof_rules.FIVE_TYPE_RULES.draw(n, years, attic, U(len(n), 2))
     b = roofs.draw_roof_types(n, years, attic, U(len(n), 2))
     assert list(a) == list(b)
 
@@ -196,3 +196,22 @@ def test_rules_by_span_and_square_shape():
 def test_bad_widths_are_refused(text, message):
     with pytest.raises(InputError, match=message):
         roof_rules.parse_rules(text)
+
+
+@pytest.mark.parametrize("year, span, square, family, share", [
+    (1650, 6.0, False, "stepped", 0.35), (1650, 6.0, False, "neck", 0.20),
+    (1620, 6.0, False, "spout", 0.15), (1760, 6.0, False, "bell", 0.30),
+    (1700, 10.0, False, "cornice", 0.40), (1700, 2.5, False, "shed", 0.50),
+    (1850, 9.0, True, "pyramid", 0.40), (1961, 6.0, False, "flat", 0.25),
+])
+def test_the_default_rules_give_each_family_its_period_and_span(year, span, square, family,
+                                                                share):
+    n = 20000
+    got = roof_rules.DEFAULT_RULES.draw(np.full(n, 4), np.full(n, year), np.full(n, 3.0),
+                                        U(n, 5), np.full(n, span), np.full(n, square))
+    assert np.mean(got == family) == pytest.approx(share, abs=0.015)
+
+
+def test_every_roof_family_has_a_share_in_the_default_rules():
+    shares = {k for r in roof_rules.DEFAULT_RULES.rules for k, w in r.weights if w > 0}
+    assert shares == set(roofs.ROOF_TYPES)
