@@ -176,7 +176,9 @@ def plot_heights(plot_ids, plot_geoms, known_plot, known_values, distance=20.0, 
     """
     plot_ids = np.asarray(plot_ids, dtype=object)
     P = len(plot_ids)
-    values = np.asarray(known_values, dtype=float).reshape(len(known_plot), -1)
+    values = np.asarray(known_values, dtype=float)
+    if values.ndim != 2:               # (K,) one height each; (0, Q) stays as it is
+        values = values.reshape(len(known_plot), -1)
     Q = values.shape[1]
     which = _plot_index(plot_ids, known_plot)
     hit = which >= 0

@@ -26,6 +26,16 @@ def test_plot_rule_takes_the_plot_median_then_the_neighbouring_plots():
     assert source.tolist() == ["plot", "neighbours", "neighbours"]
 
 
+def test_plot_rule_with_no_measured_footprint_in_any_plot_leaves_every_plot_open():
+    # v.histo.lod2 on Delft 1880's footprints (issue 31's acceptance) ended in a
+    # traceback: (0, 2) measured heights could not be reshaped to (0, -1)
+    plots = np.array([shapely.box(0, 0, 30, 12), shapely.box(40, 0, 70, 12)], dtype=object)
+    values, source = nb.plot_heights(np.arange(2), plots, np.zeros(0, dtype=object),
+                                     np.zeros((0, 2)))
+    assert values.shape == (2, 2) and np.isnan(values).all()
+    assert source.tolist() == ["", ""]
+
+
 def test_plot_rule_revisits_until_every_plot_is_resolved():
     # a chain of plots 15 m apart: only the first has measured footprints
     geoms = np.array([shapely.box(i * 45.0, 0, i * 45.0 + 30, 12) for i in range(6)], dtype=object)
