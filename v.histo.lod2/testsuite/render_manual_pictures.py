@@ -58,10 +58,13 @@ def render(ss, path, size, elevation=25, azimuth=-60, zoom=1.0):
     pl.close()
 
 
-def roof_types_picture(path):
-    fps, kinds = [], [k for k in roofs.ROOF_TYPES]
+def roof_types_picture(path, per_row=7):
+    """Every roof type on the same rectangle (street edge in front), in rows
+    of ``per_row`` in :data:`~reconstruction.lod2.roofs.plan.ROOF_TYPES` order."""
+    fps, kinds = [], list(roofs.ROOF_TYPES)
     for i, kind in enumerate(kinds):
-        xy = np.array([[0, 0], [8, 0], [8, 14], [0, 14]], dtype=float) + [i * 14.0, 0]
+        xy = np.array([[0, 0], [8, 0], [8, 14], [0, 14]], dtype=float) + \
+            [(i % per_row) * 14.0, -(i // per_row) * 30.0]
         fps.append(outlines.clean_ring(xy)[0])
     n = len(fps)
     buildings = solids.Buildings(fps, np.zeros(n), np.full(n, 9.0), np.full(n, 4.5), kinds,
@@ -69,7 +72,7 @@ def roof_types_picture(path):
     built = solids.build_solids(buildings, RoofConfig(step=(0.6, 0.6)))
     ss, kept, got = built.solids, built.kept, built.types
     assert list(got) == kinds
-    render(ss, path, (160 * len(kinds), 330), elevation=25, azimuth=-35, zoom=2.3)
+    render(ss, path, (1100, 560), elevation=38, azimuth=-12, zoom=1.45)
 
 
 def block_picture(path):
