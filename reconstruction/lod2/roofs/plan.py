@@ -37,7 +37,7 @@ from typing import Optional
 import numpy as np
 import shapely
 
-from ..outlines import end_edges, opposite_edges, outline_facts
+from ..outlines import edge_lengths, end_edges, opposite_edges, outline_facts
 from .envelope import MAX_VERTICES as ENVELOPE_MAX_VERTICES
 from .envelope import Raised, batch_rows, envelope_arrays
 from .facades import PROFILES as FACADE_PROFILES
@@ -327,6 +327,27 @@ GAMBREL_KNEE = (0.3, 0.45)
 GAMBREL_RATIO = (3.0, 4.0)
 
 
+def _drawn(bounds, u):
+    """The value a uniform number ``u`` in [0, 1) draws in ``(low, high)``."""
+    return bounds[0] + (bounds[1] - bounds[0]) * u
+
+
+def _half_hip_shape(h, half, u):
+    """A half-hip's (ratio of its small hip's slope to the long faces', share
+    of the ridge height its gable walls reach) for a roof ``h`` high over a
+    half span ``half``, drawn by ``u``."""
+    p_long = math.degrees(math.atan2(h, half))
+    p_hip = p_long + (max(HALF_HIP_PITCH, p_long) - p_long) * u[0]
+    return math.tan(math.radians(p_hip)) / math.tan(math.radians(p_long)), \
+        _drawn(HALF_HIP_SHARE, u[1])
+
+
+def _gambrel_shape(half, u):
+    """A gambrel's (ratio of its lower faces' slope to the upper ones', the
+    knee's run in from the eaves) over a half span ``half``, drawn by ``u``."""
+    return _drawn(GAMBREL_RATIO, u[0]), _drawn(GAMBREL_KNEE, u[1]) * half
+
+
 def _raised_job(kind, i, xy, h, end, opp, end_length, u, config):
     """The envelope job of a half-hip or gambrel roof on a convex footprint
     whose free ends are ``end`` and ``opp`` (-1: shared or none), the ends
@@ -350,17 +371,12 @@ def _raised_job(kind, i, xy, h, end, opp, end_length, u, config):
     slopes[free] = np.inf
     half = end_length / 2.0
     if kind == "half_hip":
-        p_long = math.degrees(math.atan2(h, half))
-        p_hip = p_long + (max(HALF_HIP_PITCH, p_long) - p_long) * u[0]
-        ratio = math.tan(math.radians(p_hip)) / math.tan(math.radians(p_long))
-        share = HALF_HIP_SHARE[0] + (HALF_HIP_SHARE[1] - HALF_HIP_SHARE[0]) * u[1]
-        lengths = np.hypot(*(np.roll(xy, -1, axis=0) - xy).T)
+        ratio, share = _half_hip_shape(h, half, u)
         raised = Raised(np.array(free), np.full(len(free), ratio),
-                        share * lengths[free] / 2.0)
+                        share * edge_lengths(xy)[free] / 2.0)
         return EnvelopeJob(i, xy, slopes, None, raised=raised), \
             [(e, "half_hip") for e in free], kind
-    ratio = GAMBREL_RATIO[0] + (GAMBREL_RATIO[1] - GAMBREL_RATIO[0]) * u[0]
-    knee = (GAMBREL_KNEE[0] + (GAMBREL_KNEE[1] - GAMBREL_KNEE[0]) * u[1]) * half
+    ratio, knee = _gambrel_shape(half, u)
     sides = np.array([e for e in range(n) if e not in free])
     slopes[sides] = ratio
     raised = Raised(sides, np.ones(len(sides)), np.full(len(sides), (ratio - 1.0) * knee))
@@ -373,21 +389,16 @@ def _staged_job(kind, i, xy, ends, h, u, config):
     :func:`_raised_job` (the half span: half the narrowest free end, else
     the radius of the largest circle inside)."""
     n = len(xy)
-    lengths = np.hypot(*(np.roll(xy, -1, axis=0) - xy).T)
-    half = float(lengths[ends].min() / 2.0) if ends else float(shapely.length(
+    half = float(edge_lengths(xy)[ends].min() / 2.0) if ends else float(shapely.length(
         shapely.maximum_inscribed_circle(shapely.Polygon(xy), tolerance=1e-2)))
     lower = np.full(n, 45.0)
     upper = np.full(n, 45.0)
     if kind == "half_hip":
+        ratio, share = _half_hip_shape(h, half, u)
         lower[ends] = 90.0
-        p_long = math.degrees(math.atan2(h, half))
-        p_hip = p_long + (max(HALF_HIP_PITCH, p_long) - p_long) * u[0]
-        ratio = math.tan(math.radians(p_hip)) / math.tan(math.radians(p_long))
         upper[ends] = math.degrees(math.atan(ratio))
-        share = HALF_HIP_SHARE[0] + (HALF_HIP_SHARE[1] - HALF_HIP_SHARE[0]) * u[1]
         return StagedJob(i, xy, lower, upper, share * half)
-    ratio = GAMBREL_RATIO[0] + (GAMBREL_RATIO[1] - GAMBREL_RATIO[0]) * u[0]
-    knee = (GAMBREL_KNEE[0] + (GAMBREL_KNEE[1] - GAMBREL_KNEE[0]) * u[1]) * half
+    ratio, knee = _gambrel_shape(half, u)
     lower[:] = math.degrees(math.atan(ratio))
     lower[ends] = upper[ends] = 90.0
     return StagedJob(i, xy, lower, upper, ratio * knee)
@@ -411,7 +422,7 @@ def _high_edge(xy, shared, street):
     """The high edge of a shed roof: its longest edge shared with a
     neighbour (the house it leans on), else the street edge, else its
     longest edge (the roof falls across the narrow span)."""
-    lengths = np.hypot(*(np.roll(xy, -1, axis=0) - xy).T)
+    lengths = edge_lengths(xy)
     if shared is not None and np.any(shared[:len(xy)]):
         return int(np.argmax(np.where(np.asarray(shared[:len(xy)], dtype=bool), lengths, -1.0)))
     if street is not None and 0 <= int(street) < len(xy):
