@@ -33,6 +33,9 @@ HEIGHTS_NEIGHBOURS = "neighbours"
 HEIGHTS_POINTS = "points"
 HEIGHTS_RANGE = "range"
 HEIGHTS_COLUMN = "column"
+#: a building copied whole from an existing (current) 3D model: its heights,
+#: roof and solid are that model's
+HEIGHTS_COPIED = "copied"
 
 #: how far (map units) a current footprint may lie from a plot and still be aligned
 #: with it (v.histo.align buffer=, its default); v.histo.subdivide places an aligned

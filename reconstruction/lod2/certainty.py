@@ -11,6 +11,8 @@ and, in
 ``certainty``, one class that sums them up, from the surest:
 
 ==  ============  ==========================================================
+5   copied        a building that still stands, copied whole from a current
+                  3D model (its solid, roof and heights are that model's)
 4   measured      a current footprint that stood at the map's date, with
                   its heights measured (3D BAG, building points)
 3   aligned       a current footprint that stood at the map's date, its
@@ -21,18 +23,24 @@ and, in
 1   drawn         heights drawn from ranges, or nothing measured anywhere
 ==  ============  ==========================================================
 
-A building copied from an existing 3D model keeps that model's attributes.
+A building copied from an existing 3D model keeps that model's attributes
+and gets ``certainty`` 5 and ``height_source`` and ``roof_source``
+``copied`` where it has none of its own (:data:`COPIED_ATTRIBUTES`).
 Pure: numpy.
 """
 
 import numpy as np
 
-from ..core.contract import (HEIGHTS_COLUMN, HEIGHTS_MEASURED, HEIGHTS_NEIGHBOURS,
-                             HEIGHTS_PLOT, HEIGHTS_POINTS, SOURCE_ALIGNED)
+from ..core.contract import (HEIGHT_SOURCE, HEIGHTS_COLUMN, HEIGHTS_COPIED, HEIGHTS_MEASURED,
+                             HEIGHTS_NEIGHBOURS, HEIGHTS_PLOT, HEIGHTS_POINTS, SOURCE_ALIGNED)
 
-MEASURED, ALIGNED, GENERATED, DRAWN = 4, 3, 2, 1
+COPIED, MEASURED, ALIGNED, GENERATED, DRAWN = 5, 4, 3, 2, 1
 #: the classes' names, surest first
-CLASSES = {MEASURED: "measured", ALIGNED: "aligned", GENERATED: "generated", DRAWN: "drawn"}
+CLASSES = {COPIED: "copied", MEASURED: "measured", ALIGNED: "aligned", GENERATED: "generated",
+           DRAWN: "drawn"}
+#: the paradata of a building copied from an existing 3D model (attribute: value)
+COPIED_ATTRIBUTES = (("certainty", COPIED), (HEIGHT_SOURCE, HEIGHTS_COPIED),
+                     ("roof_source", HEIGHTS_COPIED))
 
 
 def certainty(footprint_source, height_source):

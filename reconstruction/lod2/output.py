@@ -45,6 +45,7 @@ from .. import view
 from . import render
 from . import stage as lod2
 from .config import FORMATS, ExistingRequest, OutputRequest  # noqa: F401 (also read here)
+from .certainty import COPIED_ATTRIBUTES
 from .heights import height_columns
 from .inputs import AlignedFootprints
 from .report import drawing_messages
@@ -290,6 +291,7 @@ def copy_matched(match, footprints, count, fmt="cityjson", among=None):
     for name, values in ((PLOT, footprints.plot), (SOURCE, footprints.source)):
         if values is not None:
             attributes[name] = [values[i] for i in matched.tolist()]
+    attributes.update((name, [value] * len(matched)) for name, value in COPIED_ATTRIBUTES)
     return citycopy.copy_buildings(match.model, building[matched], lods=match.request.lods,
                                     attributes=attributes, keep_numbering=fmt == "cityjson")
 

@@ -104,6 +104,10 @@ def check_merged(doc, sample, schemas, generated=3):
         assert [(g["type"], g["lod"]) for g in objects[part]["geometry"]] == [("Solid", "2.2")]
         assert objects[oid]["attributes"]["identificatie"] == oid
         assert objects[oid]["attributes"]["source"] == "aligned"
+        # the paradata of a copied building (issue 31): the surest class
+        assert objects[oid]["attributes"]["certainty"] == 5
+        assert objects[oid]["attributes"]["height_source"] == "copied"
+        assert objects[oid]["attributes"]["roof_source"] == "copied"
     gen = [obj for oid, obj in objects.items() if oid not in BAG and not obj.get("parents")]
     assert {g["lod"] for obj in gen for g in obj["geometry"]} == ({"2.0"} if generated else set())
     assert doc["metadata"]["referenceSystem"].endswith("/7415")
