@@ -37,6 +37,10 @@ HEIGHTS_COLUMN = "column"
 #: roof and solid are that model's
 HEIGHTS_COPIED = "copied"
 
+#: a building's certainty class (v.histo.lod2 writes it as ``certainty``; the
+#: web page names it): value -> name, surest first (reconstruction.lod2.certainty)
+CERTAINTY_CLASSES = {5: "copied", 4: "measured", 3: "aligned", 2: "generated", 1: "drawn"}
+
 #: how far (map units) a current footprint may lie from a plot and still be aligned
 #: with it (v.histo.align buffer=, its default); v.histo.subdivide places an aligned
 #: footprint that overlaps no plot in the nearest plot within this distance

@@ -31,13 +31,12 @@ Pure: numpy.
 
 import numpy as np
 
-from ..core.contract import (HEIGHT_SOURCE, HEIGHTS_COLUMN, HEIGHTS_COPIED, HEIGHTS_MEASURED,
+from ..core.contract import (CERTAINTY_CLASSES, HEIGHT_SOURCE, HEIGHTS_COLUMN, HEIGHTS_COPIED, HEIGHTS_MEASURED,
                              HEIGHTS_NEIGHBOURS, HEIGHTS_PLOT, HEIGHTS_POINTS, SOURCE_ALIGNED)
 
 COPIED, MEASURED, ALIGNED, GENERATED, DRAWN = 5, 4, 3, 2, 1
 #: the classes' names, surest first
-CLASSES = {COPIED: "copied", MEASURED: "measured", ALIGNED: "aligned", GENERATED: "generated",
-           DRAWN: "drawn"}
+CLASSES = CERTAINTY_CLASSES
 #: the paradata of a building copied from an existing 3D model (attribute: value)
 COPIED_ATTRIBUTES = (("certainty", COPIED), (HEIGHT_SOURCE, HEIGHTS_COPIED),
                      ("roof_source", HEIGHTS_COPIED))

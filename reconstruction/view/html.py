@@ -20,6 +20,7 @@ import os
 
 import numpy as np
 
+from ..core.contract import CERTAINTY_CLASSES
 from ..core.errors import InputError
 from .scene import BACKGROUND, COLOURS, COPIED_COLOURS, GROUND, ROOF, WALL
 
@@ -154,7 +155,7 @@ def viewer_html(scene, title, map_image=None, three_root=THREE):
             "years": list(scene.years), "origin": [float(v) for v in scene.origin],
             "crs": scene.crs, "localIndices": local, "arrays": layout,
             "colours": COLOURS.tolist(), "copiedColours": COPIED_COLOURS.tolist(),
-            "background": list(BACKGROUND),
+            "background": list(BACKGROUND), "certainty": CERTAINTY_CLASSES,
             "map": _map_png(map_image, scene.origin) if map_image is not None else None}
     with open(os.path.join(HERE, "viewer.css"), encoding="utf-8") as f:
         css = f.read()

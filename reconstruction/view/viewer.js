@@ -13,7 +13,6 @@
 (function () {
   "use strict";
   var PICKED = [255, 200, 0];
-  var CERTAINTY = {4: "measured", 3: "aligned", 2: "generated", 1: "drawn"};
   var SHOWN = ["certainty", "roof_type", "roof_source", "eaves_height", "eaves_height_low", "eaves_height_high",
                "roof_height", "ridge_height_low", "ridge_height_high", "height_source", "source", "plot",
                "footprint", "map_year", "epochs", "dateOfConstruction",
@@ -163,7 +162,7 @@
           .forEach(function (name) {
             if (a[name] === undefined || a[name] === null) return;
             var v = typeof a[name] === "object" ? JSON.stringify(a[name]) : String(a[name]);
-            if (name === "certainty" && CERTAINTY[a[name]]) v += " (" + CERTAINTY[a[name]] + ")";
+            if (name === "certainty" && meta.certainty[a[name]]) v += " (" + meta.certainty[a[name]] + ")";
             rows.push("<span class=\"name\">" + escape(name) + "</span> " + escape(v));
           });
         info.innerHTML = rows.join("<br>");
