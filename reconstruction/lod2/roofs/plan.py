@@ -235,15 +235,22 @@ def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None
         end = end_all[i]
         convex = convex_all[i] and n <= ENVELOPE_MAX_VERTICES
         if kind == "pyramid":
-            if i in apex:
+            if i in apex and (mask is None or not np.any(mask[:n])):
                 plan.pyramids.append((i, apex[i]))
                 continue
-            kind = "hip"                         # no apex sees every edge: a tent roof is a hip
+            # no apex sees every edge, or a neighbour shares an edge (its face
+            # there would be a steep end against it): a tent roof is a hip
+            kind = "hip"
         if kind == "shed":
             plan.sheds.append((i, _high_edge(xy, mask, None if street is None else street[i])))
             continue
         if kind == "cornice" and n >= 4:
-            sides = [(end - 1) % n, (end + 1) % n]          # the ends beside the street edge
+            # the ends beside the street edge: gable walls where free, a hip at
+            # the long faces' pitch against a neighbour; with none free, a hip
+            sides = [e for e in ((end - 1) % n, (end + 1) % n) if _free(mask, e)]
+            if not sides:
+                kind = "hip"
+        if kind == "cornice" and n >= 4:
             plan.ends[i] = [(e, "gable") for e in sides]
             if convex:
                 slopes = np.ones(n)
@@ -419,15 +426,16 @@ def _pyramid_apexes(footprints, which):
 
 
 def _high_edge(xy, shared, street):
-    """The high edge of a shed roof: its longest edge shared with a
-    neighbour (the house it leans on), else the street edge, else its
-    longest edge (the roof falls across the narrow span)."""
+    """The high edge of a shed roof: its street edge where known and free,
+    else its longest free edge (the roof falls across the narrow span), else
+    its longest edge: like every roof's ends, no wall above the eaves stands
+    against a neighbour."""
     lengths = edge_lengths(xy)
-    if shared is not None and np.any(shared[:len(xy)]):
-        return int(np.argmax(np.where(np.asarray(shared[:len(xy)], dtype=bool), lengths, -1.0)))
-    if street is not None and 0 <= int(street) < len(xy):
+    free = np.ones(len(xy), dtype=bool) if shared is None else \
+        ~np.asarray(shared[:len(xy)], dtype=bool)
+    if street is not None and 0 <= int(street) < len(xy) and free[int(street)]:
         return int(street)
-    return int(np.argmax(lengths))
+    return int(np.argmax(np.where(free, lengths, -1.0))) if free.any() else int(np.argmax(lengths))
 
 
 def mansard_caps(footprints, which, wanted=None):

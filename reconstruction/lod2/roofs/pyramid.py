@@ -7,7 +7,9 @@ lies inside every edge's half plane (in the footprint's kernel): always for
 a convex footprint, for a concave one only when it is star-shaped around the
 apex. Where no apex sees every edge by at least :data:`MIN_SETBACK` of the
 footprint's size, the footprint gets no pyramid (the caller builds a hip
-roof at one pitch, the tent roof of a footprint that is not star-shaped).
+roof, the tent roof of a footprint that is not star-shaped); nor does one
+that shares an edge with a neighbour (a tent roof stands free; its face on
+a shorter edge is steeper, an end against the neighbour).
 """
 
 import numpy as np

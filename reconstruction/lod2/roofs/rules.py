@@ -177,7 +177,7 @@ class RoofRules:
             np.asarray(years, dtype=object), n_vertices.shape)], dtype=float)
         periods = self.periods
         ends = np.array([np.inf if last is None else last for _, last in periods])
-        period = np.where(np.isnan(years), 0, np.searchsorted(ends, years, side="left"))
+        period = np.where(np.isnan(years), 0, np.searchsorted(ends, years, side="left"))  # as row_period
         row = np.full(n_vertices.shape, -1, dtype=np.int64)
         for p, bounds in enumerate(periods):
             here = [k for k, r in enumerate(self.rules) if (r.first, r.last) == bounds]
@@ -202,6 +202,17 @@ class RoofRules:
             out[sel] = roofs.weighted_pick(rule.weights, u[sel])
         out[np.asarray(attic, dtype=float) < roofs.MIN_PITCHED_HEIGHT] = "flat"
         return out
+
+    def types_in(self, year):
+        """The roof types with a share in some row of ``year``'s period."""
+        first, last = self.periods[int(self.row_period(year))]
+        return {k for r in self.rules if (r.first, r.last) == (first, last)
+                for k, w in r.weights if w > 0}
+
+    def row_period(self, year):
+        """The index into :attr:`periods` of ``year`` (None: the first)."""
+        ends = np.array([np.inf if last is None else last for _, last in self.periods])
+        return 0 if year is None else int(np.searchsorted(ends, float(year), side="left"))
 
     def table(self):
         """The rules as CSV text (the rules-file format)."""

@@ -89,40 +89,47 @@ def test_pyramid_rises_to_one_apex_over_the_centroid():
     assert kind == "pyramid" and len(roof.faces) == 4
     top = used(roof)[used(roof)[:, 2] > 1e-9]
     assert len(top) == 1 and top[0] == pytest.approx([4.5, 4.5, 5.0])
-    # a footprint no point of which sees every edge gets a hip roof instead
+    # a footprint no point of which sees every edge gets a hip roof instead,
+    # and so does one a neighbour shares an edge with
     u = l_u_t("U", 20.0, 20.0, 4.0)
     assert roof_of(u, "pyramid")[1] == "hip"
+    assert roof_of(square, "pyramid", shared=[False, True, False, False])[1] == "hip"
 
 
-def test_shed_is_one_plane_high_against_the_house_it_leans_on():
-    shared = [False, False, True, False]               # edge 2 against the main house
-    roof, kind = roof_of(RECT, "shed", attic=3.0, street=0, shared=shared)
+def test_shed_is_one_plane_high_along_the_street_and_never_against_a_neighbour():
+    roof, kind = roof_of(RECT, "shed", attic=3.0, street=0)
     assert kind == "shed"
     v = roof.vertices
     sloped = [f for f, nz in zip(roof.faces, normals(roof)[:, 2]) if nz > 1e-9]
     assert len(sloped) == 1
-    assert v[[2, 3], 2].tolist() == [0.0, 0.0]          # footprint vertices stay at the eaves
     zs = {tuple(np.round(v[k, :2], 6)): v[k, 2] for k in sloped[0]}
-    assert zs[(8.0, 14.0)] == pytest.approx(3.0) and zs[(0.0, 14.0)] == pytest.approx(3.0)
-    assert zs[(8.0, 0.0)] == 0.0 and zs[(0.0, 0.0)] == 0.0
-    # without a neighbour: high along the street edge
-    roof, _ = roof_of(RECT, "shed", attic=3.0, street=0)
+    assert zs[(0.0, 0.0)] == pytest.approx(3.0) and zs[(8.0, 0.0)] == pytest.approx(3.0)
+    assert zs[(8.0, 14.0)] == 0.0 and zs[(0.0, 14.0)] == 0.0
+    assert v[[2, 3], 2].tolist() == [0.0, 0.0]          # footprint vertices stay at the eaves
+    # the street edge shared (a rear annex): high along its longest free edge
+    roof, _ = roof_of(RECT, "shed", attic=3.0, street=0, shared=[True, False, False, True])
     top = [f for f, nz in zip(roof.faces, normals(roof)[:, 2]) if nz > 1e-9][0]
     zs = {tuple(np.round(roof.vertices[k, :2], 6)): roof.vertices[k, 2] for k in top}
-    assert zs[(0.0, 0.0)] == pytest.approx(3.0) and zs[(0.0, 14.0)] == 0.0
+    assert zs[(8.0, 0.0)] == pytest.approx(3.0) and zs[(8.0, 14.0)] == pytest.approx(3.0)
+    assert zs[(0.0, 0.0)] == 0.0 and zs[(0.0, 14.0)] == 0.0
 
 
-def test_cornice_ridge_runs_along_the_street_with_gable_walls_on_the_party_walls():
+def test_cornice_ridge_runs_along_the_street_with_gable_walls_where_free():
     wide = np.array([[0.0, 0.0], [14.0, 0.0], [14.0, 9.0], [0.0, 9.0]])     # street edge 0
-    shared = [False, True, False, True]
-    roof, kind = roof_of(wide, "cornice", attic=4.0, street=0, shared=shared)
+    roof, kind = roof_of(wide, "cornice", attic=4.0, street=0)
     assert kind == "cornice"
     v = used(roof)
     ridge = v[np.abs(v[:, 2] - 4.0) < 1e-9]
     assert len(ridge) == 2 and np.ptp(ridge[:, 1]) == pytest.approx(0.0)    # along x, the street
     assert np.ptp(ridge[:, 0]) == pytest.approx(14.0)
-    vertical = np.abs(normals(roof)[:, 2]) < 1e-9
-    assert vertical.sum() == 2
+    assert (np.abs(normals(roof)[:, 2]) < 1e-9).sum() == 2                  # two gable walls
+    # against a neighbour a hip at the long faces' pitch, no gable wall
+    roof, kind = roof_of(wide, "cornice", attic=4.0, street=0, shared=[False, True, False, False])
+    assert kind == "cornice" and (np.abs(normals(roof)[:, 2]) < 1e-9).sum() == 1
+    assert len(set(pitches(roof))) == 1
+    # between two neighbours: a hip roof (as a gable with no free end)
+    roof, kind = roof_of(wide, "cornice", attic=4.0, street=0, shared=[False, True, False, True])
+    assert kind == "hip"
 
 
 # ---------------------------------------------------------------------------
