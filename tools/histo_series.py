@@ -170,8 +170,15 @@ class Actinia:
             data = self.call(url)
             name = url.rsplit("/", 1)[1]
             if name.endswith(".zip"):
+                # one file each, by the resource's name (a file export's
+                # member carries the worker's temporary path)
                 with zipfile.ZipFile(io.BytesIO(data)) as z:
-                    z.extractall(out)
+                    members = [m for m in z.infolist() if not m.is_dir()]
+                    if len(members) != 1:
+                        raise SheetFailed("ERROR: actinia's <{}> holds {} files, not one".format(
+                            name, len(members)))
+                    with open(os.path.join(out, name[:-4]), "wb") as f:
+                        f.write(z.read(members[0]))
             else:
                 with open(os.path.join(out, name), "wb") as f:
                     f.write(data)

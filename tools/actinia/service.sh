@@ -99,7 +99,7 @@ log_level = 2
 log_interface = stdout
 
 [MANAGEMENT]
-additional_allowed_modules = ['r.in.gdal', 'v.in.ogr', 'v.to.db', 'v.extract', $modules]
+additional_allowed_modules = ['db.connect', 'r.in.gdal', 'v.in.ogr', 'v.to.db', 'v.extract', $modules]
 CFG
 if [ ! -d "$dir/grassdb/histo/PERMANENT" ]; then
   grass -c "EPSG:$epsg" "$dir/grassdb/histo" -e > "$dir/location.log" 2>&1
