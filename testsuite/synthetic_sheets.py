@@ -110,10 +110,13 @@ def write(out, smap, sheets, side, margin=30.0, year=synthetic_map.MAP_YEAR):
                       dict({"bouwjaar": [current.years[k] for k in chosen],
                             "identificatie": [current.ids[k] for k in chosen]},
                            **{c: [v[k] for k in chosen] for c, v in heights.items()}))
+        # the print removed where the sheet has training points of it
+        printed = sorted({int(v) for v in labels} & {synthetic_map.TEXT, synthetic_map.SYMBOL})
         entries.append({"name": name, "map": name + ".map.bsq",
                         "training": name + ".training.geojson",
                         "footprints": name + ".current.geojson",
-                        "extent": [round(v, 3) for v in extent], "year": year})
+                        "extent": [round(v, 3) for v in extent], "year": year,
+                        "options": {"remove": ",".join(map(str, printed))}})
     write_geojson(os.path.join(out, "plots.geojson"), smap.plots,
                   {"kind": list(smap.plot_kinds)})
     manifest = {"epsg": 28992, "margin": margin, "seed": smap.seed, "sheets": entries}

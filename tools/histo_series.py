@@ -61,8 +61,17 @@ class SheetFailed(Exception):
 
 def error_line(text, fallback):
     """The last ``ERROR:`` line of a module's messages (else ``fallback``)."""
-    lines = [ln.strip() for ln in (text or "").splitlines() if ln.strip().startswith("ERROR:")]
-    return lines[-1] if lines else fallback
+    lines = (text or "").splitlines()
+    starts = [k for k, ln in enumerate(lines) if ln.strip().startswith("ERROR:")]
+    if not starts:
+        return fallback
+    k = starts[-1]
+    out = [lines[k].strip()]
+    for ln in lines[k + 1:]:         # GRASS wraps a long message on indented lines
+        if not ln.startswith("       ") or not ln.strip():
+            break
+        out.append(ln.strip())
+    return " ".join(out)
 
 
 # ---------------------------------------------------------------------------
