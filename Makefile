@@ -77,9 +77,9 @@ GLTF_VALIDATOR := gltf-validator@2.0.0-dev.3.10
 # (three.js r111), which the viewer inlines so it opens from file:// offline.
 DEBIAN_PACKAGES := grass-core grass-dev subversion make gcc python3-venv man-db \
 	libboost-filesystem1.74.0 libmpfr6 libgmp10 libgeos-c1v5 libegl1 libgl1-mesa-dri \
-	chromium libjs-three
+	chromium libjs-three $(ACTINIA_DEBIAN_PACKAGES)
 
-.PHONY: deps debian-packages venv node-tools build test demo bench user-install clean-dist
+.PHONY: deps debian-packages venv node-tools actinia build test demo bench user-install clean-dist
 
 # Installs only what is missing (apt needs root; on a machine that has it all
 # nothing is asked for).
@@ -104,7 +104,7 @@ node-tools:
 	    $(GLTF_VALIDATOR) && echo $(GLTF_VALIDATOR) > $(NODE_DIR)/.histo-node; \
 	fi
 
-deps: debian-packages venv node-tools
+deps: debian-packages venv node-tools actinia
 
 # Stage the built suite in dist/ (never the system tree); fail on any error
 # that GRASS's Dir.make would only log.
@@ -142,3 +142,27 @@ user-install: deps
 
 clean-dist:
 	rm -rf $(DIST) $(CURDIR)/.stamps
+
+# ---------------------------------------------------------------------------
+# actinia: a map series on a pool of GRASS workers (issue 30)
+# ---------------------------------------------------------------------------
+# actinia-core 4.14.1, the last release of the 4.x line (the line built on
+# GRASS 8.2, whose API speaks of locations; 5.x is built on GRASS 8.3, 6.x and
+# 7.x on 8.4), in a venv of its own (its dependencies, pinned by
+# tools/actinia/constraints.txt, would clash with the suite's pins), made from
+# Debian's python3 like the suite's. Redis (redis-server) and curl from
+# Debian. tools/actinia/service.sh starts and stops them; tools/histo_series.py
+# runs a series through them (README, "A map series on actinia").
+ACTINIA_VENV ?= $(HOME)/.local/share/histo/actinia-venv
+ACTINIA_CORE := actinia-core==4.14.1
+ACTINIA_DEBIAN_PACKAGES := redis-server curl
+
+actinia: debian-packages
+	@wanted="$(ACTINIA_CORE) $$(cat tools/actinia/constraints.txt)"; \
+	if [ "$$(cat $(ACTINIA_VENV)/.histo-actinia 2>/dev/null)" != "$$wanted" ]; then \
+	  echo "installing $(ACTINIA_CORE) into $(ACTINIA_VENV)"; \
+	  rm -rf $(ACTINIA_VENV) && $(SYSTEM_PYTHON) -m venv $(ACTINIA_VENV) && \
+	  $(ACTINIA_VENV)/bin/python3 -m pip install -q --disable-pip-version-check \
+	    $(ACTINIA_CORE) -c tools/actinia/constraints.txt && \
+	  printf '%s' "$$wanted" > $(ACTINIA_VENV)/.histo-actinia || { rm -rf $(ACTINIA_VENV); exit 1; }; \
+	fi

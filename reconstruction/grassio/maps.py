@@ -308,11 +308,14 @@ def _sql_literal(value, sql_type):
     return repr(value)
 
 
-def _sqlite_path(database):
+def _sqlite_path(database, map_name):
+    """The file of a SQLite database connection of vector map ``map_name``:
+    GRASS's variables replaced, ``$MAP`` too (a database per map, as
+    actinia's ephemeral mapsets have it: ``.../vector/$MAP/sqlite.db``)."""
     env = gs.gisenv()
     for key in ("GISDBASE", "LOCATION_NAME", "MAPSET"):
         database = database.replace("$" + key, env[key])
-    return database
+    return database.replace("$MAP", map_name.split("@")[0])
 
 
 def _write_table(name, cats, columns):
@@ -332,7 +335,7 @@ def _write_table(name, cats, columns):
     names = ", ".join(['"cat"'] + ['"{}"'.format(k) for k in columns])
     connection = gs.db_connection(force=True)
     if connection["driver"] == "sqlite":
-        path = _sqlite_path(connection["database"])
+        path = _sqlite_path(connection["database"], name)
         os.makedirs(os.path.dirname(path), exist_ok=True)
         rows = zip([int(c) for c in cats], *[
             [_sql_value(v, t) for v in columns[k]] for k, t in types.items()])
@@ -383,7 +386,7 @@ def _keyword_hooks(columns):
         statements = ['DROP TABLE IF EXISTS "{}"'.format(name),
                       'ALTER TABLE "{}" RENAME TO "{}"'.format(tables[0], name)]
         if connection["driver"] == "sqlite":
-            db = sqlite3.connect(_sqlite_path(connection["database"]))
+            db = sqlite3.connect(_sqlite_path(connection["database"], name))
             try:
                 with db:
                     for statement in statements:

@@ -12,6 +12,8 @@ down or stay inside its own package:
   lifespans, the model of all epochs) imports ``core``, ``geom`` and ``cityjson``;
 - ``view`` (a model made ready for a browser or glTF) imports ``core``, ``geom``,
   ``cityjson`` and ``epochs``;
+- ``series`` (a map series: manifest, process chains, sheet edges, the merged
+  model) imports ``core``, ``geom`` and ``cityjson``; it runs no GRASS itself;
 - the stages ``classify``, ``generalize``, ``align``, ``subdivide``, ``lod2``
   and the module v.histo.timeline's ``timeline``
   import the packages above and their own modules, never another stage.
@@ -41,6 +43,7 @@ LAYERS = {
     "grassio": {"core", "geom"},
     "epochs": {"core", "geom", "cityjson"},
     "view": {"core", "geom", "cityjson", "epochs"},
+    "series": {"core", "geom", "cityjson"},
 }
 STAGES = ("classify", "generalize", "align", "subdivide", "lod2", "timeline")
 for _stage in STAGES:

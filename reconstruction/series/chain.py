@@ -1,0 +1,168 @@
+"""The process chain of one sheet, filled in from a template.
+
+The template (``demo/series/sheet_chain.json``) is a process chain in
+actinia's format (version 1: a list of steps, each a GRASS module with its
+``inputs``, ``outputs`` and ``flags``) whose texts hold placeholders
+``{{name}}``; its ``defaults`` give the options a manifest may change.
+:func:`process_chain` fills it in for one sheet: the chain actinia runs.
+A step with ``"for_each": "neighbour"`` is repeated for every neighbouring
+sheet (``{{neighbour.map}}``, ``{{neighbour.index}}``). The same filled-in
+chain is what the local fallback runs (:meth:`ProcessChain.steps`: each
+step as a command line), so both run the same modules with the same
+parameters.
+
+Outputs marked ``export`` are what a sheet gives back: vector maps (as
+GeoJSON) and files written by a module (``$file::name``, actinia's
+placeholder for a file of the job).
+"""
+
+import copy
+import json
+import re
+from dataclasses import dataclass
+
+from ..core.errors import InputError
+from . import edges
+
+_PLACEHOLDER = re.compile(r"\{\{([A-Za-z_][A-Za-z0-9_.]*)\}\}")
+#: actinia's placeholder of a file a step writes: ``$file::name``
+FILE = "$file::"
+
+
+@dataclass(frozen=True)
+class Step:
+    """One step as a command line: the module, its ``key=value`` parameters
+    (files still as ``$file::name``) and its flags."""
+    id: str
+    module: str
+    params: tuple
+    flags: str = ""
+
+    def command(self, files):
+        """The command line, with the files of ``files`` (name -> path)."""
+        args = [self.module]
+        for key, value in self.params:
+            if value.startswith(FILE):
+                value = files[value[len(FILE):]]
+            args.append("{}={}".format(key, value))
+        if self.flags:
+            args.append("-" + self.flags)
+        return args
+
+
+@dataclass(frozen=True)
+class Export:
+    """What a sheet gives back: a vector map (``kind`` "vector", written as
+    GeoJSON) or a file a module wrote (``kind`` "file")."""
+    name: str
+    kind: str
+    file_name: str
+
+
+@dataclass(frozen=True)
+class ProcessChain:
+    """The filled-in chain of one sheet: the actinia document and what it exports."""
+    sheet: str
+    document: dict
+
+    def steps(self):
+        """Every step as a :class:`Step`, in order."""
+        out = []
+        for entry in self.document["list"]:
+            params = [(i["param"], str(i["value"])) for i in entry.get("inputs", ())]
+            params += [(o["param"], str(o["value"])) for o in entry.get("outputs", ())]
+            out.append(Step(entry["id"], entry["module"], tuple(params), entry.get("flags", "")))
+        return out
+
+    def exports(self):
+        """What the chain exports (:class:`Export`), in order."""
+        out = []
+        for entry in self.document["list"]:
+            for o in entry.get("outputs", ()):
+                if "export" not in o:
+                    continue
+                value = str(o["value"])
+                if o["export"]["type"] == "file":
+                    name = value[len(FILE):]
+                    out.append(Export(name, "file", name))
+                else:
+                    out.append(Export(value, "vector", value + ".geojson"))
+        return out
+
+
+def read_template(path):
+    """The template (a dict) of a JSON file; InputError when it is not one."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            doc = json.load(f)
+    except OSError as e:
+        raise InputError("Cannot read the chain template '{}': {}".format(path, e.strerror)) \
+            from None
+    except ValueError as e:
+        raise InputError("The chain template '{}' is not JSON ({})".format(path, e)) from None
+    if not isinstance(doc.get("list"), list) or not isinstance(doc.get("defaults", {}), dict):
+        raise InputError("The chain template '{}' has no list of steps".format(path))
+    return doc
+
+
+def values(series, sheet, grid_file):
+    """The placeholders' values of one sheet: the template's defaults are
+    filled in by :func:`process_chain`, these come from the manifest."""
+    west, south, east, north = edges.chain_region(series, sheet)
+    out = {"name": sheet.name, "map": sheet.map, "training": sheet.training,
+           "footprints": sheet.footprints, "year": str(sheet.year), "seed": str(series.seed),
+           "grid": grid_file, "owner_query": edges.owner_query(edges.sheet_index(series, sheet)),
+           "west": _text(west), "south": _text(south), "east": _text(east),
+           "north": _text(north)}
+    bands = ["sheet"] + ["n{}".format(k) for k in range(len(series.neighbours(sheet)))]
+    for b in (1, 2, 3):
+        out["patch_{}".format(b)] = ",".join("{}.{}".format(m, b) for m in bands)
+    return out
+
+
+def _text(v):
+    return repr(float(v)).rstrip("0").rstrip(".") if float(v) != int(v) else str(int(v))
+
+
+def _fill(obj, known, where):
+    if isinstance(obj, str):
+        def one(m):
+            if m.group(1) not in known:
+                raise InputError("{}: unknown placeholder {{{{{}}}}}".format(where, m.group(1)))
+            return known[m.group(1)]
+        return _PLACEHOLDER.sub(one, obj)
+    if isinstance(obj, list):
+        return [_fill(v, known, where) for v in obj]
+    if isinstance(obj, dict):
+        return {k: _fill(v, known, where) for k, v in obj.items()}
+    return obj
+
+
+def process_chain(template, series, sheet, grid_file):
+    """The :class:`ProcessChain` of ``sheet``: ``template`` (a dict, as
+    :func:`read_template` gives it) filled in with the sheet's values, the
+    template's defaults, the series' options and the sheet's own (the last
+    wins). An option the template does not know is an InputError."""
+    where = "sheet <{}>".format(sheet.name)
+    defaults = {k: str(v) for k, v in template.get("defaults", {}).items()}
+    options = dict(defaults)
+    for key, value in series.options + sheet.options:
+        if key not in defaults:
+            raise InputError("{}: unknown option <{}> (the chain's options: {})".format(
+                where, key, ", ".join(sorted(defaults))))
+        options[key] = value
+    known = dict(options)
+    known.update(values(series, sheet, grid_file))
+    steps = []
+    for entry in template["list"]:
+        if entry.get("for_each") == "neighbour":
+            for k, other in enumerate(series.neighbours(sheet)):
+                here = dict(known, **{"neighbour.map": other.map, "neighbour.index": str(k)})
+                step = {key: v for key, v in entry.items() if key != "for_each"}
+                steps.append(_fill(step, here, where))
+        elif "for_each" in entry:
+            raise InputError("{}: a template step repeats for each {}: only 'neighbour' is "
+                             "known".format(where, json.dumps(entry["for_each"])))
+        else:
+            steps.append(_fill(entry, known, where))
+    return ProcessChain(sheet.name, {"version": "1", "list": copy.deepcopy(steps)})

@@ -1,0 +1,329 @@
+#!/usr/bin/env python3
+"""Run a map series: one process chain per sheet, on actinia or locally (issue 30).
+
+    python3 tools/histo_series.py MANIFEST OUT [--server URL] [--jobs N]
+
+Each sheet of the manifest (reconstruction.series.manifest) gets the
+process chain of the template (demo/series/sheet_chain.json) filled in
+with its files and options. With ``--server`` every chain is sent to that
+actinia (``processing_async_export`` in ``--location``, user and password
+``--user``/``--password``), at most ``--jobs`` at a time; without it the
+same chains run here, ``--jobs`` at a time, each in a GRASS session of its
+own in a fresh mapset (the local fallback: the same modules with the same
+parameters, the same exports). A failed sheet is tried once more; a sheet
+that fails twice is reported with its module's ``ERROR:`` line and the
+others go on. What finished is recorded in OUT/progress.jsonl, so a rerun
+runs only the sheets that did not finish. Then the sheets' models are
+merged into OUT/series.city.jsonl (reconstruction.series.merge).
+
+Output: OUT/<sheet>/model.city.json, plots.geojson, footprints.geojson,
+chain.json (the chain as sent); OUT/grid.geojson (the sheets' own areas);
+OUT/series.city.jsonl and OUT/report.json. Exit status 0 when every sheet
+finished, 1 when some failed (their report says why), 2 on bad input.
+The suite is found as GRASS finds addons: ``--dist`` (default: $HISTO_DIST
+or ./dist), whose scripts/ go on the PATH of the local runs.
+
+Also: ``histo_series.py --run-steps CHAIN DIR``, inside a GRASS session,
+runs one filled-in chain's steps and exports into DIR (what the local
+fallback starts for each sheet).
+"""
+
+import argparse
+import base64
+import concurrent.futures
+import io
+import json
+import os
+import shutil
+import subprocess
+import sys
+import threading
+import time
+import urllib.error
+import urllib.request
+import zipfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+if ROOT not in sys.path:
+    sys.path.insert(0, ROOT)
+
+from reconstruction.core.errors import InputError  # noqa: E402
+from reconstruction.series import chain as series_chain  # noqa: E402
+from reconstruction.series import edges, manifest, merge, progress  # noqa: E402
+
+TEMPLATE = os.path.join(ROOT, "demo", "series", "sheet_chain.json")
+MODEL = "model.city.json"
+
+
+class SheetFailed(Exception):
+    """A sheet's chain failed: the message is the failing module's ERROR: line."""
+
+
+def error_line(text, fallback):
+    """The last ``ERROR:`` line of a module's messages (else ``fallback``)."""
+    lines = (text or "").splitlines()
+    starts = [k for k, ln in enumerate(lines) if ln.strip().startswith("ERROR:")]
+    if not starts:
+        return fallback
+    k = starts[-1]
+    out = [lines[k].strip()]
+    for ln in lines[k + 1:]:         # GRASS wraps a long message on indented lines
+        if not ln.startswith("       ") or not ln.strip():
+            break
+        out.append(ln.strip())
+    return " ".join(out)
+
+
+# ---------------------------------------------------------------------------
+# Local fallback
+# ---------------------------------------------------------------------------
+
+def run_steps(chain_path, out):
+    """Inside a GRASS session: run the steps of one chain and export its outputs into ``out``."""
+    with open(chain_path, encoding="utf-8") as f:
+        document = json.load(f)
+    pc = series_chain.ProcessChain(os.path.basename(out), document)
+    os.makedirs(out, exist_ok=True)
+    exports = pc.exports()
+    files = {e.name: os.path.join(out, e.file_name + ".part") for e in exports if e.kind == "file"}
+    for step in pc.steps():
+        command = step.command(files)
+        proc = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        sys.stdout.write(proc.stdout)
+        sys.stderr.write(proc.stderr)
+        if proc.returncode:
+            print(error_line(proc.stderr, "ERROR: {} failed (exit {})".format(
+                step.module, proc.returncode)), file=sys.stderr)
+            return 1
+    for e in exports:
+        if e.kind == "vector":
+            subprocess.run(["v.out.ogr", "input=" + e.name, "output=" + os.path.join(
+                out, e.file_name), "format=GeoJSON", "--quiet"], check=True)
+        else:
+            os.replace(files[e.name], os.path.join(out, e.file_name))
+    return 0
+
+
+def run_local(pc, sheet_dir, location, dist):
+    """Run one chain in a fresh mapset of ``location`` (removed afterwards)."""
+    chain_path = os.path.join(sheet_dir, "chain.json")
+    mapset = os.path.join(location, "{}_{}_{}".format(pc.sheet, os.getpid(),
+                                                       threading.get_ident()))
+    env = dict(os.environ, GRASS_ADDON_BASE=dist,
+               PATH=os.path.join(dist, "scripts") + os.pathsep + os.environ.get("PATH", ""))
+    env.pop("GISRC", None)
+    env.pop("GISBASE", None)
+    shutil.rmtree(mapset, ignore_errors=True)
+    out = os.path.join(sheet_dir, "local")
+    shutil.rmtree(out, ignore_errors=True)
+    try:
+        proc = subprocess.run(["grass", "-c", mapset, "--exec", sys.executable, __file__,
+                               "--run-steps", chain_path, out],
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+    finally:
+        shutil.rmtree(mapset, ignore_errors=True)
+    with open(os.path.join(sheet_dir, "log.txt"), "w", encoding="utf-8") as f:
+        f.write(proc.stdout)
+    if proc.returncode or not os.path.exists(os.path.join(out, "model")):
+        raise SheetFailed(error_line(proc.stdout, "ERROR: the chain failed (exit {})".format(
+            proc.returncode)))
+    return {e.file_name: os.path.join(out, e.file_name) for e in pc.exports()}
+
+
+# ---------------------------------------------------------------------------
+# actinia
+# ---------------------------------------------------------------------------
+
+class Actinia:
+    """A few calls of actinia's REST API (version 3), with basic authentication."""
+
+    def __init__(self, url, user, password, location):
+        self.url, self.location = url.rstrip("/"), location
+        token = base64.b64encode("{}:{}".format(user, password).encode()).decode()
+        self.headers = {"Authorization": "Basic " + token}
+
+    def call(self, url, data=None):
+        headers = dict(self.headers)
+        if data is not None:
+            headers["Content-Type"] = "application/json"
+            data = json.dumps(data).encode()
+        request = urllib.request.Request(url, data=data, headers=headers)
+        try:
+            with urllib.request.urlopen(request, timeout=120) as r:
+                return r.read()
+        except urllib.error.HTTPError as e:
+            return e.read()
+
+    def run(self, pc, sheet_dir, poll=1.0):
+        answer = json.loads(self.call("{}/api/v3/locations/{}/processing_async_export".format(
+            self.url, self.location), pc.document))
+        status_url = answer.get("urls", {}).get("status")
+        if not status_url:
+            raise SheetFailed("ERROR: actinia refused the chain: {}".format(
+                answer.get("message", answer)))
+        while True:
+            state = json.loads(self.call(status_url))
+            if state.get("status") in ("finished", "error", "terminated"):
+                break
+            time.sleep(poll)
+        with open(os.path.join(sheet_dir, "log.txt"), "w", encoding="utf-8") as f:
+            json.dump(state, f, indent=1)
+        if state["status"] != "finished":
+            logs = state.get("process_log") or []
+            text = "\n".join("\n".join(p.get("stderr") or []) for p in logs)
+            raise SheetFailed(error_line(text, "ERROR: " + str(state.get("message"))))
+        out = os.path.join(sheet_dir, "actinia")
+        shutil.rmtree(out, ignore_errors=True)
+        os.makedirs(out)
+        for url in state["urls"]["resources"]:
+            data = self.call(url)
+            name = url.rsplit("/", 1)[1]
+            if name.endswith(".zip"):
+                # one file each, by the resource's name (a file export's
+                # member carries the worker's temporary path)
+                with zipfile.ZipFile(io.BytesIO(data)) as z:
+                    members = [m for m in z.infolist() if not m.is_dir()]
+                    if len(members) != 1:
+                        raise SheetFailed("ERROR: actinia's <{}> holds {} files, not one".format(
+                            name, len(members)))
+                    with open(os.path.join(out, name[:-4]), "wb") as f:
+                        f.write(z.read(members[0]))
+            else:
+                with open(os.path.join(out, name), "wb") as f:
+                    f.write(data)
+        found = {}
+        for e in pc.exports():
+            stem = e.name
+            match = [n for n in os.listdir(out) if n.split(".")[0] == stem]
+            if not match:
+                raise SheetFailed("ERROR: actinia did not export <{}>".format(e.name))
+            found[e.file_name] = os.path.join(out, match[0])
+        return found
+
+
+# ---------------------------------------------------------------------------
+# The series
+# ---------------------------------------------------------------------------
+
+def make_location(path, epsg):
+    if not os.path.isdir(os.path.join(path, "PERMANENT")):
+        subprocess.run(["grass", "-c", "EPSG:{}".format(epsg), path, "-e"], check=True,
+                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+
+def run_series(args):
+    series = manifest.read_manifest(args.manifest)
+    template = series_chain.read_template(args.template)
+    out = os.path.abspath(args.out)
+    os.makedirs(out, exist_ok=True)
+    grid = os.path.join(out, "grid.geojson")
+    with open(grid, "w", encoding="utf-8") as f:
+        json.dump(edges.grid_geojson(series), f)
+    chains = {s.name: series_chain.process_chain(template, series, s, grid)
+              for s in series.sheets}
+    done = progress.Progress(os.path.join(out, "progress.jsonl"))
+    todo = [s for s in series.sheets
+            if not (done.done(s.name, progress.fingerprint(chains[s.name].document))
+                    and os.path.exists(os.path.join(out, s.name, MODEL)))]
+    skipped = len(series.sheets) - len(todo)
+    if skipped:
+        print("{} of {} sheets finished before: running the other {}".format(
+            skipped, len(series.sheets), len(todo)), flush=True)
+    if args.server:
+        where = Actinia(args.server, args.user, args.password, args.location)
+        runner = where.run
+    else:
+        location = os.path.join(out, "grassdb", "series")
+        make_location(location, series.epsg)
+        dist = os.path.abspath(args.dist)
+
+        def runner(pc, sheet_dir):
+            return run_local(pc, sheet_dir, location, dist)
+
+    lock = threading.Lock()
+    finished = [skipped]
+    failures = {}
+
+    def one(sheet):
+        pc = chains[sheet.name]
+        sheet_dir = os.path.join(out, sheet.name)
+        os.makedirs(sheet_dir, exist_ok=True)
+        with open(os.path.join(sheet_dir, "chain.json"), "w", encoding="utf-8") as f:
+            json.dump(pc.document, f, indent=1)
+        for attempt in (1, 2):
+            start = time.time()
+            try:
+                files = runner(pc, sheet_dir)
+            except (SheetFailed, OSError, ValueError) as e:
+                message = str(e) if isinstance(e, SheetFailed) else "ERROR: {}".format(e)
+                done.record(progress.Attempt(sheet.name, "failed", attempt,
+                                             round(time.time() - start, 1),
+                                             progress.fingerprint(pc.document), message))
+                with lock:
+                    print("sheet <{}> failed (attempt {}): {}".format(sheet.name, attempt,
+                                                                      message), flush=True)
+                continue
+            for name, path in files.items():
+                final = os.path.join(sheet_dir, MODEL if name == "model" else name)
+                shutil.copyfile(path, final + ".part")
+                os.replace(final + ".part", final)
+            seconds = round(time.time() - start, 1)
+            done.record(progress.Attempt(sheet.name, "done", attempt, seconds,
+                                         progress.fingerprint(pc.document)))
+            with lock:
+                finished[0] += 1
+                print("[{}/{}] sheet <{}> done in {} s".format(
+                    finished[0], len(series.sheets), sheet.name, seconds), flush=True)
+            return
+        with lock:
+            failures[sheet.name] = done.last[sheet.name].error
+
+    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        list(pool.map(one, todo))
+
+    models = [(s.name, os.path.join(out, s.name, MODEL)) for s in series.sheets
+              if s.name not in failures and os.path.exists(os.path.join(out, s.name, MODEL))]
+    report = {"sheets": len(series.sheets), "finished": len(models), "failed": failures}
+    if models:
+        target = os.path.join(out, "series.city.jsonl")
+        with open(target + ".part", "wb") as f:
+            merged = merge.merge_sheets(models, series, f)
+        os.replace(target + ".part", target)
+        report.update(buildings=merged.buildings, built=merged.built, kept=merged.kept,
+                      dropped=merged.dropped, renamed=merged.renamed)
+        print("{} buildings of {} sheets merged into '{}'{}".format(
+            merged.buildings, len(models), target,
+            "; {} left out, overlapping a neighbour's".format(len(merged.dropped))
+            if merged.dropped else ""), flush=True)
+    with open(os.path.join(out, "report.json"), "w", encoding="utf-8") as f:
+        json.dump(report, f, indent=1)
+    for name, message in sorted(failures.items()):
+        print("sheet <{}> failed: {}".format(name, message), flush=True)
+    return 1 if failures else 0
+
+
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
+    if argv[:1] == ["--run-steps"]:
+        return run_steps(argv[1], argv[2])
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("manifest", help="the series' manifest (JSON or CSV)")
+    parser.add_argument("out", help="output folder")
+    parser.add_argument("--server", help="actinia's URL (default: run the chains here)")
+    parser.add_argument("--user", default="histo")
+    parser.add_argument("--password", default="histo")
+    parser.add_argument("--location", default="histo", help="actinia's location for the jobs")
+    parser.add_argument("--jobs", type=int, default=2, help="sheets running at a time")
+    parser.add_argument("--template", default=TEMPLATE, help="process chain template")
+    parser.add_argument("--dist", default=os.environ.get("HISTO_DIST", os.path.join(ROOT, "dist")),
+                        help="the staged suite (local runs)")
+    args = parser.parse_args(argv)
+    try:
+        return run_series(args)
+    except InputError as e:
+        print("ERROR: {}".format(e), file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())
