@@ -151,11 +151,12 @@ clean-dist:
 # 7.x on 8.4), in a venv of its own (its dependencies, pinned by
 # tools/actinia/constraints.txt, would clash with the suite's pins), made from
 # Debian's python3 like the suite's. Redis (redis-server) and curl from
-# Debian. tools/actinia/service.sh starts and stops them; tools/histo_series.py
+# Debian (python3-dev: pip builds uWSGI, which actinia runs under, from source).
+# tools/actinia/service.sh starts and stops them; tools/histo_series.py
 # runs a series through them (README, "A map series on actinia").
 ACTINIA_VENV ?= $(HOME)/.local/share/histo/actinia-venv
 ACTINIA_CORE := actinia-core==4.14.1
-ACTINIA_DEBIAN_PACKAGES := redis-server curl
+ACTINIA_DEBIAN_PACKAGES := redis-server curl python3-dev
 
 actinia: debian-packages
 	@wanted="$(ACTINIA_CORE) $$(cat tools/actinia/constraints.txt)"; \
