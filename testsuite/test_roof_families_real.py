@@ -18,6 +18,9 @@ pytestmark = pytest.mark.grass
 #: the families past the thesis's five, and the default rules (auto)
 FAMILIES = ("half_hip", "pyramid", "gambrel", "shed", "cornice", "neck", "bell", "spout",
             "auto")
+#: the families a neighbour changes (a shared edge): a pyramid stands free,
+#: a shed's and a cornice's walls keep off the neighbours
+FREE_STANDING = ("pyramid", "shed", "cornice")
 #: facades on the street end: convex footprints only (the others get a gable)
 FACADES = ("neck", "bell", "spout")
 
@@ -90,7 +93,27 @@ def test_every_family_forced_is_valid_on_real_footprints(real_footprints, name, 
             # a pyramid stands free: in a row (a shared edge) or without an
             # apex that sees every edge it is a hip
             assert set(types) <= {"pyramid", "hip", "mansard", "flat"} and kept > 0, set(types)
+        elif family == "shed":
+            # a shed's walls keep off the neighbours: between two it is flat
+            assert set(types) <= {"shed", "flat"} and kept > 0, set(types)
+        elif family == "cornice":
+            # gable walls only where free: between two neighbours a hip
+            assert set(types) <= {"cornice", "hip", "gable", "mansard", "flat"} and kept > 0
         elif family != "auto":
             # the family where it can be built; a concave shape's fallbacks are rare
             assert kept >= 0.9 * len(types), (family, kept, len(types))
+    # the families that keep off the neighbours, without street edges (-s: no
+    # edge is known as shared), so that they stand on nearly every footprint
+    for family in FREE_STANDING:
+        out = tmp_path / "{}_{}_s.city.json".format(name, family)
+        code, stdout, err = run_module("v.histo.lod2", flags="vs", input=vector, output=str(out),
+                                       roof=family, seed=1, **options)
+        assert code == 0, err
+        with open(out) as f:
+            types = [o["attributes"]["roof_type"] for o in json.load(f)["CityObjects"].values()]
+        report = val3dity_report(str(out))
+        lines.append("{} roof={} -s: {} solids, {} kept the family, val3dity {}".format(
+            name, family, len(types), types.count(family), report))
+        assert report.valid == report.objects == len(types), str(report)
+        assert types.count(family) >= 0.9 * len(types), (family, types.count(family))
     print("\n".join(lines))

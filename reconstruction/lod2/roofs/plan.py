@@ -242,7 +242,12 @@ def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None
             # there would be a steep end against it): a tent roof is a hip
             kind = "hip"
         if kind == "shed":
-            plan.sheds.append((i, _high_edge(xy, mask, None if street is None else street[i])))
+            high = _high_edge(xy, mask, None if street is None else street[i])
+            if high >= 0:
+                plan.sheds.append((i, high))
+                continue
+            kinds[i] = "flat"                   # no side free for a shed's walls
+            plan.flat.setdefault(n, []).append(i)
             continue
         if kind == "cornice" and n >= 4:
             # the ends beside the street edge: gable walls where free, a hip at
@@ -426,16 +431,23 @@ def _pyramid_apexes(footprints, which):
 
 
 def _high_edge(xy, shared, street):
-    """The high edge of a shed roof: its street edge where known and free,
-    else its longest free edge (the roof falls across the narrow span), else
-    its longest edge: like every roof's ends, no wall above the eaves stands
-    against a neighbour."""
+    """The high edge of a shed roof, or -1 for none (a flat roof). A shed
+    has walls above the eaves on every edge but its low side, so, like every
+    roof's ends, it keeps them off its neighbours: with no shared edge it is
+    high along its street edge where known, else its longest edge (the roof
+    falls across the narrow span); a 4-sided footprint with one shared edge
+    falls to it (high along the edge opposite); any other sharing leaves no
+    side free for its walls: none."""
     lengths = edge_lengths(xy)
-    free = np.ones(len(xy), dtype=bool) if shared is None else \
-        ~np.asarray(shared[:len(xy)], dtype=bool)
-    if street is not None and 0 <= int(street) < len(xy) and free[int(street)]:
-        return int(street)
-    return int(np.argmax(np.where(free, lengths, -1.0))) if free.any() else int(np.argmax(lengths))
+    n = len(xy)
+    on = np.zeros(n, dtype=bool) if shared is None else np.asarray(shared[:n], dtype=bool)
+    if not on.any():
+        if street is not None and 0 <= int(street) < n:
+            return int(street)
+        return int(np.argmax(lengths))
+    if n == 4 and on.sum() == 1:
+        return (int(np.argmax(on)) + 2) % 4
+    return -1
 
 
 def mansard_caps(footprints, which, wanted=None):

@@ -1,9 +1,9 @@
 """Shed roofs (lean-to, skillion): one plane over the footprint, in batch.
 
 A shed roof is the footprint lifted onto one plane that is highest along
-its high edge (the street facade, else a free side: no wall above the
-eaves stands against a neighbour) and falls to the eaves at the
-footprint's farthest vertex from that edge. The
+its high edge and falls to the eaves at the footprint's farthest vertex
+from that edge (:func:`~reconstruction.lod2.roofs.plan.plan_roofs` chooses
+the edge so that no wall above the eaves stands against a neighbour). The
 walls rise to the plane: above the eaves each footprint edge has a
 vertical face up to the roof (a quad, a triangle where one end stays at the
 eaves, none along the low edge). Any simple footprint, convex or concave,

@@ -96,7 +96,7 @@ def test_pyramid_rises_to_one_apex_over_the_centroid():
     assert roof_of(square, "pyramid", shared=[False, True, False, False])[1] == "hip"
 
 
-def test_shed_is_one_plane_high_along_the_street_and_never_against_a_neighbour():
+def test_shed_is_one_plane_high_along_the_street_with_no_wall_against_a_neighbour():
     roof, kind = roof_of(RECT, "shed", attic=3.0, street=0)
     assert kind == "shed"
     v = roof.vertices
@@ -106,12 +106,14 @@ def test_shed_is_one_plane_high_along_the_street_and_never_against_a_neighbour()
     assert zs[(0.0, 0.0)] == pytest.approx(3.0) and zs[(8.0, 0.0)] == pytest.approx(3.0)
     assert zs[(8.0, 14.0)] == 0.0 and zs[(0.0, 14.0)] == 0.0
     assert v[[2, 3], 2].tolist() == [0.0, 0.0]          # footprint vertices stay at the eaves
-    # the street edge shared (a rear annex): high along its longest free edge
-    roof, _ = roof_of(RECT, "shed", attic=3.0, street=0, shared=[True, False, False, True])
+    # one edge shared: the roof falls to it, high along the edge opposite
+    roof, _ = roof_of(RECT, "shed", attic=3.0, street=0, shared=[True, False, False, False])
     top = [f for f, nz in zip(roof.faces, normals(roof)[:, 2]) if nz > 1e-9][0]
     zs = {tuple(np.round(roof.vertices[k, :2], 6)): roof.vertices[k, 2] for k in top}
-    assert zs[(8.0, 0.0)] == pytest.approx(3.0) and zs[(8.0, 14.0)] == pytest.approx(3.0)
-    assert zs[(0.0, 0.0)] == 0.0 and zs[(0.0, 14.0)] == 0.0
+    assert zs[(8.0, 14.0)] == pytest.approx(3.0) and zs[(0.0, 14.0)] == pytest.approx(3.0)
+    assert zs[(0.0, 0.0)] == 0.0 and zs[(8.0, 0.0)] == 0.0
+    # between two neighbours no side is free for its walls: flat
+    assert roof_of(RECT, "shed", street=0, shared=[False, True, False, True])[1] == "flat"
 
 
 def test_cornice_ridge_runs_along_the_street_with_gable_walls_where_free():
