@@ -37,7 +37,7 @@ from typing import Optional
 import numpy as np
 import shapely
 
-from ..outlines import edge_lengths, end_edges, opposite_edges, outline_facts
+from ..outlines import edge_lengths, end_edges, is_convex, opposite_edges, outline_facts
 from .envelope import MAX_VERTICES as ENVELOPE_MAX_VERTICES
 from .envelope import Raised, batch_rows, envelope_arrays
 from .facades import PROFILES as FACADE_PROFILES
@@ -192,7 +192,7 @@ class RoofPlan:
     ends: dict
     #: pyramid roofs: (footprint, apex (2,)) pairs
     pyramids: list = dataclasses.field(default_factory=list)
-    #: shed roofs: (footprint, high edge) pairs
+    #: shed roofs: (footprint, (edge, low along it)) pairs
     sheds: list = dataclasses.field(default_factory=list)
     #: two-slope roofs of concave footprints (:class:`StagedJob`)
     staged: list = dataclasses.field(default_factory=list)
@@ -242,9 +242,9 @@ def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None
             # there would be a steep end against it): a tent roof is a hip
             kind = "hip"
         if kind == "shed":
-            high = _high_edge(xy, mask, None if street is None else street[i])
-            if high >= 0:
-                plan.sheds.append((i, high))
+            edge, low = _shed_edge(xy, mask, None if street is None else street[i])
+            if edge >= 0:
+                plan.sheds.append((i, (edge, low)))
                 continue
             kinds[i] = "flat"                   # no side free for a shed's walls
             plan.flat.setdefault(n, []).append(i)
@@ -430,24 +430,24 @@ def _pyramid_apexes(footprints, which):
     return out
 
 
-def _high_edge(xy, shared, street):
-    """The high edge of a shed roof, or -1 for none (a flat roof). A shed
-    has walls above the eaves on every edge but its low side, so, like every
-    roof's ends, it keeps them off its neighbours: with no shared edge it is
-    high along its street edge where known, else its longest edge (the roof
-    falls across the narrow span); a 4-sided footprint with one shared edge
-    falls to it (high along the edge opposite); any other sharing leaves no
-    side free for its walls: none."""
-    lengths = edge_lengths(xy)
+def _shed_edge(xy, shared, street):
+    """The edge a shed roof runs along and whether it is low there, or
+    ``(-1, False)`` for none (a flat roof). A shed has walls above the eaves
+    on every edge but its low side, so, like every roof's ends, it keeps
+    them off its neighbours: with no shared edge it is high along its street
+    edge where known, else its longest edge (the roof falls across the
+    narrow span); a convex 4-sided footprint with one shared edge is low
+    along it (the roof falls to it); any other sharing leaves no side free
+    for its walls: none."""
     n = len(xy)
     on = np.zeros(n, dtype=bool) if shared is None else np.asarray(shared[:n], dtype=bool)
     if not on.any():
         if street is not None and 0 <= int(street) < n:
-            return int(street)
-        return int(np.argmax(lengths))
-    if n == 4 and on.sum() == 1:
-        return (int(np.argmax(on)) + 2) % 4
-    return -1
+            return int(street), False
+        return int(np.argmax(edge_lengths(xy))), False
+    if n == 4 and on.sum() == 1 and is_convex(xy):
+        return int(np.argmax(on)), True
+    return -1, False
 
 
 def mansard_caps(footprints, which, wanted=None):
@@ -656,8 +656,9 @@ def _pyramid_roofs(plan, footprints, attic):
 
 def _shed_roofs(plan, footprints, attic):
     """The shed roofs of the plan, one group per vertex count."""
-    return [shed_group(idx, xy, np.array(high), attic[idx])
-            for idx, xy, high in _by_vertex_count(footprints, plan.sheds)]
+    return [shed_group(idx, xy, np.array([e for e, _ in along]), attic[idx],
+                       np.array([low for _, low in along]))
+            for idx, xy, along in _by_vertex_count(footprints, plan.sheds)]
 
 
 def _skeleton_roofs(plan, attic):

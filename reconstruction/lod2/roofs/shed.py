@@ -15,29 +15,34 @@ import numpy as np
 from .model import RoofGroup
 
 
-def shed_group(index, xy, high, height):
+def shed_group(index, xy, edge, height, low=None):
     """The shed roofs of footprints ``xy`` (G, n, 2) (counter-clockwise),
-    highest at ``height`` (G,) above the eaves along their edge ``high``
-    (G,), as a :class:`~reconstruction.lod2.roofs.model.RoofGroup` of the
-    footprints ``index``.
+    ``height`` (G,) above the eaves at their highest, as a
+    :class:`~reconstruction.lod2.roofs.model.RoofGroup` of the footprints
+    ``index``. The plane runs parallel to each one's edge ``edge`` (G,): high
+    along it, falling to the eaves at the farthest vertex; where ``low``
+    (G,) is True it is low along it (at the eaves over its whole length),
+    rising to the farthest vertex.
 
     Roof vertex ``n + k`` is footprint vertex ``k`` lifted onto the plane;
-    where the plane meets the eaves (the vertices farthest from the high
-    edge) the faces use the footprint's own vertex instead, so that no
-    face has a side of zero length (the lifted copy is then unused).
+    where the plane meets the eaves the faces use the footprint's own
+    vertex instead, so that no face has a side of zero length (the lifted
+    copy is then unused).
     """
     xy = np.asarray(xy, dtype=float)
     G, n, _ = xy.shape
     height = np.asarray(height, dtype=float)
-    high = np.asarray(high, dtype=np.int64)
+    edge = np.asarray(edge, dtype=np.int64)
+    low = np.zeros(G, dtype=bool) if low is None else np.asarray(low, dtype=bool)
     rows = np.arange(G)
-    a = xy[rows, high]
-    t = xy[rows, (high + 1) % n] - a
+    a = xy[rows, edge]
+    t = xy[rows, (edge + 1) % n] - a
     t /= np.hypot(t[:, 0], t[:, 1])[:, None]
     depth = t[:, None, 0] * (xy[..., 1] - a[:, None, 1]) - t[:, None, 1] * (xy[..., 0] - a[:, None, 0])
     lo, hi = depth.min(axis=1), depth.max(axis=1)
-    z = height[:, None] * (hi[:, None] - depth) / np.maximum(hi - lo, 1e-12)[:, None]
-    at_eaves = depth >= hi[:, None] - 1e-9 * (1.0 + np.abs(hi[:, None]))
+    rise = np.where(low[:, None], depth - lo[:, None], hi[:, None] - depth)
+    z = height[:, None] * rise / np.maximum(hi - lo, 1e-12)[:, None]
+    at_eaves = rise <= 1e-9 * (1.0 + np.abs(hi - lo))[:, None]
     z[at_eaves] = 0.0
     lifted = np.concatenate([xy, z[..., None]], axis=2)
     up = np.where(at_eaves, np.arange(n), n + np.arange(n))           # (G, n) roof vertex numbers

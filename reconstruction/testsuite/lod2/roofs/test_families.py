@@ -112,6 +112,16 @@ def test_shed_is_one_plane_high_along_the_street_with_no_wall_against_a_neighbou
     zs = {tuple(np.round(roof.vertices[k, :2], 6)): roof.vertices[k, 2] for k in top}
     assert zs[(8.0, 14.0)] == pytest.approx(3.0) and zs[(0.0, 14.0)] == pytest.approx(3.0)
     assert zs[(0.0, 0.0)] == 0.0 and zs[(8.0, 0.0)] == 0.0
+    # on a trapezoid too the shared edge stays at the eaves over its whole
+    # length (the Delft chain had a wall there when the roof fell from the
+    # edge opposite, which is not parallel to it)
+    trapezoid = np.array([[0.0, 0.0], [8.0, 0.0], [7.0, 14.0], [0.0, 12.0]])
+    roof, kind = roof_of(trapezoid, "shed", attic=3.0, street=0,
+                         shared=[False, False, False, True])
+    assert kind == "shed"
+    walls = [f for f, nz in zip(roof.faces, normals(roof)[:, 2]) if abs(nz) < 1e-9]
+    assert all(not (np.abs(roof.vertices[f, 0]) < 1e-9).all() for f in walls)
+    assert used(roof)[:, 2].max() == pytest.approx(3.0)
     # between two neighbours no side is free for its walls: flat
     assert roof_of(RECT, "shed", street=0, shared=[False, True, False, True])[1] == "flat"
 
