@@ -28,6 +28,10 @@ from shapely.geometry import box, mapping
 
 import synthetic_map
 
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.dirname(HERE))
+from reconstruction.series.manifest import MARGIN  # noqa: E402
+
 
 def sheet_box(smap, column, row, side):
     """The (west, south, east, north) of sheet (column, row) of ``side`` metres,
@@ -86,7 +90,7 @@ def write_geojson(path, geometries, properties):
         json.dump({"type": "FeatureCollection", "features": features}, f)
 
 
-def write(out, smap, sheets, side, margin=30.0, year=synthetic_map.MAP_YEAR):
+def write(out, smap, sheets, side, margin=MARGIN, year=synthetic_map.MAP_YEAR):
     """Write every sheet (column, row) of ``sheets`` into ``out`` and the
     manifest ``out/series.json``; returns the manifest's path."""
     os.makedirs(out, exist_ok=True)
@@ -131,7 +135,7 @@ def main(argv=None):
                                          "and the manifest of their series.")
     parser.add_argument("out", help="folder of the sheets")
     parser.add_argument("--sheet", type=float, default=200.0, help="side of a sheet (m)")
-    parser.add_argument("--margin", type=float, default=30.0,
+    parser.add_argument("--margin", type=float, default=MARGIN,
                         help="margin each sheet's chain reads from its neighbours (m)")
     parser.add_argument("--sheets", nargs="+", default=None,
                         help="sheets as COLUMN,ROW (default: the whole grid)")

@@ -188,3 +188,5 @@ def test_the_merged_series_builds_every_plot_once_without_overlaps(on_actinia, s
     overlaps = [(model.buildings[a], model.buildings[b]) for a, b in zip(i, j)
                 if a < b and geoms[a].intersection(geoms[b]).area > 0.01]
     assert overlaps == []
+    # and the sheets' chains built every building once: the merge had none to leave out
+    assert json.load(open(os.path.join(out, "report.json")))["dropped"] == []
