@@ -253,19 +253,18 @@ def plan_roofs(footprints, roof_types, attic, uniforms, config=None, street=None
             # the ends beside the street edge: gable walls where free, a hip at
             # the long faces' pitch against a neighbour; with none free, a hip
             sides = [e for e in ((end - 1) % n, (end + 1) % n) if _free(mask, e)]
-            if not sides:
-                kind = "hip"
-        if kind == "cornice" and n >= 4:
-            plan.ends[i] = [(e, "gable") for e in sides]
-            if convex:
-                slopes = np.ones(n)
-                slopes[sides] = np.inf
-                plan.envelope.append(EnvelopeJob(i, xy, slopes, None))
-            else:
-                pitch = np.full(n, 45.0)
-                pitch[sides] = 90.0
-                plan.skeleton.append(SkeletonJob(i, xy, pitch, None))
-            continue
+            if sides:
+                plan.ends[i] = [(e, "gable") for e in sides]
+                if convex:
+                    slopes = np.ones(n)
+                    slopes[sides] = np.inf
+                    plan.envelope.append(EnvelopeJob(i, xy, slopes, None))
+                else:
+                    pitch = np.full(n, 45.0)
+                    pitch[sides] = 90.0
+                    plan.skeleton.append(SkeletonJob(i, xy, pitch, None))
+                continue
+            kind = "hip"
         if kind in ("half_hip", "gambrel") and convex:
             job, ends, kind = _raised_job(kind, i, xy, h, end if _free(mask, end) else -1,
                                           opp_all[i] if _free(mask, opp_all[i]) else -1,
@@ -420,13 +419,10 @@ def _pyramid_apexes(footprints, which):
     """footprint -> the apex of its pyramid roof, for the footprints ``which``
     that have one (see :mod:`~reconstruction.lod2.roofs.pyramid`)."""
     out = {}
-    idx = np.nonzero(np.asarray(which, dtype=bool))[0]
-    by_n = {}
-    for i in idx:
-        by_n.setdefault(len(footprints[i]), []).append(int(i))
-    for ids in by_n.values():
-        apex, sees = apexes(np.stack([footprints[i] for i in ids]))
-        out.update((i, a) for i, a, ok in zip(ids, apex, sees) if ok)
+    pairs = [(int(i), None) for i in np.nonzero(np.asarray(which, dtype=bool))[0]]
+    for idx, xy, _ in _by_vertex_count(footprints, pairs):
+        apex, sees = apexes(xy)
+        out.update((int(i), a) for i, a, ok in zip(idx, apex, sees) if ok)
     return out
 
 

@@ -38,14 +38,14 @@ def apexes(xy):
     xy = np.asarray(xy, dtype=float)
     polygons = shapely.polygons(xy)
     apex = shapely.get_coordinates(shapely.centroid(polygons)).reshape(-1, 2)
-    span = np.ptp(xy, axis=1).max(axis=1)
-    need = MIN_SETBACK * span
-    bad = _setback(xy, apex) < need
+    need = MIN_SETBACK * np.ptp(xy, axis=1).max(axis=1)
+    setback = _setback(xy, apex)
+    bad = setback < need
     if bad.any():
-        pole = shapely.get_coordinates(shapely.get_point(
+        apex[bad] = shapely.get_coordinates(shapely.get_point(
             shapely.maximum_inscribed_circle(polygons[bad], tolerance=1e-3), 0)).reshape(-1, 2)
-        apex[bad] = pole
-    return apex, _setback(xy, apex) >= need
+        setback[bad] = _setback(xy[bad], apex[bad])
+    return apex, setback >= need
 
 
 def pyramid_group(index, xy, apex, height):

@@ -176,8 +176,7 @@ class RoofRules:
         years = np.asarray([np.nan if y is None else y for y in np.broadcast_to(
             np.asarray(years, dtype=object), n_vertices.shape)], dtype=float)
         periods = self.periods
-        ends = np.array([np.inf if last is None else last for _, last in periods])
-        period = np.where(np.isnan(years), 0, np.searchsorted(ends, years, side="left"))  # as row_period
+        period = self.period_of(years)
         row = np.full(n_vertices.shape, -1, dtype=np.int64)
         for p, bounds in enumerate(periods):
             here = [k for k, r in enumerate(self.rules) if (r.first, r.last) == bounds]
@@ -203,16 +202,18 @@ class RoofRules:
         out[np.asarray(attic, dtype=float) < roofs.MIN_PITCHED_HEIGHT] = "flat"
         return out
 
+    def period_of(self, years):
+        """The index into :attr:`periods` of each of ``years`` (floats; NaN,
+        an unknown year: the first period)."""
+        years = np.asarray(years, dtype=float)
+        ends = np.array([np.inf if last is None else last for _, last in self.periods])
+        return np.where(np.isnan(years), 0, np.searchsorted(ends, years, side="left"))
+
     def types_in(self, year):
-        """The roof types with a share in some row of ``year``'s period."""
-        first, last = self.periods[int(self.row_period(year))]
+        """The roof types with a share in some row of ``year``'s period (None: the first)."""
+        first, last = self.periods[int(self.period_of(np.nan if year is None else year))]
         return {k for r in self.rules if (r.first, r.last) == (first, last)
                 for k, w in r.weights if w > 0}
-
-    def row_period(self, year):
-        """The index into :attr:`periods` of ``year`` (None: the first)."""
-        ends = np.array([np.inf if last is None else last for _, last in self.periods])
-        return 0 if year is None else int(np.searchsorted(ends, float(year), side="left"))
 
     def table(self):
         """The rules as CSV text (the rules-file format)."""

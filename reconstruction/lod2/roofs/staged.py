@@ -89,6 +89,7 @@ def staged_roofs(footprints, lower, upper, knees):
     out = [None] * len(footprints)
     stage1 = cgal_roofs(footprints, lower, list(knees))
     jobs = []                       # (footprint, its truncated roof, a top ring)
+    below = {}                      # footprint -> its truncated roof's faces but the top
     for i, roof in enumerate(stage1):
         if roof is None:
             continue
@@ -96,7 +97,7 @@ def staged_roofs(footprints, lower, upper, knees):
         if roof.zmax < knee - TOP_TOLERANCE:
             out[i] = roof                        # no top: the knee is above every ridge
             continue
-        rings, _ = _top_rings(roof, knee)
+        rings, below[i] = _top_rings(roof, knee)
         if rings is None:
             continue
         jobs.extend((i, roof, ring) for ring in rings)
@@ -112,7 +113,7 @@ def staged_roofs(footprints, lower, upper, knees):
         if any(top is None for _, top in pieces):
             continue
         knee = float(knees[i])
-        _, faces = _top_rings(roof, knee)
+        faces = list(below[i])
         vertices = [roof.vertices]
         count = len(roof.vertices)
         for ring, top in pieces:
