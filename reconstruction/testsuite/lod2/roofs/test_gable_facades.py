@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 from shapely.geometry import Point, Polygon
 
@@ -148,6 +148,11 @@ unit = st.floats(0.0, 1.0)
 @given(w=st.floats(1.0, 25.0), d=st.floats(3.0, 40.0), skew=st.floats(-0.4, 0.4),
        taper=st.floats(-0.4, 0.4), angle=st.floats(0, 2 * math.pi), attic=st.floats(1.0, 12.0),
        extra=st.booleans(), bulge=unit)
+# a bell on a skewed square whose outline check sits on its threshold: the
+# roof was built from the module's local coordinates but not from the ring's
+# own (they differ in the last bits); the roof is now compared on the same ones
+@example(w=6.71875, d=6.71875, skew=-0.25, taper=0.0, angle=0.0, attic=10.0, extra=False,
+         bulge=0.0)
 def test_a_convex_footprint_gets_a_valid_facade_or_a_gable(kind, w, d, skew, taper, angle, attic,
                                                           extra, bulge):
     """Quadrilaterals (rectangles, trapezoids, slanted street edges) and
@@ -162,11 +167,13 @@ def test_a_convex_footprint_gets_a_valid_facade_or_a_gable(kind, w, d, skew, tap
         return
     c, s = math.cos(angle), math.sin(angle)
     ring = ring @ np.array([[c, s], [-s, c]])
-    built = solids.build_solids(solids.Buildings([ring + ORIGIN], [0.0], [9.0], [attic], [kind],
+    placed = ring + ORIGIN
+    built = solids.build_solids(solids.Buildings([placed], [0.0], [9.0], [attic], [kind],
                                                  np.full((1, 3), 0.5)))
     assert list(built.kept) == [0]
     assert validation.validate(built.solids) == [None]
-    rs = roofs.make_roofs([ring - ring[0]], [kind], [attic], np.full((1, 3), 0.5))
+    # the local coordinates build_solids gives the roof (origin: the first vertex)
+    rs = roofs.make_roofs([placed - placed[0]], [kind], [attic], np.full((1, 3), 0.5))
     roof = rs.each()[0]
     if built.types[0] == kind:
         assert built.log == [] and roof is not None
