@@ -143,27 +143,50 @@ _FOUR = ndimage.generate_binary_structure(2, 1)
 _EIGHT = np.ones((3, 3), dtype=bool)
 
 
-def small_regions(classes, min_cells, nodata=0):
-    """Cells of 4-connected single-class regions smaller than ``min_cells``."""
+def small_regions(classes, min_cells, nodata=0, hidden=None, exact=()):
+    """Cells of 4-connected single-class regions smaller than ``min_cells``.
+
+    With ``hidden`` cells (the removed objects: what lies under them is
+    unknown), a small region that reaches a region of its class of at least
+    ``min_cells`` through them is part of it, for every class but the
+    ``exact`` ones: the street between the letters of its name belongs to
+    the street around the name. What a removed object encloses (the digits
+    of a symbol, a letter's counter) stays small.
+    """
     classes = np.asarray(classes)
     small = np.zeros(classes.shape, dtype=bool)
     if min_cells <= 1:
         return small
+    if hidden is not None:
+        # what a removed object encloses (a symbol's digits, a letter's counter)
+        # is under it, not beside it
+        enclosed = ndimage.binary_fill_holes(hidden) & ~hidden
     for label in np.unique(classes):
         if label == nodata:
             continue
-        regions, n = ndimage.label(classes == label, _FOUR)
+        mask = classes == label
+        regions, n = ndimage.label(mask, _FOUR)
         if not n:
             continue
         sizes = np.bincount(regions.ravel(), minlength=n + 1)
         tiny = sizes < min_cells
         tiny[0] = False
-        small |= tiny[regions]
+        cells = tiny[regions]
+        if hidden is not None and label not in exact and cells.any():
+            joined, _ = ndimage.label(mask | hidden, _FOUR)
+            reached = np.unique(joined[mask & ~cells])
+            cells &= ~np.isin(joined, reached[reached > 0]) | enclosed
+        small |= cells
     return small
 
 
-def thin_parts(classes, width, nodata=0):
-    """Cells of every class that a width x width square cannot cover (opening)."""
+def thin_parts(classes, width, nodata=0, hidden=None, exact=()):
+    """Cells of every class that a width x width square cannot cover (opening).
+
+    ``hidden`` cells (the removed objects: what lies under them is unknown)
+    count as any class but the ``exact`` ones: a strip of street between a
+    street name and a plot is thin beside the letters, not under them.
+    """
     classes = np.asarray(classes)
     thin = np.zeros(classes.shape, dtype=bool)
     if width <= 1:
@@ -173,7 +196,8 @@ def thin_parts(classes, width, nodata=0):
         if label == nodata:
             continue
         mask = classes == label
-        thin |= mask & ~ndimage.binary_opening(mask, square, border_value=1)
+        cover = mask if hidden is None or label in exact else mask | hidden
+        thin |= mask & ~ndimage.binary_opening(cover, square, border_value=1)
     return thin
 
 
@@ -361,7 +385,11 @@ def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, m
        other class (narrower than ``min_width`` cells, :func:`thin_parts`) and
        its regions smaller than ``min_cells`` cells (a minimum mapping unit,
        :func:`small_regions`), such as pieces of letters classified as
-       something else.
+       something else. For the classes not in ``separate``, the removed
+       cells may be of their class: a part is thin, or a region small, only
+       if it still is with them (the street beside and between the letters
+       of its name stays street, so that the name's refill does not join
+       the plots on either side).
     2. The holes are refilled from their surroundings, each cell with the
        class of the nearest known cell (:func:`fill_from_nearest`, ties by
        the 3 x 3 neighbourhood); with
@@ -389,9 +417,9 @@ def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, m
     base = np.where(removed, nodata, classes)
     holes = removed.copy()
     if min_width > 1:
-        holes |= thin_parts(base, min_width, nodata)
+        holes |= thin_parts(base, min_width, nodata, hidden=removed, exact=separate)
     if min_cells > 1:
-        holes |= small_regions(base, min_cells, nodata)
+        holes |= small_regions(base, min_cells, nodata, hidden=removed, exact=separate)
     holes &= classes != nodata
     before = np.where(holes, nodata, classes)
     reach = None if iterations is None else iterations * (window // 2)

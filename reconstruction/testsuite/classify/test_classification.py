@@ -318,6 +318,64 @@ def test_minimum_mapping_unit_and_thin_parts_are_refilled():
     assert (out[5:20, 22] == 4).all()
 
 
+def test_street_beside_a_label_is_neither_thin_nor_small_where_the_label_joins_it():
+    classes = np.full((30, 40), 4)          # street
+    classes[2:12, 5:35] = 1                 # plot north of the street
+    classes[18:28, 5:35] = 1                # plot south of the street
+    classes[13:17, 2:38] = 2                # a street name along the street ...
+    classes[14:16, 10:12] = 4               # ... with street between two letters
+    hidden = classes == 2
+    base = np.where(hidden, 0, classes)
+    # the one-cell strips between the letters and the plots are thin on their own
+    assert removal.thin_parts(base, 3)[12, 10:30].all()
+    thin = removal.thin_parts(base, 3, hidden=hidden, exact=(1,))
+    assert not thin[12, 10:30].any() and not thin[17, 10:30].any()
+    # what the letters enclose stays small
+    assert removal.small_regions(base, 10, hidden=hidden, exact=(1,))[14:16, 10:12].all()
+    # the street between two letters, from plot to plot, reaches the street around
+    # the name through them
+    classes[12, :] = 1
+    classes[17, :] = 1
+    classes[12:18, 0:4] = 4
+    classes[12:18, 36:] = 4
+    classes[13:17, 10:12] = 4
+    hidden = classes == 2
+    base = np.where(hidden, 0, classes)
+    assert removal.small_regions(base, 10)[13:17, 10:12].all()
+    assert not removal.small_regions(base, 10, hidden=hidden, exact=(1,))[13:17, 10:12].any()
+    # a building speck reaching a plot through the letters stays small: exact
+    base[15, 20] = 1
+    assert removal.small_regions(base, 10, hidden=hidden, exact=(1,))[15, 20]
+
+
+def test_what_a_symbol_encloses_stays_small():
+    classes = np.full((30, 30), 1)          # a plot ...
+    classes[10:18, 10:18] = 6               # ... a symbol printed on it ...
+    classes[12:16, 12:16] = 4               # ... its digits in the paper's colour
+    classes[:, 25:] = 4                     # the street beside the plot
+    classes[10:18, 18:25] = 6               # the symbol reaching the street
+    hidden = classes == 6
+    small = removal.small_regions(np.where(hidden, 0, classes), 20, hidden=hidden, exact=(1,))
+    assert small[12:16, 12:16].all()
+    out, _ = removal.remove_classes(classes, [6], min_cells=20, min_width=3, separate=[1])
+    assert (out[12:16, 12:16] == 1).all()
+
+
+def test_a_name_filling_the_street_does_not_join_the_plots_across_it():
+    from scipy import ndimage
+
+    classes = np.full((30, 40), 4)
+    classes[2:12, 5:35] = 1
+    classes[18:28, 5:35] = 1
+    classes[13:17, 3:37] = 2                # letters all along the facing plots, one
+    classes[14:16, 12:14] = 4               # cell of street either side, a gap between two
+    classes[14:16, 24:25] = 4
+    out, _ = removal.remove_classes(classes, [2], window=5, min_cells=10, min_width=3,
+                                    separate=[1])
+    assert ndimage.label(out == 1)[1] == 2
+    assert (out[13:17, 5:35] == 4).all()
+
+
 @settings(max_examples=30, deadline=None)
 @given(st.integers(0, 10_000), st.integers(1, 3))
 def test_fill_leaves_no_hole_and_invents_no_class(seed, half):
