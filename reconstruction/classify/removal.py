@@ -216,13 +216,14 @@ OUTLINE = 1.0
 FACING = 2
 
 
-def _facing_gaps(regions, ids, hole, distance, share=0.25):
+def _facing_gaps(regions, ids, hole, distance, share=0.1):
     """The gaps between the regions ``ids`` that face each other beside ``hole``.
 
     The front of two regions is the cells outside them within ``distance``
     of both. Two plots on either side of a street face each other along the
-    street beyond the street name printed in it: a good part of their front
-    (at least ``share`` of the part inside the hole) lies outside the hole
+    street beyond the street name printed in it: part of their front (at
+    least ``share`` of the part inside the hole: a name may cover nine
+    tenths of the street two plots face each other along) lies outside the hole
     *between* them (the directions to the two plots' nearest cells at least
     :data:`BETWEEN` apart: across the street). The two pieces of one plot cut
     by a label meet only through the label: outside it, their front is the

@@ -295,6 +295,17 @@ def test_removed_name_does_not_join_separated_plots():
     assert (kept[13:17, 10:30] == 4).all()  # each plot keeps the cells beside it
 
 
+def test_a_name_along_most_of_two_facing_plots_does_not_join_them():
+    from scipy import ndimage
+
+    classes = np.full((30, 40), 4)
+    classes[2:12, 5:35] = 1
+    classes[18:28, 5:35] = 1
+    classes[12:18, 7:33] = 2                # the name covers 26 of the 30 m they face
+    out, _ = removal.remove_classes(classes, [2], window=7, separate=[1])
+    assert ndimage.label(out == 1)[1] == 2
+
+
 def test_removed_symbol_rejoins_the_plot_it_covered():
     from scipy import ndimage
 
