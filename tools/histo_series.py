@@ -25,7 +25,10 @@ or ./dist), whose scripts/ go on the PATH of the local runs.
 
 Also: ``histo_series.py --run-steps CHAIN DIR``, inside a GRASS session,
 runs one filled-in chain's steps and exports into DIR (what the local
-fallback starts for each sheet).
+fallback starts for each sheet); ``histo_series.py --sheet-settings
+MANIFEST:SHEET GRID`` writes the grid of the series' sheets to the file
+GRID and prints what ``demo/chain.sh OUT MANIFEST:SHEET`` needs to run that
+sheet as its own chain, as shell assignments (chain.sh evaluates them).
 """
 
 import argparse
@@ -34,6 +37,7 @@ import concurrent.futures
 import io
 import json
 import os
+import shlex
 import shutil
 import subprocess
 import sys
@@ -72,6 +76,31 @@ def error_line(text, fallback):
             break
         out.append(ln.strip())
     return " ".join(out)
+
+
+def write_grid(series, path):
+    """The sheets' own areas (edges.grid_geojson) into the file ``path``."""
+    with open(path, "w", encoding="utf-8") as f:
+        json.dump(edges.grid_geojson(series), f)
+
+
+def sheet_settings(spec, grid, template=TEMPLATE):
+    """``--sheet-settings``: the settings of the sheet ``spec``
+    (MANIFEST:SHEET) as shell assignments, the grid written to ``grid``;
+    the options the manifest may set are the template's."""
+    path, colon, name = spec.rpartition(":")
+    if not colon or not path or not name:
+        raise InputError("a sheet is given as MANIFEST:SHEET, not '{}'".format(spec))
+    series = manifest.read_manifest(path)
+    known = series_chain.read_template(template).get("defaults", {})
+    grid = os.path.abspath(grid)
+    write_grid(series, grid)
+    for key, value in series_chain.shell_settings(known, series, series.sheet(name), grid):
+        if isinstance(value, tuple):
+            print("{}=({})".format(key, " ".join(shlex.quote(v) for v in value)))
+        else:
+            print("{}={}".format(key, shlex.quote(value)))
+    return 0
 
 
 # ---------------------------------------------------------------------------
@@ -217,8 +246,7 @@ def run_series(args):
     out = os.path.abspath(args.out)
     os.makedirs(out, exist_ok=True)
     grid = os.path.join(out, "grid.geojson")
-    with open(grid, "w", encoding="utf-8") as f:
-        json.dump(edges.grid_geojson(series), f)
+    write_grid(series, grid)
     chains = {s.name: series_chain.process_chain(template, series, s, grid)
               for s in series.sheets}
     done = progress.Progress(os.path.join(out, "progress.jsonl"))
@@ -306,6 +334,12 @@ def main(argv=None):
     argv = sys.argv[1:] if argv is None else argv
     if argv[:1] == ["--run-steps"]:
         return run_steps(argv[1], argv[2])
+    if argv[:1] == ["--sheet-settings"] and len(argv) == 3:
+        try:
+            return sheet_settings(argv[1], argv[2])
+        except InputError as e:
+            print("ERROR: {}".format(e), file=sys.stderr)
+            return 2
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("manifest", help="the series' manifest (JSON or CSV)")
     parser.add_argument("out", help="output folder")
