@@ -13,7 +13,8 @@
 # (gunicorn) each in its own process group, makes the user histo
 # (password histo) allowed to run those modules in that location, and
 # waits until actinia answers. Prints the URL. stop: ends both process
-# groups (TERM, then KILL after 10 s) and removes their pid files.
+# groups (TERM, then KILL after 2 s for actinia, 10 s for Redis) and removes
+# their pid files.
 #
 # ACTINIA_VENV (default ~/.local/share/histo/actinia-venv, made by `make
 # actinia`), HISTO_VENV (the suite's venv: the modules run with its
@@ -25,21 +26,24 @@ mkdir -p "$dir"
 dir=$(cd "$dir" && pwd)
 root=$(cd "$(dirname "$0")/../.." && pwd)
 
-stop_group() {  # stop_group PIDFILE
+stop_group() {  # stop_group PIDFILE SECONDS: TERM, then KILL after SECONDS
   local pidfile=$1 pid
   [ -f "$pidfile" ] || return 0
   pid=$(cat "$pidfile")
   if kill -0 "$pid" 2> /dev/null; then
     kill -TERM -- "-$pid" 2> /dev/null || true
-    for _ in $(seq 100); do kill -0 "$pid" 2> /dev/null || break; sleep 0.1; done
+    for _ in $(seq $(( $2 * 10 ))); do kill -0 "$pid" 2> /dev/null || break; sleep 0.1; done
     kill -KILL -- "-$pid" 2> /dev/null || true
   fi
   rm -f "$pidfile"
 }
 
 if [ "$command" = stop ]; then
-  stop_group "$dir/actinia.pid"
-  stop_group "$dir/redis.pid"
+  # actinia's process queue (a child of the gunicorn worker) keeps gunicorn's
+  # TERM handler and does not end on TERM, and the worker waits for it:
+  # KILL after 2 s (no job outlives a stop; Redis saves nothing)
+  stop_group "$dir/actinia.pid" 2
+  stop_group "$dir/redis.pid" 10
   echo "actinia and redis in $dir stopped"
   exit 0
 fi
