@@ -1,13 +1,15 @@
 #!/usr/bin/env python3
 """Run a map series: one process chain per sheet, on actinia or locally (issue 30).
 
-    python3 tools/histo_series.py MANIFEST OUT [--server URL] [--jobs N]
+    python3 tools/histo_series.py MANIFEST OUT [--server URL ...] [--jobs N]
 
 Each sheet of the manifest (reconstruction.series.manifest) gets the
 process chain of the template (demo/series/sheet_chain.json) filled in
 with its files and options. With ``--server`` every chain is sent to that
 actinia (``processing_async_export`` in ``--location``, user and password
-``--user``/``--password``), at most ``--jobs`` at a time; without it the
+``--user``/``--password``; several ``--server``: to each in turn, e.g. the
+REST servers of several machines sharing Redis and the GRASS database), at
+most ``--jobs`` at a time; without it the
 same chains run here, ``--jobs`` at a time, each in a GRASS session of its
 own in a fresh mapset (the local fallback: the same modules with the same
 parameters, the same exports). A failed sheet is tried once more; a sheet
@@ -35,6 +37,7 @@ import argparse
 import base64
 import concurrent.futures
 import io
+import itertools
 import json
 import os
 import shlex
@@ -258,8 +261,11 @@ def run_series(args):
         print("{} of {} sheets finished before: running the other {}".format(
             skipped, len(series.sheets), len(todo)), flush=True)
     if args.server:
-        where = Actinia(args.server, args.user, args.password, args.location)
-        runner = where.run
+        servers = [Actinia(url, args.user, args.password, args.location) for url in args.server]
+        turns = itertools.count()
+
+        def runner(pc, sheet_dir):
+            return servers[next(turns) % len(servers)].run(pc, sheet_dir)
     else:
         location = os.path.join(out, "grassdb", "series")
         make_location(location, series.epsg)
@@ -343,7 +349,9 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("manifest", help="the series' manifest (JSON or CSV)")
     parser.add_argument("out", help="output folder")
-    parser.add_argument("--server", help="actinia's URL (default: run the chains here)")
+    parser.add_argument("--server", action="append",
+                        help="actinia's URL, or several, one --server each, used in turn "
+                             "(default: run the chains here)")
     parser.add_argument("--user", default="histo")
     parser.add_argument("--password", default="histo")
     parser.add_argument("--location", default="histo", help="actinia's location for the jobs")
