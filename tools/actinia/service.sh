@@ -20,8 +20,8 @@
 # (job_queue_0 ... job_queue_N-1, filled in turn by the REST servers) and
 # starts no worker: `worker` starts one (rq's worker from actinia's venv,
 # listening to every queue, so whichever worker is free takes the next job;
-# actinia 4.14.1's own actinia-worker imports rq's Connection, which rq 2 and
-# later no longer have), `server` another REST server on PORT; both read
+# actinia 4.14.1's own actinia-worker imports rq's Connection, which the
+# pinned rq 3.0.0 no longer has), `server` another REST server on PORT; both read
 # DIR/actinia.cfg, as the processes of other machines sharing DIR and Redis
 # would (README, "Several machines").
 #
