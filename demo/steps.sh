@@ -8,7 +8,9 @@
 # and the report files are the same in every chain; a chain's own parameters
 # follow as OPTION=VALUE arguments, passed to the module as they are. They
 # read the caller's variables OUT (the output folder), SEED and, when set,
-# TIMES (a file that gets each stage's wall time, see timed).
+# TIMES (a file that gets each stage's wall time, see timed), NPROCS (the
+# classification's processes, default 2) and ALPHA, DISTANCE, ANGLE (the
+# generalisation's, default the thesis's 12, 5, 180).
 
 # Run a stage only when its module is installed and implemented.
 implemented() {
@@ -69,11 +71,11 @@ classify_stage() {
     shift 3
     implemented r.histo.classify || return 0
     stage classify r.histo.classify input="$rgb" training="$training" output="$classes" \
-        nprocs=2 seed="$SEED" "$@"
+        nprocs="${NPROCS:-2}" seed="$SEED" "$@"
 }
 
 # Generalised building plots <plots> from one class of the classified map,
-# with the thesis's alpha 12, distance 5 and angle 180 (its Table B.3);
+# by default with the thesis's alpha 12, distance 5 and angle 180 (its Table B.3);
 # OUT/generalize.json and OUT/generalize_metrics.csv:
 # generalize_stage CLASSES BUILDING_CLASS [OPTION=VALUE...] (e.g. gt_points=, gt_polygons=)
 generalize_stage() {
@@ -81,7 +83,8 @@ generalize_stage() {
     shift 2
     have raster "$classes" && implemented v.histo.generalize || return 0
     stage generalize v.histo.generalize raster="$classes" class="$class" output=plots \
-        alpha=12 distance=5 angle=180 metrics="$OUT/generalize_metrics.csv" \
+        alpha="${ALPHA:-12}" distance="${DISTANCE:-5}" angle="${ANGLE:-180}" \
+        metrics="$OUT/generalize_metrics.csv" \
         report="$OUT/generalize.json" "$@"
 }
 

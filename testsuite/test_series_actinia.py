@@ -4,14 +4,19 @@ Starts Redis and actinia on 127.0.0.1 on free ports (tools/actinia/service.sh,
 stopped again whatever happens), writes four adjacent sheets of one
 synthetic town (testsuite/synthetic_sheets.py; the fourth has no training
 map) and runs them with tools/histo_series.py: as jobs on actinia, and
-locally, where the driver is killed after its first sheet and run again.
-Checks: each sheet's model from actinia is byte-identical to the local
-fallback's (the same process chain run in a local GRASS session); the bad
-sheet fails alone with its module's ERROR: line; the rerun runs only the
-sheets that had not finished; the merged series builds every plot once and
-no two of its buildings overlap.
+locally, where the driver is killed after its first sheet and run again;
+and runs each good sheet through demo/chain.sh (``chain.sh OUT
+MANIFEST:SHEET``) in a temporary GRASS location.
+Checks: each sheet's model from actinia is byte-identical to the one
+demo/chain.sh makes of that sheet with its own stage functions (two
+descriptions of one chain: a drift between the template and chain.sh
+changes the bytes) and to the local fallback's (the same process chain run
+in a local GRASS session); the bad sheet fails alone with its module's
+ERROR: line; the rerun runs only the sheets that had not finished; the
+merged series builds every plot once and no two of its buildings overlap.
 """
 
+import concurrent.futures
 import json
 import os
 import shutil
@@ -32,6 +37,7 @@ ACTINIA_VENV = os.environ.get("ACTINIA_VENV", os.path.expanduser(
     "~/.local/share/histo/actinia-venv"))
 SERVICE = os.path.join(ROOT, "tools", "actinia", "service.sh")
 DRIVER = os.path.join(ROOT, "tools", "histo_series.py")
+CHAIN = os.path.join(ROOT, "demo", "chain.sh")
 GOOD = ("sheet_0_0", "sheet_1_0", "sheet_0_1")
 
 pytestmark = pytest.mark.grass
@@ -115,6 +121,34 @@ def local_resumed(sheets, tmp_path_factory):
     return out, before, second
 
 
+@pytest.fixture(scope="module")
+def on_chain_sh(sheets, tmp_path_factory):
+    """demo/chain.sh run on each good sheet, each in a mapset of its own of a
+    temporary location in the series' EPSG code, two at a time: its output
+    folder per sheet."""
+    from reconstruction.series import manifest
+
+    out = str(tmp_path_factory.mktemp("chain_sh"))
+    location = os.path.join(out, "grassdb", "series")
+    subprocess.run(["grass", "-c", "EPSG:{}".format(manifest.read_manifest(sheets).epsg),
+                    location, "-e"], check=True, capture_output=True)
+    env = dict(os.environ, GRASS_ADDON_BASE=DIST, PATH=os.pathsep.join(
+        [os.path.join(DIST, "scripts"), os.path.join(DIST, "bin"), os.environ["PATH"]]))
+    for name in ("GISRC", "GISBASE", "GRASS_OVERWRITE"):
+        env.pop(name, None)
+
+    def one(name):
+        return subprocess.run(["grass", "-c", os.path.join(location, name), "--exec", "bash",
+                               CHAIN, os.path.join(out, name), "{}:{}".format(sheets, name)],
+                              capture_output=True, text=True, env=env, timeout=600)
+
+    with concurrent.futures.ThreadPoolExecutor(max_workers=2) as pool:
+        runs = dict(zip(GOOD, pool.map(one, GOOD)))
+    for name, proc in runs.items():
+        assert proc.returncode == 0, (name, proc.stdout[-2000:] + proc.stderr[-3000:])
+    return out
+
+
 def test_actinia_runs_the_good_sheets_and_the_bad_one_fails_alone(on_actinia):
     out, proc = on_actinia
     assert proc.returncode == 1, proc.stdout + proc.stderr
@@ -137,6 +171,23 @@ def test_a_rerun_after_a_kill_runs_only_the_missing_sheets(local_resumed):
     after = attempts(out)[len(before):]
     assert not done_before & {a["sheet"] for a in after}
     assert {a["sheet"] for a in after if a["status"] == "done"} == set(GOOD) - done_before
+
+
+def test_each_sheet_from_actinia_is_byte_identical_to_chain_sh_on_that_sheet(on_actinia,
+                                                                             on_chain_sh):
+    for name in GOOD:
+        with open(os.path.join(on_actinia[0], name, "model.city.json"), "rb") as f:
+            a = f.read()
+        with open(os.path.join(on_chain_sh, name, "model.city.json"), "rb") as f:
+            b = f.read()
+        assert a == b, first_difference(name, a, b)
+
+
+def first_difference(name, a, b):
+    """Where two models part: sizes and the bytes around the first difference."""
+    k = next((i for i, (x, y) in enumerate(zip(a, b)) if x != y), min(len(a), len(b)))
+    return "sheet <{}>: {} and {} bytes, first difference at byte {}: {!r} / {!r}".format(
+        name, len(a), len(b), k, a[max(0, k - 60):k + 60], b[max(0, k - 60):k + 60])
 
 
 def test_each_sheet_from_actinia_is_byte_identical_to_the_local_fallback(on_actinia,

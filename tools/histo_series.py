@@ -1,13 +1,15 @@
 #!/usr/bin/env python3
 """Run a map series: one process chain per sheet, on actinia or locally (issue 30).
 
-    python3 tools/histo_series.py MANIFEST OUT [--server URL] [--jobs N]
+    python3 tools/histo_series.py MANIFEST OUT [--server URL ...] [--jobs N]
 
 Each sheet of the manifest (reconstruction.series.manifest) gets the
 process chain of the template (demo/series/sheet_chain.json) filled in
 with its files and options. With ``--server`` every chain is sent to that
 actinia (``processing_async_export`` in ``--location``, user and password
-``--user``/``--password``), at most ``--jobs`` at a time; without it the
+``--user``/``--password``; several ``--server``: to each in turn, e.g. the
+REST servers of several machines sharing Redis and the GRASS database), at
+most ``--jobs`` at a time; without it the
 same chains run here, ``--jobs`` at a time, each in a GRASS session of its
 own in a fresh mapset (the local fallback: the same modules with the same
 parameters, the same exports). A failed sheet is tried once more; a sheet
@@ -25,15 +27,20 @@ or ./dist), whose scripts/ go on the PATH of the local runs.
 
 Also: ``histo_series.py --run-steps CHAIN DIR``, inside a GRASS session,
 runs one filled-in chain's steps and exports into DIR (what the local
-fallback starts for each sheet).
+fallback starts for each sheet); ``histo_series.py --sheet-settings
+MANIFEST:SHEET GRID`` writes the grid of the series' sheets to the file
+GRID and prints what ``demo/chain.sh OUT MANIFEST:SHEET`` needs to run that
+sheet as its own chain, as shell assignments (chain.sh evaluates them).
 """
 
 import argparse
 import base64
 import concurrent.futures
 import io
+import itertools
 import json
 import os
+import shlex
 import shutil
 import subprocess
 import sys
@@ -72,6 +79,31 @@ def error_line(text, fallback):
             break
         out.append(ln.strip())
     return " ".join(out)
+
+
+def write_grid(series, path):
+    """The sheets' own areas (edges.grid_geojson) into the file ``path``."""
+    with open(path, "w", encoding="utf-8") as f:
+        json.dump(edges.grid_geojson(series), f)
+
+
+def sheet_settings(spec, grid, template=TEMPLATE):
+    """``--sheet-settings``: the settings of the sheet ``spec``
+    (MANIFEST:SHEET) as shell assignments, the grid written to ``grid``;
+    the options the manifest may set are the template's."""
+    path, colon, name = spec.rpartition(":")
+    if not colon or not path or not name:
+        raise InputError("a sheet is given as MANIFEST:SHEET, not '{}'".format(spec))
+    series = manifest.read_manifest(path)
+    known = series_chain.read_template(template).get("defaults", {})
+    grid = os.path.abspath(grid)
+    write_grid(series, grid)
+    for key, value in series_chain.shell_settings(known, series, series.sheet(name), grid):
+        if isinstance(value, tuple):
+            print("{}=({})".format(key, " ".join(shlex.quote(v) for v in value)))
+        else:
+            print("{}={}".format(key, shlex.quote(value)))
+    return 0
 
 
 # ---------------------------------------------------------------------------
@@ -217,8 +249,7 @@ def run_series(args):
     out = os.path.abspath(args.out)
     os.makedirs(out, exist_ok=True)
     grid = os.path.join(out, "grid.geojson")
-    with open(grid, "w", encoding="utf-8") as f:
-        json.dump(edges.grid_geojson(series), f)
+    write_grid(series, grid)
     chains = {s.name: series_chain.process_chain(template, series, s, grid)
               for s in series.sheets}
     done = progress.Progress(os.path.join(out, "progress.jsonl"))
@@ -230,8 +261,11 @@ def run_series(args):
         print("{} of {} sheets finished before: running the other {}".format(
             skipped, len(series.sheets), len(todo)), flush=True)
     if args.server:
-        where = Actinia(args.server, args.user, args.password, args.location)
-        runner = where.run
+        servers = [Actinia(url, args.user, args.password, args.location) for url in args.server]
+        turns = itertools.count()
+
+        def runner(pc, sheet_dir):
+            return servers[next(turns) % len(servers)].run(pc, sheet_dir)
     else:
         location = os.path.join(out, "grassdb", "series")
         make_location(location, series.epsg)
@@ -306,10 +340,18 @@ def main(argv=None):
     argv = sys.argv[1:] if argv is None else argv
     if argv[:1] == ["--run-steps"]:
         return run_steps(argv[1], argv[2])
+    if argv[:1] == ["--sheet-settings"] and len(argv) == 3:
+        try:
+            return sheet_settings(argv[1], argv[2])
+        except InputError as e:
+            print("ERROR: {}".format(e), file=sys.stderr)
+            return 2
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("manifest", help="the series' manifest (JSON or CSV)")
     parser.add_argument("out", help="output folder")
-    parser.add_argument("--server", help="actinia's URL (default: run the chains here)")
+    parser.add_argument("--server", action="append",
+                        help="actinia's URL, or several, one --server each, used in turn "
+                             "(default: run the chains here)")
     parser.add_argument("--user", default="histo")
     parser.add_argument("--password", default="histo")
     parser.add_argument("--location", default="histo", help="actinia's location for the jobs")

@@ -138,6 +138,40 @@ def _fill(obj, known, where):
     return obj
 
 
+def sheet_options(known, series, sheet):
+    """The options the manifest sets for ``sheet`` (name -> text): the
+    series' options, then the sheet's own (the last wins), each one of
+    ``known`` (the names of the chain's options: the template's
+    ``defaults``); an unknown one is an InputError."""
+    options = {}
+    for key, value in series.options + sheet.options:
+        if key not in known:
+            raise InputError("sheet <{}>: unknown option <{}> (the chain's options: {})".format(
+                sheet.name, key, ", ".join(sorted(known))))
+        options[key] = value
+    return options
+
+
+def shell_settings(known, series, sheet, grid_file):
+    """What ``demo/chain.sh`` needs to run ``sheet`` as its own chain, as
+    (shell variable, text or tuple of texts): the sheet's files, its
+    neighbours' maps (``SHEET_NEIGHBOURS``), the region of its chain
+    (``SHEET_REGION``: west, south, east, north), the query of the plots it
+    owns, its year and seed, and each option the manifest sets, as the
+    upper-case variable of chain.sh's own parameter (``min_area`` ->
+    ``MIN_AREA``); the options it does not set keep chain.sh's values."""
+    v = values(series, sheet, grid_file)
+    out = [("SHEET_NAME", sheet.name), ("SHEET_MAP", v["map"]),
+           ("SHEET_NEIGHBOURS", tuple(s.map for s in series.neighbours(sheet))),
+           ("SHEET_REGION", tuple(v[k] for k in ("west", "south", "east", "north"))),
+           ("SHEET_TRAINING", v["training"]), ("SHEET_FOOTPRINTS", v["footprints"]),
+           ("SHEET_GRID", v["grid"]), ("SHEET_OWNER", v["owner_query"]),
+           ("YEAR", v["year"]), ("SEED", v["seed"])]
+    out += [(k.upper(), value) for k, value in sorted(sheet_options(known, series,
+                                                                    sheet).items())]
+    return out
+
+
 def process_chain(template, series, sheet, grid_file):
     """The :class:`ProcessChain` of ``sheet``: ``template`` (a dict, as
     :func:`read_template` gives it) filled in with the sheet's values, the
@@ -145,13 +179,8 @@ def process_chain(template, series, sheet, grid_file):
     wins). An option the template does not know is an InputError."""
     where = "sheet <{}>".format(sheet.name)
     defaults = {k: str(v) for k, v in template.get("defaults", {}).items()}
-    options = dict(defaults)
-    for key, value in series.options + sheet.options:
-        if key not in defaults:
-            raise InputError("{}: unknown option <{}> (the chain's options: {})".format(
-                where, key, ", ".join(sorted(defaults))))
-        options[key] = value
-    known = dict(options)
+    known = dict(defaults)
+    known.update(sheet_options(defaults, series, sheet))
     known.update(values(series, sheet, grid_file))
     steps = []
     for entry in template["list"]:

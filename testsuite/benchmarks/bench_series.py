@@ -11,6 +11,10 @@ GRASS sessions it starts (local), plus actinia's and Redis's processes
 (actinia; started by tools/actinia/service.sh on free ports, stopped at the
 end). With queue_type=local, actinia starts each job it accepts at once in
 a process of its own: "1 and 2 workers" are the driver's --jobs 1 and 2.
+Last, the set-up of several machines on loopback: queue_type=redis with
+two queues, two REST servers (the driver sends to each in turn) and two
+queue workers, all sharing one Redis and one GRASS database (service.sh
+start with QUEUES=2, server, worker), --jobs 2.
 
     python3 testsuite/benchmarks/bench_series.py   (also through run_all.sh)
 """
@@ -80,9 +84,26 @@ def free_port():
         return s.getsockname()[1]
 
 
+def service(*args, check=True, **env):
+    """tools/actinia/service.sh with ``args`` and the staged suite (and ``env``)."""
+    subprocess.run(["bash", os.path.join(ROOT, "tools", "actinia", "service.sh")] + list(args),
+                   check=check, env=dict(os.environ, DIST=DIST, **env),
+                   stdout=subprocess.DEVNULL)
+
+
+def service_sids(folder):
+    """The sessions of every process group service.sh started in ``folder``."""
+    sids = set()
+    for name in os.listdir(folder):
+        if name.endswith(".pid"):
+            with open(os.path.join(folder, name)) as f:
+                sids.add(os.getsid(int(f.read())))
+    return sids
+
+
 def main():
     work = tempfile.mkdtemp(prefix="bench_series_")
-    service = os.path.join(work, "actinia")
+    services = [os.path.join(work, "actinia"), os.path.join(work, "actinia_redis")]
     try:
         smap = synthetic_map.generate(seed=1, size=800)
         manifest = synthetic_sheets.write(os.path.join(work, "sheets"), smap, SHEETS, 200.0)
@@ -92,27 +113,33 @@ def main():
                                            "--dist", DIST], set())
         rows.append(("local, sequential", seconds, peak))
         port = free_port()
-        subprocess.run(["bash", os.path.join(ROOT, "tools", "actinia", "service.sh"), "start",
-                        service, str(port), str(free_port())], check=True,
-                       env=dict(os.environ, DIST=DIST), stdout=subprocess.DEVNULL)
-        sids = set()
-        for name in ("actinia.pid", "redis.pid"):
-            with open(os.path.join(service, name)) as f:
-                sids.add(os.getsid(int(f.read())))
+        service("start", services[0], str(port), str(free_port()))
+        sids = service_sids(services[0])
         for jobs in (1, 2):
             seconds, peak = measured(driver + [os.path.join(work, "actinia_{}".format(jobs)),
                                                "--server", "http://127.0.0.1:{}".format(port),
                                                "--jobs", str(jobs)], sids)
             rows.append(("actinia, {} worker{}".format(jobs, "s" if jobs > 1 else ""),
                          seconds, peak))
+        service("stop", services[0])
+        ports = [free_port(), free_port()]
+        service("start", services[1], str(ports[0]), str(free_port()), QUEUES="2")
+        service("server", services[1], str(ports[1]))
+        for name in ("a", "b"):
+            service("worker", services[1], name)
+        servers = [a for p in ports for a in ("--server", "http://127.0.0.1:{}".format(p))]
+        seconds, peak = measured(driver + [os.path.join(work, "actinia_redis")] + servers +
+                                 ["--jobs", "2"], service_sids(services[1]))
+        rows.append(("redis queue, 2 servers, 2 workers", seconds, peak))
         print("{} sheets of 200 m x 200 m (synthetic, seed 1)".format(len(SHEETS)))
-        print("{:<20} {:>8} {:>13} {:>14}".format("run", "wall s", "sheets/hour", "peak RSS MB"))
+        print("{:<34} {:>8} {:>13} {:>14}".format("run", "wall s", "sheets/hour", "peak RSS MB"))
         for name, seconds, peak in rows:
-            print("{:<20} {:>8.1f} {:>13.0f} {:>14.0f}".format(
+            print("{:<34} {:>8.1f} {:>13.0f} {:>14.0f}".format(
                 name, seconds, len(SHEETS) * 3600 / seconds, peak))
     finally:
-        subprocess.run(["bash", os.path.join(ROOT, "tools", "actinia", "service.sh"), "stop",
-                        service], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        for folder in services:
+            if os.path.isdir(folder):
+                service("stop", folder, check=False)
         shutil.rmtree(work, ignore_errors=True)
 
 

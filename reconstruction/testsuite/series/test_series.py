@@ -118,8 +118,47 @@ def test_the_chain_is_filled_in_for_each_sheet_with_its_neighbours(tmp_path):
 
 def test_an_unknown_option_is_refused(tmp_path):
     series = three(tmp_path, options={"colour": "red"})
+    template = chain.read_template(TEMPLATE)
     with pytest.raises(InputError, match="unknown option <colour>"):
-        chain.process_chain(chain.read_template(TEMPLATE), series, series.sheets[0], "g")
+        chain.process_chain(template, series, series.sheets[0], "g")
+    with pytest.raises(InputError, match="unknown option <colour>"):
+        chain.shell_settings(template["defaults"], series, series.sheets[0], "g")
+
+
+def test_chain_sh_gets_a_sheets_files_region_owner_and_the_options_set(tmp_path):
+    """What demo/chain.sh runs a sheet with: the manifest's values, the
+    options the manifest sets (the sheet's over the series'), not the
+    template's defaults (chain.sh has its own, compared by the bytes of the
+    models in testsuite/test_series_actinia.py)."""
+    doc = {"margin": 30, "options": {"min_area": "40", "remove": "2"}, "seed": 3,
+           "sheets": [sheet("a", 0, 0), sheet("b", 1, 0, options={"remove": "6"}),
+                      sheet("c", 0, 1)]}
+    series = manifest.read_manifest(write_manifest(tmp_path, doc))
+    known = chain.read_template(TEMPLATE)["defaults"]
+    settings = dict(chain.shell_settings(known, series, series.sheets[1], "/g.geojson"))
+    assert settings["SHEET_MAP"] == str(tmp_path / "b.bsq")
+    assert settings["SHEET_NEIGHBOURS"] == (str(tmp_path / "a.bsq"), str(tmp_path / "c.bsq"))
+    assert settings["SHEET_REGION"] == ("170", "0", "400", "230")
+    assert settings["SHEET_OWNER"] == edges.owner_query(2)
+    assert settings["SHEET_GRID"] == "/g.geojson"
+    assert (settings["YEAR"], settings["SEED"]) == ("1900", "3")
+    assert (settings["MIN_AREA"], settings["REMOVE"]) == ("40", "6")
+    assert "ALPHA" not in settings and "BUILDING" not in settings
+
+
+def test_chain_sh_has_a_parameter_for_every_option_of_the_template():
+    """Every option a manifest may set (the template's defaults) reaches
+    demo/chain.sh as its upper-case variable: set in its parameters, or read
+    by the stage functions of demo/steps.sh."""
+    import re
+
+    texts = ""
+    for name in ("chain.sh", "steps.sh"):
+        with open(os.path.join(ROOT, "demo", name), encoding="utf-8") as f:
+            texts += f.read()
+    for key in chain.read_template(TEMPLATE)["defaults"]:
+        var = key.upper()
+        assert re.search(r"^{0}=|\$\{{{0}:-".format(var), texts, re.M), var
 
 
 def test_progress_survives_a_cut_last_line(tmp_path):
