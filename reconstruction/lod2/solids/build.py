@@ -12,12 +12,12 @@ and counted. A pitched roof on a footprint of more than
 its simplified outline (:mod:`~reconstruction.lod2.solids.vertex_budget`).
 """
 
-import multiprocessing
 import threading
 from dataclasses import dataclass
 
 import numpy as np
 
+from ...core.processes import forked_pool
 from ...core.work_limits import check_crow_steps
 from ...geom.solidset import SolidSet, concat, from_parts, shell_parts, take
 from ..outlines import outline_facts
@@ -231,7 +231,7 @@ def build_solids(buildings, config=None, nprocs=1):
     bounds = np.minimum(np.linspace(0, steps, nprocs + 1).round().astype(int) * STEP, B)
     _CHUNKS[:] = [(bounds, buildings, config)]
     try:
-        with multiprocessing.get_context("fork").Pool(nprocs - 1) as pool:
+        with forked_pool(nprocs - 1) as pool:
             others = pool.map_async(_build_chunk, range(1, nprocs))
             results = [_build_chunk(0)] + others.get()
     finally:
@@ -291,7 +291,7 @@ def _steps(buildings, config, nprocs=1):
         return
     _CHUNKS[:] = [(bounds, buildings, config)]
     try:
-        with multiprocessing.get_context("fork").Pool(nprocs - 1) as pool:
+        with forked_pool(nprocs - 1) as pool:
             for first in range(0, steps, nprocs):
                 ks = list(range(first, min(first + nprocs, steps)))
                 others = pool.map_async(_build_chunk, ks[1:])
