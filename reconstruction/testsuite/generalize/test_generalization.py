@@ -271,19 +271,36 @@ def test_a_short_corner_cut_does_not_turn_a_long_edge():
 
 
 def test_a_plot_in_a_neighbours_hole_gives_up_the_hole_s_centimetre():
-    # pixel patches (2 m cells) where the lower block's generalisation swallows the
-    # 2 x 2 m plot on its edge: the plot is cut out as a hole, which _clean keeps 1 cm
-    # off the outline (GRASS's topology); the plot gives that centimetre up, so the
-    # two do not overlap (the property test's example with least-squares lines)
-    rows = ["POLYGON ((18 -4, 18 -2, 22 -2, 22 0, 28 0, 28 -6, 26 -6, 26 -2, 24 -2, 24 -4, "
-            "20 -4, 20 -6, 16 -6, 16 -4, 18 -4))",
-            "POLYGON ((16 -8, 16 -6, 14 -6, 14 -8, 16 -8))",
-            "POLYGON ((24 -8, 24 -6, 22 -6, 22 -8, 24 -8))",
-            "POLYGON ((20 -10, 18 -10, 18 -8, 22 -8, 22 -10, 26 -10, 26 -8, 28 -8, 28 -12, "
-            "20 -12, 20 -10))"]
-    plots = [shapely.from_wkt(w) for w in rows]
-    result = gz.generalize_plots(plots, ("alpha", "lines"), alpha=6, distance=2, tolerance=1)
-    assert gz.overlapping_pairs(result.plots, min_area=1e-6) == []
-    assert all(p.is_valid for p in result.plots)
-    # the lines (2 m apart) draw the small plot 2.05 m² large: it loses the 1 cm band
-    assert result.plots[2].area > 1.98 and len(result.plots[3].interiors) == 1
+    # generalised plots (2 m pixel patches, alpha 6 and lines 2 m as the steps were
+    # before the alpha shape kept off concave corners) where the lower block swallows
+    # the 2 x 2 m plot on its edge: the plot is cut out as a hole, which _clean keeps
+    # 1 cm off the outline (GRASS's topology); the plot gives that centimetre up, so
+    # the two do not overlap
+    rows = ["POLYGON ((28 -7.066658698887767, 28 0.5068640324332119, 18.387446286915917 "
+            "-1.2413078495884071, 14.331595559105677 -6.813981980844687, 28 -7.066658698887767))",
+            "POLYGON ((16 -6, 14 -6, 14 -8, 16 -8, 16 -6))",
+            "POLYGON ((24 -6, 22 -6, 22 -8, 24 -8, 24 -6))",
+            "POLYGON ((18 -6.881796801410473, 18 -11.171156780727552, 28 -12.38044882864005, "
+            "28 -7.066658698887767, 18 -6.881796801410473))"]
+    plots = gz.remove_overlaps([shapely.from_wkt(w) for w in rows])
+    assert gz.overlapping_pairs(plots, min_area=1e-6) == []
+    assert all(p.is_valid for p in plots)
+    assert plots[2].area > 1.98 and len(plots[3].interiors) == 1
+
+
+@pytest.mark.parametrize("plot", [
+    box(0, 0, 60, 60).difference(box(14, 14, 46, 46)),                    # a courtyard
+    Polygon([(0, 0), (40, 0), (40, 15), (15, 15), (15, 50), (0, 50)]),    # an L
+])
+def test_the_alpha_shape_keeps_off_concave_corners(plot):
+    # issue 32: with alpha 12 a right-angled inner corner lost a triangle with legs
+    # up to 17 m (the Delaunay triangle across it has the hypotenuse as diameter)
+    out = gz.alpha_generalize(plot, 12)
+    assert out.symmetric_difference(plot).area < 1.0
+    assert len(out.interiors) == len(plot.interiors)
+
+
+def test_the_alpha_shape_still_closes_a_narrow_notch():
+    plot = box(0, 0, 40, 30).difference(box(18, 20, 22, 30.1))   # a 4 m notch, 10 m deep
+    out = gz.alpha_generalize(plot, 12)
+    assert out.area == pytest.approx(40 * 30, rel=0.01)
