@@ -102,10 +102,11 @@ fi
 
 # ---------------------------------------------------------------------------
 # 2. Classify the map's pixels from the training points; text and symbols
-#    are removed (replaced by the class around them)
+#    are removed (replaced by the class around them); the synthetic map
+#    draws each plot's outline inside the plot (outline=inside)
 # ---------------------------------------------------------------------------
 classify_stage $MAP.red,$MAP.green,$MAP.blue ${MAP}_training ${MAP}_classes \
-    remove=$REMOVE min_area=50 min_width=3 separate=$BUILDING
+    remove=$REMOVE min_area=50 min_width=3 separate=$BUILDING outline=inside
 
 # ---------------------------------------------------------------------------
 # 3. Generalised building plots from the building class, scored against the

@@ -154,6 +154,16 @@
 # % guisection: Removal
 # %end
 # %option
+# % key: outline
+# % type: string
+# % options: centre,inside
+# % answer: centre
+# % label: Where the map draws the outline of the areas of the separate= classes
+# % description: inside: a darker stroke within the area, its outer edge the area's edge (an edge cell goes to the area when the stroke covers half of it); centre: on the boundary (edge cells stay as classified)
+# % descriptions: centre;the outline's centre line is the boundary;inside;the outline is drawn within the area
+# % guisection: Removal
+# %end
+# %option
 # % key: seed
 # % type: integer
 # % description: Seed of the random forest

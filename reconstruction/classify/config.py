@@ -13,6 +13,7 @@ from ..core.errors import InputError
 from ..core.options import parse_list, parse_number, parse_range, processes
 from ..core.work_limits import check_segmentations
 from . import segments as cl
+from .outlines import OUTLINES
 
 
 @dataclass(frozen=True)
@@ -26,6 +27,8 @@ class ClassifyConfig:
 
     ``bands``: the red, green and blue raster maps (input=);
     ``label_column``, ``class_column``: the training points' columns;
+    ``outline``: where the map draws the outline of the ``separate`` classes'
+    areas (:data:`~reconstruction.classify.outlines.OUTLINES`);
     ``keep_segments``: segments= is given; ``exhaustive``: flag -e (a full
     i.segment run per pair); ``print_table``: flag -p.
     """
@@ -41,6 +44,7 @@ class ClassifyConfig:
     min_area: Optional[float] = None
     min_width: Optional[float] = None
     separate: tuple = ()
+    outline: str = "centre"
     seed: int = 1
     nprocs: int = 1
     memory: int = 300
@@ -90,6 +94,14 @@ def read_config(options, flags=None):
     iterations = None
     if options["iterations"]:
         iterations = parse_number(options["iterations"], "iterations", int, minimum=1)
+    separate = tuple(parse_list(options["separate"], int, key="separate"))
+    outline = options.get("outline") or "centre"
+    if outline not in OUTLINES:
+        raise InputError("Option outline= must be one of {}, got '{}'".format(
+            ", ".join(OUTLINES), outline))
+    if outline != "centre" and not separate:
+        raise InputError("Option outline={} needs separate= (the classes whose outline the "
+                         "map draws inside them)".format(outline))
     return ClassifyConfig(
         thresholds=tuple(thresholds), minsizes=tuple(minsizes),
         alpha=parse_number(options["alpha"], "alpha"),
@@ -98,7 +110,7 @@ def read_config(options, flags=None):
         window=window, iterations=iterations,
         min_area=_optional_number(options["min_area"], "min_area"),
         min_width=_optional_number(options["min_width"], "min_width"),
-        separate=tuple(parse_list(options["separate"], int, key="separate")),
+        separate=separate, outline=outline,
         seed=parse_number(options["seed"], "seed", int),
         nprocs=processes(options["nprocs"]),
         memory=parse_number(options.get("memory") or 300, "memory", int, minimum=1),

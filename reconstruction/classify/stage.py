@@ -27,7 +27,7 @@ import numpy as np
 
 from ..core.errors import InputError
 from ..geom.grid import Grid
-from . import removal
+from . import outlines, removal
 from . import segments as cl
 
 # Colours of the classes: by class name where it is a usual one, otherwise
@@ -224,7 +224,10 @@ def classify_map(bands, segmentations, read_segments, training, config, grid,
     timing.append(("classification", time.perf_counter() - start))
     start = time.perf_counter()
 
+    printed = np.isin(classes, list(config.remove))
     classes, rule = _remove(classes, config, grid)
+    if config.outline == "inside":
+        classes = outlines.inside_outlines(classes, bands, config.separate, printed=printed)
     timing.append(("removal", time.perf_counter() - start))
     return ClassifyResult(
         classes=classes, pairs=pairs, criteria=criteria, tuning=tuning, chosen=ids[best],

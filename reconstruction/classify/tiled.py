@@ -16,6 +16,9 @@ large to tune on whole or to hold in one process:
    removed object over all tiles, then each tile is cleaned in its outer
    window and keeps its core: a segment, a hole or a region cut by a tile's
    edge is seen whole from the tile whose core holds it, up to the overlap.
+   With outline=inside, each tile's edge cells are then decided in its outer
+   window (:func:`~reconstruction.classify.outlines.inside_outlines`, the
+   stroke's colour from that window).
 
 Pure: the caller reads the bands and segments of a tile's outer window
 (functions of a :class:`~reconstruction.classify.tiling.Tile`) and gets progress
@@ -27,7 +30,7 @@ import time
 import numpy as np
 
 from ..core.errors import InputError
-from . import removal
+from . import outlines, removal
 from . import segments as cl
 from .stage import ClassifyResult, removal_rule, _ignore
 from .tiling import check_tiles
@@ -132,6 +135,7 @@ def classify_tiles(tiles, read_bands, read_segments, training, config, grid, pai
     # 3. the removal, by the rule of the thickest removed object of the whole map
     rule = removal_rule(thickness, config, grid)
     check_tiles(side, rule.window)
+    printed = np.isin(classes, list(config.remove))
     if rule.active(config.remove):
         out = np.zeros_like(classes)
         for tile in tiles:
@@ -144,6 +148,13 @@ def classify_tiles(tiles, read_bands, read_segments, training, config, grid, pai
         classes = out
     else:
         rule = None
+    if config.outline == "inside":
+        out = classes.copy()
+        for tile in tiles:
+            edged = outlines.inside_outlines(classes[tile.outer], read_bands(tile), config.separate,
+                                             printed=printed[tile.outer])
+            out[tile.core] = edged[tile.core_in_outer]
+        classes = out
     percent(total, total)
     timing.append(("removal", time.perf_counter() - start))
     return ClassifyResult(

@@ -15,7 +15,8 @@ DEFAULTS = {"input": "red,green,blue", "training": "points", "label_column": "la
             "threshold": "0.07,0.10", "threshold_step": "0.01", "minsize": "7,10",
             "minsize_step": "1", "alpha": "1", "classifiers": "rf,knn,svm",
             "features": "spectral,size", "remove": "", "window": "", "iterations": "",
-            "min_area": "", "min_width": "", "separate": "", "seed": "1", "nprocs": "1",
+            "min_area": "", "min_width": "", "separate": "", "outline": "centre", "seed": "1",
+            "nprocs": "1",
             "memory": "300"}
 FLAGS = {"e": False, "p": False}
 
@@ -93,3 +94,13 @@ def test_input_needs_three_maps(text):
 def test_other_bad_options_are_refused(changes, message):
     with pytest.raises(InputError, match=message):
         classify.read_config(options(**changes), FLAGS)
+
+
+def test_outline_is_read_and_inside_needs_the_classes_it_is_drawn_in():
+    assert classify.read_config(options()).outline == "centre"
+    config = classify.read_config(options(outline="inside", separate="1"))
+    assert (config.outline, config.separate) == ("inside", (1,))
+    with pytest.raises(InputError, match="outline=inside needs separate="):
+        classify.read_config(options(outline="inside"))
+    with pytest.raises(InputError, match="outline= must be one of centre, inside"):
+        classify.read_config(options(outline="outside", separate="1"))
