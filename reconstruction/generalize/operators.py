@@ -60,9 +60,11 @@ INNER = 0.5
 #: the alpha shape may close notches narrower than 2 x CLOSING x alpha, no more
 #: (see :func:`alpha_generalize`)
 CLOSING = 0.25
-#: what the alpha shape adds is a notch it closes, not a corner it fills, when
+#: what the alpha shape adds is a dent it closes, not a corner it fills, when
 #: its area is at least NOTCH x the square of its opening
 NOTCH = 0.5
+#: ... or when its walls cover at least DENT_WALLS of the edges they lie on
+DENT_WALLS = 0.75
 METHODS = ("alpha", "lines", "simplify", "douglas")
 SAMPLINGS = ("regular", "hexagonal", "stratified", "random")
 
@@ -174,10 +176,16 @@ def _without_corner_fills(shape, polygon, reach):
     concave corners.
 
     What the shape adds beyond the polygon closed by ``reach`` (mitred) is, piece
-    by piece, a corner fill when it is shallow (its area below NOTCH x the square
-    of the length it spans, the opening: at most a quarter for a triangle in a
-    right-angled corner) or a notch (deeper than half its opening: the gap of a
-    removed label, a yard narrower than the alpha disk), which is kept.
+    by piece, a corner fill, dropped, or a dent, kept (the alpha shape closes it):
+
+    - a corner fill spans a concave corner between two edges that go on beyond
+      it (its walls cover less than DENT_WALLS of the edges they lie on, the
+      outline simplified by reach / 4) and is shallow (its area below NOTCH x
+      the square of the length it spans, its opening: at most a quarter for a
+      triangle in a right-angled corner);
+    - a dent is deep (a notch: the gap of a removed label, a yard narrower than
+      the alpha disk) or lies between whole edges (a V the classification cut
+      into a plot's front: drawn on one map of a block and not on the next).
     """
     closed = polygon.buffer(reach, join_style="mitre").buffer(-reach, join_style="mitre")
     beyond = shapely.get_parts(shapely.difference(shape, closed))
@@ -186,8 +194,35 @@ def _without_corner_fills(shape, polygon, reach):
     rim = shapely.buffer(closed.boundary, 1e-6)
     opening = shapely.length(beyond) - shapely.length(shapely.intersection(
         shapely.boundary(beyond), rim))
-    corners = beyond[shapely.area(beyond) < NOTCH * np.maximum(opening, 0) ** 2]
-    return shapely.difference(shape, shapely.union_all(corners)) if len(corners) else shape
+    shallow = shapely.area(beyond) < NOTCH * np.maximum(opening, 0) ** 2
+    corners = [piece for piece, flat in zip(beyond, shallow)
+               if flat and _wall_share(_walls(piece, rim, reach / 4), closed, reach / 4)
+               < DENT_WALLS]
+    return shapely.difference(shape, shapely.union_all(corners)) if corners else shape
+
+
+def _walls(piece, rim, thin):
+    """The boundary of ``piece`` on the polygon (``rim``: its outline, buffered a
+    little) where the piece is thicker than ``2 x thin``: the alpha shape's slivers
+    along the outline, joined to a piece, are not its walls."""
+    thick = shapely.buffer(shapely.buffer(piece, -thin, join_style="mitre"), 1.5 * thin)
+    return shapely.intersection(shapely.intersection(shapely.boundary(piece), rim), thick)
+
+
+def _wall_share(walls, polygon, tolerance):
+    """How much of the polygon's edges (simplified by ``tolerance``) that ``walls`` (a
+    piece's boundary on the polygon) lie along they cover: 1 for a dent between
+    whole edges, less for a corner."""
+    simple = shapely.simplify(polygon, tolerance)
+    rings = [simple.exterior, *simple.interiors]
+    ends = np.concatenate([np.stack([c[:-1], c[1:]], axis=1)
+                           for c in (np.asarray(r.coords)[:, :2] for r in rings)])
+    edges = shapely.linestrings(ends)
+    shared = shapely.length(shapely.intersection(edges, shapely.buffer(walls, tolerance)))
+    along = shared > 2 * tolerance
+    if not along.any():
+        return 0.0
+    return float(shared[along].sum() / shapely.length(edges[along]).sum())
 
 
 def alpha_generalize(polygon, alpha, sampling="regular", spacing=None, rng=None):

@@ -304,3 +304,10 @@ def test_the_alpha_shape_still_closes_a_narrow_notch():
     plot = box(0, 0, 40, 30).difference(box(18, 20, 22, 30.1))   # a 4 m notch, 10 m deep
     out = gz.alpha_generalize(plot, 12)
     assert out.area == pytest.approx(40 * 30, rel=0.01)
+
+
+def test_the_alpha_shape_still_closes_a_v_cut_into_a_front():
+    # a V between whole edges (a label's gap on one map of a block, not on the next)
+    plot = Polygon([(0, 0), (100, 0), (100, 12), (56, 12), (48, 4), (40, 12), (0, 12)])
+    out = gz.alpha_generalize(plot, 12)
+    assert out.area == pytest.approx(100 * 12, rel=0.01)

@@ -151,3 +151,20 @@ def test_a_plot_of_straight_cells_keeps_its_corners():
     ell = Polygon([(0, 0), (30, 0), (30, 10), (10, 10), (10, 25), (0, 25)])
     assert polygons.same_outline(polygons.centre_line(ell, 1.0), ell)
     assert polygons.centre_line(ell, None) is ell
+
+
+def test_the_same_outline_with_a_run_of_nearly_straight_vertices():
+    # a footprint of the synthetic town over time (GRASS) and the same footprint read
+    # back from its model (millimetres, two of its near-straight vertices left out):
+    # dropping the vertices within 2 mm of their neighbours' line one at a time left
+    # different corners in the two
+    drawn = shapely.from_wkt(
+        "POLYGON ((84055.93 446567.14, 84056.95 446563.89, 84057.93 446560.78, "
+        "84057.95018869743 446560.71593178675, 84059.733208 446561.293392, "
+        "84057.855306 446567.893888, 84055.87061264983 446567.32922440005, "
+        "84055.93 446567.14))")
+    model = shapely.from_wkt(
+        "POLYGON ((84055.871 446567.329, 84057.855 446567.894, 84059.733 446561.293, "
+        "84057.95 446560.716, 84056.95 446563.89, 84055.871 446567.329))")
+    assert polygons.same_outline(drawn, model, 0.002)
+    assert not polygons.same_outline(drawn, model, 0.0002)
