@@ -213,10 +213,11 @@ def _wall_share(walls, polygon, tolerance):
     """How much of the polygon's edges (simplified by ``tolerance``) that ``walls`` (a
     piece's boundary on the polygon) lie along they cover: 1 for a dent between
     whole edges, less for a corner."""
-    simple = shapely.simplify(polygon, tolerance)
-    rings = [simple.exterior, *simple.interiors]
+    rings = shapely.get_rings(shapely.get_parts(shapely.simplify(polygon, tolerance)))
+    if not len(rings):
+        return 0.0
     ends = np.concatenate([np.stack([c[:-1], c[1:]], axis=1)
-                           for c in (np.asarray(r.coords)[:, :2] for r in rings)])
+                           for c in (shapely.get_coordinates(r) for r in rings)])
     edges = shapely.linestrings(ends)
     shared = shapely.length(shapely.intersection(edges, shapely.buffer(walls, tolerance)))
     along = shared > 2 * tolerance
