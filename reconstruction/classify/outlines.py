@@ -26,7 +26,7 @@ Pure numpy and scipy, no GRASS.
 import numpy as np
 from scipy import ndimage
 
-_FOUR = ndimage.generate_binary_structure(2, 1)
+from .removal import _FOUR
 
 #: where a map may draw the outline of an area (r.histo.classify outline=)
 OUTLINES = ("centre", "inside")
@@ -71,7 +71,7 @@ def _between_areas(area):
     neighbours = np.stack([padded[1 + dr:1 + dr + rows, 1 + dc:1 + dc + cols]
                            for dr, dc in ((-1, 0), (1, 0), (0, -1), (0, 1))])
     low = np.where(neighbours > 0, neighbours, np.iinfo(parts.dtype).max).min(axis=0)
-    return neighbours.max(axis=0) > np.where(neighbours.max(axis=0) > 0, low, 0)
+    return low < neighbours.max(axis=0)
 
 
 def inside_outlines(classes, bands, labels, share=0.5, printed=None):
@@ -99,12 +99,12 @@ def inside_outlines(classes, bands, labels, share=0.5, printed=None):
         if not area.any() or area.all():
             continue
         ring = area & ~ndimage.binary_erosion(area, _FOUR, border_value=1) & valid
+        if not ring.any():
+            continue
         beside = ~area & ndimage.binary_dilation(area, _FOUR) & valid & ~_between_areas(area)
         _, (near_r, near_c) = ndimage.distance_transform_edt(area, return_indices=True)
         far = ~area & valid & (ndimage.distance_transform_edt(~area) >= OUTSIDE_DEPTH)
         outside, seen = _local_mean(image, far, WINDOW)
-        if not ring.any():
-            continue
         stroke = stroke_colour(image, ring)
         for cells, joins in ((ring, False), (beside, True)):
             r, c = np.nonzero(cells & (seen > 0))

@@ -224,9 +224,9 @@ def classify_map(bands, segmentations, read_segments, training, config, grid,
     timing.append(("classification", time.perf_counter() - start))
     start = time.perf_counter()
 
-    printed = np.isin(classes, list(config.remove))
+    printed = np.isin(classes, list(config.remove)) if config.outline == "inside" else None
     classes, rule = _remove(classes, config, grid)
-    if config.outline == "inside":
+    if printed is not None:
         classes = outlines.inside_outlines(classes, bands, config.separate, printed=printed)
     timing.append(("removal", time.perf_counter() - start))
     return ClassifyResult(

@@ -195,9 +195,11 @@ def _without_corner_fills(shape, polygon, reach):
     opening = shapely.length(beyond) - shapely.length(shapely.intersection(
         shapely.boundary(beyond), rim))
     shallow = shapely.area(beyond) < NOTCH * np.maximum(opening, 0) ** 2
-    corners = [piece for piece, flat in zip(beyond, shallow)
-               if flat and _wall_share(_walls(piece, rim, reach / 4), closed, reach / 4)
-               < DENT_WALLS]
+    if not shallow.any():
+        return shape
+    edges = _edges(closed, reach / 4)
+    corners = [piece for piece in beyond[shallow]
+               if _wall_share(_walls(piece, rim, reach / 4), edges, reach / 4) < DENT_WALLS]
     return shapely.difference(shape, shapely.union_all(corners)) if corners else shape
 
 
@@ -209,16 +211,20 @@ def _walls(piece, rim, thin):
     return shapely.intersection(shapely.intersection(shapely.boundary(piece), rim), thick)
 
 
-def _wall_share(walls, polygon, tolerance):
-    """How much of the polygon's edges (simplified by ``tolerance``) that ``walls`` (a
-    piece's boundary on the polygon) lie along they cover: 1 for a dent between
-    whole edges, less for a corner."""
+def _edges(polygon, tolerance):
+    """The edges of ``polygon``'s rings, simplified by ``tolerance`` (LineStrings)."""
     rings = shapely.get_rings(shapely.get_parts(shapely.simplify(polygon, tolerance)))
     if not len(rings):
-        return 0.0
+        return np.empty(0, dtype=object)
     ends = np.concatenate([np.stack([c[:-1], c[1:]], axis=1)
                            for c in (shapely.get_coordinates(r) for r in rings)])
-    edges = shapely.linestrings(ends)
+    return shapely.linestrings(ends)
+
+
+def _wall_share(walls, edges, tolerance):
+    """How much of the ``edges`` (:func:`_edges`) that ``walls`` (a piece's boundary
+    on the polygon) lie along, within ``tolerance``, they cover: 1 for a dent between
+    whole edges, less for a corner."""
     shared = shapely.length(shapely.intersection(edges, shapely.buffer(walls, tolerance)))
     along = shared > 2 * tolerance
     if not along.any():
