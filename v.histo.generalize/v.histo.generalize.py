@@ -48,9 +48,9 @@
 # % key: method
 # % type: string
 # % multiple: yes
-# % options: alpha,lines,simplify,douglas
+# % options: alpha,lines,simplify,douglas,fit
 # % description: Generalisation steps, run in this order
-# % descriptions: alpha;alpha shape of points sampled in the plot (Arteaga 2013);lines;buffered lines (Commandeur 2012);simplify;topology-preserving simplification (tolerance=);douglas;Douglas-Peucker simplification (tolerance=)
+# % descriptions: alpha;alpha shape of points sampled in the plot (Arteaga 2013);lines;buffered lines (Commandeur 2012);simplify;topology-preserving simplification (tolerance=);douglas;Douglas-Peucker simplification (tolerance=);fit;each edge moved onto the boundary line the scanned map draws (map=, outline=)
 # % answer: alpha,lines
 # % guisection: Method
 # %end
@@ -73,6 +73,22 @@
 # % type: double
 # % description: Epsilon angle of the buffered-lines step (degrees, 0-180)
 # % answer: 180
+# % guisection: Method
+# %end
+# %option G_OPT_R_INPUTS
+# % key: map
+# % required: no
+# % label: Red, green and blue rasters of the scanned map, for the fit step
+# % description: Read in the current region
+# % guisection: Method
+# %end
+# %option
+# % key: outline
+# % type: string
+# % options: centre,inside
+# % description: Where the map's plot outline lies, for the fit step
+# % descriptions: centre;on the centre of the drawn boundary line;inside;on the outer edge of a stroke drawn inside the plot
+# % answer: centre
 # % guisection: Method
 # %end
 # %option
@@ -219,6 +235,8 @@ def main(options, flags):
         gt_points=grassio.read_points(options["gt_points"])[0] if options["gt_points"] else None,
         gt_polygons=(grassio.read_features(options["gt_polygons"], "area")[0]
                      if options["gt_polygons"] else None),
+        image=(grassio.read_region_image(options["map"].split(","))
+               if options["map"] else None),
         say=grassio.say)
     result = generalize.run(inputs, config)
 

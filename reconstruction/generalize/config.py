@@ -9,7 +9,9 @@ Every option text becomes a value here, through
 from dataclasses import dataclass
 from typing import Optional
 
+from ..core.errors import InputError
 from ..core.options import parse_list, parse_number
+from .fitting import OUTLINES
 
 
 @dataclass(frozen=True)
@@ -17,7 +19,8 @@ class GeneralizeConfig:
     """The steps of v.histo.generalize and their parameters (map units, degrees).
 
     ``category``: the building class of raster= (class=; None for input=);
-    ``shell``: flag -g, the figures printed as key=value.
+    ``shell``: flag -g, the figures printed as key=value; ``outline``: how
+    the map draws the plots' outlines, for the fit step (map=).
     """
 
     methods: tuple = ("alpha", "lines")
@@ -31,6 +34,7 @@ class GeneralizeConfig:
     seed: int = 1
     category: Optional[int] = None
     shell: bool = False
+    outline: str = "centre"
 
 
 def read_config(options, flags):
@@ -39,8 +43,18 @@ def read_config(options, flags):
     def positive(key, allow_zero=False):
         return parse_number(options[key], key, minimum=0, allow_minimum=allow_zero)
 
+    methods = tuple(parse_list(options["method"]))
+    scan = bool(options.get("map"))
+    if ("fit" in methods) != scan:
+        raise InputError("method=fit moves the plots' edges onto the lines of the scanned map: "
+                         "give both, or neither (method={}, map={})".format(
+                             options["method"], options.get("map") or "not given"))
+    outline = options.get("outline") or "centre"
+    if outline not in OUTLINES:
+        raise InputError("Option outline= must be one of {}, not '{}'".format(
+            ", ".join(OUTLINES), outline))
     return GeneralizeConfig(
-        methods=tuple(parse_list(options["method"])),
+        methods=methods,
         alpha=positive("alpha"), distance=positive("distance"),
         angle=parse_number(options["angle"], "angle", minimum=0, maximum=180),
         orthogonal=bool(flags["r"]), tolerance=positive("tolerance"),
@@ -48,4 +62,4 @@ def read_config(options, flags):
         seed=parse_number(options["seed"], "seed", int),
         category=(parse_number(options["class"], "class", int) if options.get("raster")
                   else None),
-        shell=bool(flags.get("g")))
+        shell=bool(flags.get("g")), outline=outline)

@@ -27,6 +27,9 @@ Morlighem (2021, Sections 3.2.2-3.2.3):
   simplification, Visvalingam-Whyatt, which keeps shared edges shared; plain
   topology-preserving Douglas-Peucker when the plots are not a coverage);
 - ``douglas``: plain Douglas-Peucker (``shapely.simplify``).
+- ``fit``: each edge moved onto the boundary line the scanned map draws
+  (:mod:`reconstruction.generalize.fitting`; a plot whose fit is not sound
+  stays as it was).
 
 :func:`generalize_plots` chains the steps and never loses a plot: when a step
 fails or gives an invalid or collapsed polygon for a plot, the next sensible
@@ -39,6 +42,7 @@ coverage: plots may share boundaries, never overlap.
 
 import math
 from dataclasses import dataclass
+from typing import Optional
 
 import numpy as np
 import shapely
@@ -49,6 +53,7 @@ from ..geom.overlaps import OverlapRule, resolve_overlaps
 # one home for the polygons of a geometry; both names stay importable from here
 from ..geom.polygons import centre_line, clean_polygon, stair_step
 from ..geom.polygons import explode as explode_plots, largest_polygon  # noqa: F401
+from . import fitting
 from .lines import buffered_lines
 
 # Tuning (checked on the thesis's Delft 1961 plots): the alpha outline is
@@ -65,7 +70,7 @@ CLOSING = 0.25
 NOTCH = 0.5
 #: ... or when its walls cover at least DENT_WALLS of the edges they lie on
 DENT_WALLS = 0.75
-METHODS = ("alpha", "lines", "simplify", "douglas")
+METHODS = ("alpha", "lines", "simplify", "douglas", "fit")
 SAMPLINGS = ("regular", "hexagonal", "stratified", "random")
 
 
@@ -77,13 +82,17 @@ class Generalization:
     methods: per plot, the methods used joined by ``+`` (e.g. ``alpha/regular+lines``);
     steps: list of ``(step name, list of polygons)`` after each method step
     (the first is ``("raw", inputs)``), for the per-step metrics;
-    fallbacks: dict step -> number of plots that needed a fallback there.
+    fallbacks: dict step -> number of plots that needed a fallback there (for
+    ``fit``: the plots kept as they were);
+    outline_fit: the :class:`~reconstruction.generalize.fitting.OutlineFit` of
+    the fit step, None without one.
     """
 
     plots: list
     methods: list
     steps: list
     fallbacks: dict
+    outline_fit: Optional[fitting.OutlineFit] = None
 
 
 # ---------------------------------------------------------------------------
@@ -432,7 +441,8 @@ def _centre_lines(polygons):
 
 
 def generalize_plots(polygons, methods=("alpha", "lines"), alpha=12.0, distance=5.0,
-                     angle=180.0, orthogonal=False, tolerance=1.0, seed=1):
+                     angle=180.0, orthogonal=False, tolerance=1.0, seed=1, image=None,
+                     outline="centre", stroke=None):
     """Generalise building plots, one output polygon per input polygon.
 
     ``polygons``: valid shapely Polygons (see :func:`explode_plots`);
@@ -440,11 +450,18 @@ def generalize_plots(polygons, methods=("alpha", "lines"), alpha=12.0, distance=
     radius; ``distance`` / ``angle`` (degrees): the epsilons of the
     buffered-lines step; ``orthogonal``: parallel / perpendicular lines;
     ``tolerance``: the simplify and douglas tolerance; ``seed``: for the
-    stratified and random samplings. Returns a :class:`Generalization`.
+    stratified and random samplings; ``image``: the scanned map (a
+    :class:`~reconstruction.geom.grid.MapImage`) whose drawn boundary lines the
+    ``fit`` step moves the edges onto, by the map's ``outline`` convention and
+    ``stroke`` width (:func:`~reconstruction.generalize.fitting.fit_outlines`). Returns a
+    :class:`Generalization`.
     """
     for method in methods:
         if method not in METHODS:
             raise ValueError("unknown method '{}' (one of {})".format(method, ", ".join(METHODS)))
+    if "fit" in methods and image is None:
+        raise ValueError("the fit step needs the scanned map (image=)")
+    outline_fit = None
     rng = np.random.default_rng(seed)
     current = [shapely.orient_polygons(p) for p in polygons]
     used = [[] for _ in current]
@@ -485,6 +502,15 @@ def generalize_plots(polygons, methods=("alpha", "lines"), alpha=12.0, distance=
                 out = douglas(poly, tolerance)
                 if acceptable(out, poly):
                     new[i], labels[i] = out, "douglas"
+        elif method == "fit":
+            outline_fit = fitting.fit_outlines(current, image, outline, stroke)
+            kept = 0
+            for i, (poly, out) in enumerate(zip(current, outline_fit.plots)):
+                fitted = acceptable(out, poly)
+                new[i], labels[i] = (out, "fit") if fitted else (poly, "fit/none")
+                kept += not fitted
+            if kept:
+                fallbacks[step_name] = kept
         failed = [i for i in range(len(current)) if new[i] is None]
         for i in failed:
             new[i], labels[i], redone = _fallback(method, i, current, steps, previous, alpha,
@@ -506,7 +532,8 @@ def generalize_plots(polygons, methods=("alpha", "lines"), alpha=12.0, distance=
             final[i] = current[i]
     if steps and final != current:
         steps[-1] = (steps[-1][0], list(final))
-    return Generalization(final, ["+".join(u) if u else "none" for u in used], steps, fallbacks)
+    return Generalization(final, ["+".join(u) if u else "none" for u in used], steps, fallbacks,
+                          outline_fit)
 
 
 def _fallback(method, i, current, steps, previous, alpha, distance, angle, orthogonal,

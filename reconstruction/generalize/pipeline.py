@@ -14,6 +14,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from ..core.messages import note, verbose
+from ..geom.grid import MapImage
 from .config import GeneralizeConfig
 from .stage import GeneralizedPlots, generalize_map, raw_plots
 
@@ -30,7 +31,9 @@ class GeneralizeInputs:
     raster= or given as input=); ``cats``: their categories (input= only,
     None for areas vectorised from a raster); ``gt_points``: (n, 2)
     coordinates of the ground-truth points, ``gt_polygons``: the reference
-    plots (None when not given); ``say(messages)``: prints progress
+    plots (None when not given); ``image``: the scanned map for the fit step
+    (a :class:`~reconstruction.geom.grid.MapImage`, None without map=);
+    ``say(messages)``: prints progress
     :class:`~reconstruction.core.messages.Message` s as they happen.
     """
 
@@ -39,6 +42,7 @@ class GeneralizeInputs:
     cats: Optional[list] = None
     gt_points: Optional[np.ndarray] = None
     gt_polygons: Optional[list] = None
+    image: Optional[MapImage] = None
     say: Callable[[list], None] = _silent
 
 
@@ -51,4 +55,4 @@ def run(inputs, config: GeneralizeConfig) -> GeneralizedPlots:
                                                                           config.min_area))])
     inputs.say([note("Generalising {} plots ({})...".format(len(raw.polygons),
                                                             ", ".join(config.methods)))])
-    return generalize_map(raw, config, inputs.gt_points, inputs.gt_polygons)
+    return generalize_map(raw, config, inputs.gt_points, inputs.gt_polygons, inputs.image)

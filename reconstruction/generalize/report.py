@@ -13,7 +13,9 @@ from .stage import METHOD
 def report(result, config):
     """The warnings of the steps that needed a fallback method, then (without
     flag -g) the assessment figures in one message."""
-    messages = [warning("Step {}: {} plots needed a fallback method (see column '{}')".format(
+    messages = [warning(("Step {}: {} plots kept their outline: no sound fit to the map's lines "
+                         "(see column '{}')" if step.startswith("fit") else
+                         "Step {}: {} plots needed a fallback method (see column '{}')").format(
         step, count, METHOD)) for step, count in result.report.fallbacks.items()]
     if not config.shell:
         messages.append(note(", ".join(

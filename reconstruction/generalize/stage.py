@@ -98,6 +98,18 @@ class ShapeScores:
 
 
 @dataclass(frozen=True)
+class FitFigures:
+    """The fit step's figures: how many edges were long enough to fit
+    (``fit_edges``), how many were moved onto a line of the map
+    (``fitted_edges``), and the width of the outline stroke (map units) for
+    maps that draw it inside the plots (None for outline=centre)."""
+
+    fit_edges: int
+    fitted_edges: int
+    stroke_width: Optional[float] = None
+
+
+@dataclass(frozen=True)
 class GeneralizeReport:
     """The figures of one run: counts, methods used, metrics per step, scores."""
 
@@ -109,13 +121,14 @@ class GeneralizeReport:
     steps: list
     points: Optional[PointScores] = None
     shapes: Optional[ShapeScores] = None
+    fit: Optional[FitFigures] = None
 
     def figures(self):
         """All figures as one dict, the JSON report (scores only when measured)."""
         figures = {"plots": self.plots, "raw_areas": self.raw_areas,
                    "dropped_small": self.dropped_small, "methods": self.methods,
                    "fallbacks": self.fallbacks, "steps": self.steps}
-        for scores in (self.points, self.shapes):
+        for scores in (self.fit, self.points, self.shapes):
             if scores is not None:
                 figures.update(asdict(scores))
         return figures
@@ -183,7 +196,7 @@ def _shape_scores(plots, references, buffer, steps=()):
                        outline.offsets, outline.ious, by_step)
 
 
-def generalize_map(raw, config, gt_points=None, gt_polygons=None):
+def generalize_map(raw, config, gt_points=None, gt_polygons=None, image=None):
     """Generalise the raw plots; measure and score the result.
 
     An alpha that would sample too many points in these plots raises
@@ -191,15 +204,17 @@ def generalize_map(raw, config, gt_points=None, gt_polygons=None):
     (:func:`reconstruction.core.work_limits.check_alpha`).
 
     ``gt_points``: (n, 2) coordinates of ground-truth points, one in each true
-    plot; ``gt_polygons``: reference plot geometries. Returns a
-    :class:`GeneralizedPlots`.
+    plot; ``gt_polygons``: reference plot geometries; ``image``: the scanned
+    map (:class:`~reconstruction.geom.grid.MapImage`) for the fit step.
+    Returns a :class:`GeneralizedPlots`.
     """
     if "alpha" in config.methods:
         check_alpha(raw.polygons, config.alpha)
     result = generalization.generalize_plots(
         raw.polygons, config.methods, alpha=config.alpha, distance=config.distance,
         angle=config.angle, orthogonal=config.orthogonal, tolerance=config.tolerance,
-        seed=config.seed)
+        seed=config.seed, image=image, outline=config.outline)
+    fit = result.outline_fit
     metrics = shape_metrics.plot_metrics(result.plots)
     columns = {RAW_CATEGORY: raw.cats} if raw.cats is not None else {}
     columns[METHOD] = result.methods
@@ -210,5 +225,6 @@ def generalize_map(raw, config, gt_points=None, gt_polygons=None):
         steps=_step_rows(result.steps),
         points=None if gt_points is None else _point_scores(result.plots, gt_points),
         shapes=None if gt_polygons is None else _shape_scores(result.plots, gt_polygons,
-                                                              config.gt_buffer, result.steps))
+                                                              config.gt_buffer, result.steps),
+        fit=None if fit is None else FitFigures(fit.edges, fit.fitted, fit.stroke_width))
     return GeneralizedPlots(result.plots, columns, report)

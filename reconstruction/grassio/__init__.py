@@ -12,14 +12,15 @@ import grassio``; ``grassio.read_areas(...)``):
 - ``temp``: temporary maps and files removed at exit, outputs ``staged``;
 - ``checks``: the checks of inputs and outputs before any work;
 - ``points``: 3D point maps and rasters near footprints (v.histo.lod2);
-- ``images``: the map's colour rasters as a picture (v.histo.lod2 ``map=``);
+- ``images``: the map's colour rasters as a picture (v.histo.lod2 ``map=``,
+  v.histo.generalize's fit step);
 - ``tiles``: i.segment runs on tiles and windows (r.histo.classify).
 """
 
 from .checks import (check_outputs, given, location_epsg, prefetch_checks, projection,
                      require_columns, require_features, require_new_file, require_projected,
                      require_raster, require_vector, vector_counts)
-from .images import read_map_image
+from .images import read_map_image, read_region_image
 from .maps import (area_boundaries, cat_ranges, column_names, finish_read_areas, raster_region_matches,
                    read_areas, read_features, read_points, read_raster, read_table,
                    start_read_areas, write_areas, write_features, write_points, write_raster)
@@ -34,7 +35,7 @@ __all__ = [
     "check_outputs", "given", "location_epsg", "prefetch_checks", "projection",
     "require_columns", "require_features", "require_new_file", "require_projected",
     "require_raster", "require_vector", "vector_counts",
-    "read_map_image",
+    "read_map_image", "read_region_image",
     "area_boundaries", "cat_ranges", "column_names", "finish_read_areas",
     "raster_region_matches", "read_areas", "read_features", "read_points", "read_raster",
     "read_table", "start_read_areas", "write_areas", "write_features", "write_points",

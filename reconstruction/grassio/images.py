@@ -1,6 +1,8 @@
 """GRASS rasters as pictures: the historical map's red, green and blue
 rasters read into a :class:`~reconstruction.geom.grid.MapImage` to drape on the
-ground of v.histo.lod2's picture (``map=``).
+ground of v.histo.lod2's picture (``map=``, :func:`read_map_image`), or cell for
+cell in the current region for v.histo.generalize's fit step
+(:func:`read_region_image`).
 
 The rasters are read over their own extent (not the computational region),
 resampled so that the longer side has at most ``max_size`` cells: a picture
@@ -26,14 +28,38 @@ from .run import doing
 MAX_SIZE = 2048
 
 
-def read_map_image(names, max_size=MAX_SIZE):
-    """The :class:`~reconstruction.geom.grid.MapImage` of three rasters (red, green, blue)."""
+def _rgb_names(names):
+    """The three raster names of option map= (red, green, blue), each checked."""
     names = [n for n in names if n]
     if len(names) != 3:
         raise InputError("Option map= needs three rasters: red, green and blue, not {}".format(
             len(names)))
     for name in names:
         require_raster(name)
+    return names
+
+
+def _rgb(bands):
+    """Bands read as floats (NULL: NaN) as one (rows, cols, 3) uint8 picture, NULL white."""
+    return np.rint(np.dstack([np.where(np.isnan(b), 255.0, np.clip(b, 0, 255))
+                              for b in bands])).astype(np.uint8)
+
+
+def read_region_image(names):
+    """The :class:`~reconstruction.geom.grid.MapImage` of three rasters (red,
+    green, blue) in the current region, cell for cell (v.histo.generalize's
+    fit step)."""
+    names = _rgb_names(names)
+    with doing("reading the current region"):
+        region = gs.region()
+    image = _rgb([read_raster(name, np.float64) for name in names])
+    return MapImage(image, (float(region["w"]), float(region["e"]), float(region["s"]),
+                            float(region["n"])))
+
+
+def read_map_image(names, max_size=MAX_SIZE):
+    """The :class:`~reconstruction.geom.grid.MapImage` of three rasters (red, green, blue)."""
+    names = _rgb_names(names)
     with doing("reading the extent of raster map <{}>".format(names[0])):
         info = gs.raster_info(names[0])
     rows, cols = int(info["rows"]), int(info["cols"])
@@ -42,11 +68,7 @@ def read_map_image(names, max_size=MAX_SIZE):
     env = os.environ.copy()
     env["GRASS_REGION"] = gs.region_env(n=info["north"], s=info["south"], e=info["east"],
                                         w=info["west"], rows=rows, cols=cols)
-    bands = []
-    for name in names:
-        values = read_raster(name, np.float64, env)
-        bands.append(np.where(np.isnan(values), 255.0, np.clip(values, 0, 255)))
-    rgb = np.rint(np.dstack(bands)).astype(np.uint8)
+    rgb = _rgb([read_raster(name, np.float64, env) for name in names])
     extent = (float(info["west"]), float(info["east"]), float(info["south"]),
               float(info["north"]))
     return MapImage(rgb, extent)

@@ -203,9 +203,31 @@ def test_seed_and_overwrite(synthetic, mapset):
     assert [g.wkb for g in c] != [g.wkb for g in a]
 
 
+def test_fit_step_moves_the_cells_outlines_onto_the_map_lines(synthetic, mapset, tmp_path):
+    """A perfect classification's cells, generalised, then fitted to the map's
+    outline strokes (drawn inside the plots): closer to the true plots."""
+    report = str(tmp_path / "r.json")
+    rc, out, err = run(raster=truth_raster(synthetic), **{"class": 1}, output="plots",
+                       method="alpha,lines,fit", outline="inside", report=report,
+                       map=",".join((synthetic.red, synthetic.green, synthetic.blue)),
+                       gt_polygons=synthetic.plots)
+    assert rc == 0, err
+    with open(report) as f:
+        rep = json.load(f)
+    by_step = rep["outline_by_step"]
+    assert list(by_step) == ["raw", "alpha", "lines", "fit"]
+    assert by_step["fit"]["iou"] > by_step["lines"]["iou"] + 0.01
+    assert abs(by_step["fit"]["offset"]) < 0.1
+    assert rep["fitted_edges"] > 0.9 * rep["fit_edges"]
+    assert 0.6 < rep["stroke_width"] < 1.2       # the map draws 0.9 m
+    geoms, cols = read_plots("plots")
+    assert_valid_coverage(geoms)
+    assert all(m.endswith("+fit") for m in cols["method"])
+
+
 @pytest.mark.parametrize("case", ["no_areas", "points", "empty_class", "both_inputs",
                                   "points_as_gt_polygons", "bad_angle", "file_exists",
-                                  "all_small"])
+                                  "all_small", "fit_without_map", "map_without_fit"])
 def test_bad_inputs_fail_cleanly(synthetic, mapset, tmp_path, case):
     import grass.script as gs
 
@@ -242,6 +264,12 @@ def test_bad_inputs_fail_cleanly(synthetic, mapset, tmp_path, case):
     elif case == "all_small":
         kwargs["min_area"] = 1e9
         expect = "smaller than min_area"
+    elif case == "fit_without_map":
+        kwargs["method"] = "alpha,lines,fit"
+        expect = "method=fit"
+    elif case == "map_without_fit":
+        kwargs["map"] = ",".join((synthetic.red, synthetic.green, synthetic.blue))
+        expect = "method=fit"
     before = set(gs.read_command("g.list", type="raster,vector", mapset=".").split())
     rc, _, err = run(**kwargs)
     assert rc != 0
