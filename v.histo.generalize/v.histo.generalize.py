@@ -92,6 +92,14 @@
 # % guisection: Method
 # %end
 # %option
+# % key: stroke
+# % type: double
+# % required: no
+# % label: Width of the outline stroke drawn inside the plots (map units), for outline=inside
+# % description: Default: measured on the map
+# % guisection: Method
+# %end
+# %option
 # % key: tolerance
 # % type: double
 # % description: Tolerance of the simplify and douglas steps (map units)

@@ -20,7 +20,8 @@ class GeneralizeConfig:
 
     ``category``: the building class of raster= (class=; None for input=);
     ``shell``: flag -g, the figures printed as key=value; ``outline``: how
-    the map draws the plots' outlines, for the fit step (map=).
+    the map draws the plots' outlines, for the fit step (map=), and
+    ``stroke`` the width of an outline drawn inside them (None: measured).
     """
 
     methods: tuple = ("alpha", "lines")
@@ -35,6 +36,7 @@ class GeneralizeConfig:
     category: Optional[int] = None
     shell: bool = False
     outline: str = "centre"
+    stroke: Optional[float] = None
 
 
 def read_config(options, flags):
@@ -62,4 +64,5 @@ def read_config(options, flags):
         seed=parse_number(options["seed"], "seed", int),
         category=(parse_number(options["class"], "class", int) if options.get("raster")
                   else None),
-        shell=bool(flags.get("g")), outline=outline)
+        shell=bool(flags.get("g")), outline=outline,
+        stroke=positive("stroke") if options.get("stroke") else None)

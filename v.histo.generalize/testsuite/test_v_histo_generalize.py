@@ -223,6 +223,12 @@ def test_fit_step_moves_the_cells_outlines_onto_the_map_lines(synthetic, mapset,
     geoms, cols = read_plots("plots")
     assert_valid_coverage(geoms)
     assert all(m.endswith("+fit") for m in cols["method"])
+    rc, _, err = run(raster="truth", **{"class": 1}, output="plots", overwrite=True,
+                     method="alpha,lines,fit", outline="inside", stroke=0.9, report=report,
+                     map=",".join((synthetic.red, synthetic.green, synthetic.blue)))
+    assert rc == 0, err
+    with open(report) as f:
+        assert json.load(f)["stroke_width"] == 0.9
 
 
 @pytest.mark.parametrize("case", ["no_areas", "points", "empty_class", "both_inputs",
