@@ -58,8 +58,9 @@ MIN_FOUND = 0.5
 #: an edge gets a slope from at least this many profiles, when its 95 %
 #: confidence interval is narrower than :data:`MAX_SLOPE_SPREAD`
 MIN_SLOPE_PROFILES, MAX_SLOPE_SPREAD = 8, 0.05
-#: consecutive edges closer to parallel than this (degrees) are not intersected
-MIN_CORNER = 15.0
+#: consecutive edges closer to parallel than this (degrees) are not intersected,
+#: nor those whose fitted lines meet farther than this (cells) from the corner
+MIN_CORNER, MAX_CORNER_MOVE = 15.0, 10.0
 #: the stroke colour: the median of the darkest this share of the profiles' lines
 DARKEST = 0.05
 #: passes of the fit, each from where the one before left the edges
@@ -253,8 +254,10 @@ def _meet(a1, d1, a2, d2):
     return a1 + _cross(a2 - a1, d2) / _cross(d1, d2) * d1
 
 
-def _refit_ring(ring, index, profiles, fits):
-    """The corners of ``ring`` (k, 2) where its edges' fitted lines meet."""
+def _refit_ring(ring, index, profiles, fits, cell):
+    """The corners of ``ring`` (k, 2) where its edges' fitted lines meet (the
+    mean of the two edges' moved ends where the lines are nearly parallel or
+    meet farther than :data:`MAX_CORNER_MOVE` cells from the corner)."""
     count = len(ring)
     starts, ends = [], []
     for i in range(count):
@@ -275,7 +278,10 @@ def _refit_ring(ring, index, profiles, fits):
         a2, b2 = starts[i], ends[i]
         d1, d2 = b1 - a1, b2 - a2
         sine = _cross(d1, d2) / max(np.hypot(*d1) * np.hypot(*d2), 1e-12)
-        corners.append(_meet(a1, d1, a2, d2) if abs(sine) >= sin_min else (b1 + a2) / 2.0)
+        corner = _meet(a1, d1, a2, d2) if abs(sine) >= sin_min else None
+        if corner is None or np.hypot(*(corner - ring[i])) > MAX_CORNER_MOVE * cell:
+            corner = (b1 + a2) / 2.0
+        corners.append(corner)
     return np.array(corners)
 
 
@@ -298,7 +304,8 @@ def _fit_once(polygons, bands, place, cell, outline, stroke):
     for polygon, plot in zip(polygons, rings):
         new_rings = []
         for ring in plot:
-            new_rings.append(_refit_ring(ring, index[first:first + len(ring)], profiles, fits))
+            new_rings.append(_refit_ring(ring, index[first:first + len(ring)], profiles, fits,
+                                         cell))
             first += len(ring)
         fitted = shapely.Polygon(new_rings[0], new_rings[1:])
         out.append(fitted if fitted.is_valid and not fitted.is_empty else polygon)

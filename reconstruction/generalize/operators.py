@@ -70,6 +70,11 @@ CLOSING = 0.25
 NOTCH = 0.5
 #: ... or when its walls cover at least DENT_WALLS of the edges they lie on
 DENT_WALLS = 0.75
+#: ... and it is not a yard: wider than 2 x YARD x CLOSING x alpha everywhere
+#: and, unless enclosed, deeper than YARD_DEPTH x its opening (a courtyard, a
+#: garden between a plot's wings; not a square symbol printed on a plot's edge)
+YARD, YARD_DEPTH = 1.5, 2.0
+
 METHODS = ("alpha", "lines", "simplify", "douglas", "fit")
 SAMPLINGS = ("regular", "hexagonal", "stratified", "random")
 
@@ -204,12 +209,13 @@ def _without_corner_fills(shape, polygon, reach):
     opening = shapely.length(beyond) - shapely.length(shapely.intersection(
         shapely.boundary(beyond), rim))
     shallow = shapely.area(beyond) < NOTCH * np.maximum(opening, 0) ** 2
-    if not shallow.any():
-        return shape
-    edges = _edges(closed, reach / 4)
-    corners = [piece for piece in beyond[shallow]
-               if _wall_share(_walls(piece, rim, reach / 4), edges, reach / 4) < DENT_WALLS]
-    return shapely.difference(shape, shapely.union_all(corners)) if corners else shape
+    yards = (~shapely.is_empty(shapely.buffer(beyond, -YARD * reach, join_style="mitre"))
+             & (shapely.area(beyond) >= YARD_DEPTH * np.maximum(opening, 0) ** 2))
+    edges = _edges(closed, reach / 4) if shallow.any() else None
+    dropped = [piece for piece, yard, low in zip(beyond, yards, shallow)
+               if yard or (low and _wall_share(_walls(piece, rim, reach / 4), edges,
+                                               reach / 4) < DENT_WALLS)]
+    return shapely.difference(shape, shapely.union_all(dropped)) if dropped else shape
 
 
 def _walls(piece, rim, thin):

@@ -311,3 +311,15 @@ def test_the_alpha_shape_still_closes_a_v_cut_into_a_front():
     plot = Polygon([(0, 0), (100, 0), (100, 12), (56, 12), (48, 4), (40, 12), (0, 12)])
     out = gz.alpha_generalize(plot, 12)
     assert out.area == pytest.approx(100 * 12, rel=0.01)
+
+
+@pytest.mark.parametrize("plot", [
+    box(0, 0, 60, 80).difference(box(20, 20, 40, 60)),                   # a 20 m courtyard
+    box(0, 0, 70, 90).difference(box(24, 15, 40, 90.1)),                  # wings 16 m apart
+    box(0, 0, 60, 90).difference(box(24, 15, 36, 90.1)),                  # 12 m apart
+])
+def test_the_alpha_shape_keeps_yards_open(plot):
+    # issue 32: a yard narrower than the alpha disk (24 m) but wider than 9 m is
+    # drawn as such (a garden, a courtyard): filling it put the plot 2-4 m out
+    out = gz.alpha_generalize(plot, 12)
+    assert out.symmetric_difference(plot).area < 0.02 * plot.area
