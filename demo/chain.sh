@@ -110,9 +110,11 @@ classify_stage $MAP.red,$MAP.green,$MAP.blue ${MAP}_training ${MAP}_classes \
 
 # ---------------------------------------------------------------------------
 # 3. Generalised building plots from the building class, scored against the
-#    ground truth (report with precision, recall, F-score, shape metrics)
+#    ground truth (report with precision, recall, F-score, shape metrics);
+#    their edges then moved onto the outline strokes the map draws (fit)
 # ---------------------------------------------------------------------------
-generalize_stage ${MAP}_classes $BUILDING min_area=$MIN_AREA $truth
+generalize_stage ${MAP}_classes $BUILDING min_area=$MIN_AREA $truth \
+    method=alpha,lines,fit map=$MAP.red,$MAP.green,$MAP.blue outline=inside
 
 # ---------------------------------------------------------------------------
 # 3b. A sheet of a series keeps the plots it builds: those whose larger part

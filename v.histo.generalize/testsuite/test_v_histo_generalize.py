@@ -400,6 +400,28 @@ def test_acceptance_delft_1961(mapset, shared_data, tmp_path):
     for key in ("convexity_mean", "rectangularity_mean"):
         assert float(rows[-1][key]) > float(rows[0][key])
     assert float(rows[1]["convexity_mean"]) > float(rows[0]["convexity_mean"])
+    # issue 32's acceptance on the thesis's raw plots: the fit step moves the
+    # edges onto the centre of the lines the scanned map draws
+    tif = os.path.join(folder, "input", "delft_1961.tif")
+    if not os.path.exists(tif):
+        pytest.skip("{} not found".format(tif))
+    gs.run_command("r.in.gdal", input=tif, output="delft", flags="o", quiet=True)
+    gs.run_command("g.region", raster="delft.red", quiet=True)
+    fitted_report = str(tmp_path / "fitted.json")
+    rc, out, err = run(input="raw", output="fitted", alpha=12, distance=5, angle=180,
+                       min_area=20, method="alpha,lines,fit", map="delft.red,delft.green,delft.blue",
+                       report=fitted_report, gt_polygons="gt")
+    assert rc == 0, err
+    with open(fitted_report) as f:
+        fitted = json.load(f)
+    fitted_geoms, _ = read_plots("fitted")
+    agreement = shape_metrics.outline_agreement(fitted_geoms, gt)
+    assert fitted["outline_offset"] == pytest.approx(agreement.offset)
+    print("fitted to the map's lines: {:+.3f} m, IoU {:.3f}, turning distance {:.3f}; "
+          "{} of {} edges".format(agreement.offset, agreement.iou, fitted["turning_distance"],
+                                  fitted["fitted_edges"], fitted["fit_edges"]))
+    assert abs(agreement.offset) <= 0.25 and agreement.iou >= 0.94
+    assert agreement.iou > rep["iou"] and fitted["turning_distance"] < thesis["turning_distance"]
     assert temp_maps() == []
 
 
