@@ -243,8 +243,7 @@ def main(options, flags):
         gt_points=grassio.read_points(options["gt_points"])[0] if options["gt_points"] else None,
         gt_polygons=(grassio.read_features(options["gt_polygons"], "area")[0]
                      if options["gt_polygons"] else None),
-        image=(grassio.read_region_image(options["map"].split(","))
-               if options["map"] else None),
+        image=grassio.read_region_image(config.maps) if config.maps else None,
         say=grassio.say)
     result = generalize.run(inputs, config)
 

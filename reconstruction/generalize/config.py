@@ -21,7 +21,8 @@ class GeneralizeConfig:
     ``category``: the building class of raster= (class=; None for input=);
     ``shell``: flag -g, the figures printed as key=value; ``outline``: how
     the map draws the plots' outlines, for the fit step (map=), and
-    ``stroke`` the width of an outline drawn inside them (None: measured).
+    ``stroke`` the width of an outline drawn inside them (None: measured);
+    ``maps``: the scanned map's red, green and blue rasters (map=).
     """
 
     methods: tuple = ("alpha", "lines")
@@ -37,6 +38,7 @@ class GeneralizeConfig:
     shell: bool = False
     outline: str = "centre"
     stroke: Optional[float] = None
+    maps: tuple = ()
 
 
 def read_config(options, flags):
@@ -65,4 +67,5 @@ def read_config(options, flags):
         category=(parse_number(options["class"], "class", int) if options.get("raster")
                   else None),
         shell=bool(flags.get("g")), outline=outline,
-        stroke=positive("stroke") if options.get("stroke") else None)
+        stroke=positive("stroke") if options.get("stroke") else None,
+        maps=tuple(parse_list(options["map"])) if scan else ())

@@ -323,3 +323,20 @@ def test_the_alpha_shape_keeps_yards_open(plot):
     # drawn as such (a garden, a courtyard): filling it put the plot 2-4 m out
     out = gz.alpha_generalize(plot, 12)
     assert out.symmetric_difference(plot).area < 0.02 * plot.area
+
+
+def test_buffered_lines_do_not_make_a_triangle_of_a_small_plot():
+    # issue 32: the cells of a 11 x 11 m plot of the synthetic map (seed 3): lines
+    # 5 m apart at any angle (the thesis's parameters) joined two of its sides
+    # into one edge, a triangle of IoU 0.67 with the cells; the plot now takes
+    # lines 2.5 m apart
+    cells = shapely.from_wkt(
+        "POLYGON ((6 6, 5 6, 4 6, 4 7, 4 8, 4 9, 4 10, 4 11, 4 12, 4 13, 5 13, 6 13, 6 14, "
+        "6 15, 7 15, 8 15, 9 15, 10 15, 11 15, 12 15, 13 15, 14 15, 14 14, 15 14, 15 13, "
+        "15 12, 15 11, 15 10, 15 9, 15 8, 15 7, 15 6, 15 5, 14 5, 14 4, 13 4, 12 4, 12 3, "
+        "11 3, 10 3, 10 4, 9 4, 8 4, 7 4, 6 4, 6 3, 5 3, 5 4, 5 5, 6 5, 6 6))")
+    result = gz.generalize_plots([cells], alpha=12, distance=5, angle=180)
+    plot = result.plots[0]
+    assert len(plot.exterior.coords) - 1 == 4
+    assert plot.intersection(cells).area / plot.union(cells).area > 0.85
+    assert result.methods == ["alpha/regular+lines/2.5"]
