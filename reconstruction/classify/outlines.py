@@ -26,7 +26,7 @@ Pure numpy and scipy, no GRASS.
 import numpy as np
 from scipy import ndimage
 
-from .removal import _FOUR
+from .removal import FOUR
 
 #: where a map may draw the outline of an area (r.histo.classify outline=)
 OUTLINES = ("centre", "inside")
@@ -65,7 +65,7 @@ def stroke_share(colours, stroke, outside):
 
 def _between_areas(area):
     """Cells 4-next to two or more separate areas of ``area``."""
-    parts, _n = ndimage.label(area, _FOUR)
+    parts, _n = ndimage.label(area, FOUR)
     padded = np.pad(parts, 1)
     rows, cols = area.shape
     neighbours = np.stack([padded[1 + dr:1 + dr + rows, 1 + dc:1 + dc + cols]
@@ -98,10 +98,10 @@ def inside_outlines(classes, bands, labels, share=0.5, printed=None):
         area = out == label
         if not area.any() or area.all():
             continue
-        ring = area & ~ndimage.binary_erosion(area, _FOUR, border_value=1) & valid
+        ring = area & ~ndimage.binary_erosion(area, FOUR, border_value=1) & valid
         if not ring.any():
             continue
-        beside = ~area & ndimage.binary_dilation(area, _FOUR) & valid & ~_between_areas(area)
+        beside = ~area & ndimage.binary_dilation(area, FOUR) & valid & ~_between_areas(area)
         _, (near_r, near_c) = ndimage.distance_transform_edt(area, return_indices=True)
         far = ~area & valid & (ndimage.distance_transform_edt(~area) >= OUTSIDE_DEPTH)
         outside, seen = _local_mean(image, far, WINDOW)

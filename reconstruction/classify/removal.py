@@ -139,7 +139,8 @@ def fill_from_nearest(classes, holes, window=3, reach=None, nodata=0, exclude=()
     return classes, holes
 
 
-_FOUR = ndimage.generate_binary_structure(2, 1)
+#: the 4- and 8-neighbourhoods of a cell (the classify package's connectivity)
+FOUR = ndimage.generate_binary_structure(2, 1)
 _EIGHT = np.ones((3, 3), dtype=bool)
 
 
@@ -165,7 +166,7 @@ def small_regions(classes, min_cells, nodata=0, hidden=None, exact=()):
         if label == nodata:
             continue
         mask = classes == label
-        regions, n = ndimage.label(mask, _FOUR)
+        regions, n = ndimage.label(mask, FOUR)
         if not n:
             continue
         sizes = np.bincount(regions.ravel(), minlength=n + 1)
@@ -173,7 +174,7 @@ def small_regions(classes, min_cells, nodata=0, hidden=None, exact=()):
         tiny[0] = False
         cells = tiny[regions]
         if hidden is not None and label not in exact and cells.any():
-            joined, _ = ndimage.label(mask | hidden, _FOUR)
+            joined, _ = ndimage.label(mask | hidden, FOUR)
             reached = np.unique(joined[mask & ~cells])
             cells &= ~np.isin(joined, reached[reached > 0]) | enclosed
         small |= cells
@@ -291,7 +292,7 @@ def bridges(before, after, holes, min_cells=1, distance=3, nodata=0, labels=None
     for label in np.unique(after[holes]) if labels is None else labels:
         if label == nodata:
             continue
-        pre, n_pre = ndimage.label(known & (before == label), _FOUR)
+        pre, n_pre = ndimage.label(known & (before == label), FOUR)
         if n_pre < 2:
             continue
         sizes = np.bincount(pre.ravel(), minlength=n_pre + 1)
@@ -305,7 +306,7 @@ def bridges(before, after, holes, min_cells=1, distance=3, nodata=0, labels=None
         pairs = np.unique(np.stack([grown[touch], pre[touch]], axis=1), axis=0)
         per_component = np.bincount(pairs[:, 0], minlength=components.max() + 1)
         # where each region ends up after the fill
-        post, _ = ndimage.label(after == label, _FOUR)
+        post, _ = ndimage.label(after == label, FOUR)
         index = np.zeros(n_pre + 1, dtype=np.int64)
         index[pre.ravel()] = post.ravel()
         for component in np.flatnonzero(per_component >= 2):
