@@ -4,8 +4,8 @@ ground of v.histo.lod2's picture (``map=``, :func:`read_map_image`), or cell for
 cell in the current region for v.histo.generalize's fit step
 (:func:`read_region_image`).
 
-The rasters are read over their own extent (not the computational region),
-resampled so that the longer side has at most ``max_size`` cells: a picture
+For the picture, the rasters are read over their own extent (not the
+computational region), resampled so that the longer side has at most ``max_size`` cells: a picture
 needs no more, and a scanned map of 20,000 pixels a side would take
 gigabytes. Values are taken as 0-255 (as ``d.rgb`` shows them); NULL cells
 are white.
