@@ -5,9 +5,9 @@ cell in the current region for v.histo.generalize's fit step
 (:func:`read_region_image`).
 
 For the picture, the rasters are read over their own extent (not the
-computational region), resampled so that the longer side has at most ``max_size`` cells: a picture
-needs no more, and a scanned map of 20,000 pixels a side would take
-gigabytes. Values are taken as 0-255 (as ``d.rgb`` shows them); NULL cells
+computational region), resampled so that the longer side has at most
+``max_size`` cells: a picture needs no more, and a scanned map of 20,000
+pixels a side would take gigabytes. Values are taken as 0-255 (as ``d.rgb`` shows them); NULL cells
 are white.
 """
 
