@@ -171,7 +171,8 @@ def _crossing(share, first, level, offsets):
     jj = np.clip(j, 1, count - 1)
     rows = np.arange(len(share))
     a, b = share[rows, jj - 1], share[rows, jj]
-    where = offsets[jj - 1] + (a - level) / np.maximum(a - b, 1e-9) * (offsets[jj] - offsets[jj - 1])
+    step = offsets[jj] - offsets[jj - 1]
+    where = offsets[jj - 1] + (a - level) / np.maximum(a - b, 1e-9) * step
     return np.where(j > 0, where, np.nan)
 
 

@@ -409,7 +409,8 @@ def test_acceptance_delft_1961(mapset, shared_data, tmp_path):
     gs.run_command("g.region", raster="delft.red", quiet=True)
     fitted_report = str(tmp_path / "fitted.json")
     rc, out, err = run(input="raw", output="fitted", alpha=12, distance=5, angle=180,
-                       min_area=20, method="alpha,lines,fit", map="delft.red,delft.green,delft.blue",
+                       min_area=20, method="alpha,lines,fit",
+                       map="delft.red,delft.green,delft.blue",
                        report=fitted_report, gt_polygons="gt")
     assert rc == 0, err
     with open(fitted_report) as f:
