@@ -106,6 +106,10 @@ def failure_message(error):
     return None
 
 
+def _unheard(unraisable):
+    """Drop an exception raised where it cannot propagate (a ``__del__``)."""
+
+
 def run_main(main, *args):
     """Run a module's ``main(*args)``: the one place where failures become ``gs.fatal``.
 
@@ -135,6 +139,11 @@ def run_main(main, *args):
         return main(*args)
     except (InputError, CalledModuleError, KeyboardInterrupt, MemoryError, OSError) as error:
         message = failure_message(error)
+        if isinstance(error, KeyboardInterrupt):
+            # an object the interruption caught half made (grass.script.array's
+            # temporary file, without its name yet) fails in __del__ when the
+            # traceback releases it: noise after the one ERROR: line's cause
+            sys.unraisablehook = _unheard
     # outside the except clause: the traceback (and the frames it holds, such
     # as generators of running tools) is released before the exit
     gs.fatal(message)
