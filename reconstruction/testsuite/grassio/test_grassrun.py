@@ -38,6 +38,22 @@ def _fails(grassio, capfd, main, *args):
     return "ERROR: " + " ".join(err.rsplit("ERROR:", 1)[1].split())
 
 
+def _run_script(script, grass_session):
+    """Run ``script`` in a Python process of its own with the suite and GRASS on
+    its path, standard output block-buffered as in a pipe; its output and
+    messages together in ``stdout``."""
+    import subprocess
+    import sys
+
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(
+        os.path.abspath(__file__)))))
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
+        [root, os.path.join(grass_session["gisbase"], "etc", "python")]))
+    env.pop("PYTHONUNBUFFERED", None)
+    return subprocess.run([sys.executable, "-c", script], env=env, stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, text=True, timeout=60)
+
+
 def test_run_main_passes_arguments_and_returns_the_result(run):
     assert run.run_main(lambda options, flags: (options["a"], flags["b"]), {"a": 1}, {"b": 2}) == (1, 2)
 
@@ -47,11 +63,6 @@ def test_standard_output_keeps_its_place_among_the_messages_in_a_log(run, grass_
     > log 2>&1` has them: in the order the module wrote them (issue 33, item
     10: block-buffered, the figures came out at the exit, after every later
     message)."""
-    import subprocess
-    import sys
-
-    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(
-        os.path.abspath(__file__)))))
     script = ("import sys\n"
               "from reconstruction import grassio\n"
               "from reconstruction.core.messages import note\n"
@@ -60,11 +71,7 @@ def test_standard_output_keeps_its_place_among_the_messages_in_a_log(run, grass_
               "    grassio.say([note('said after the figure')])\n"
               "    return 0\n"
               "sys.exit(grassio.run_main(main))\n")
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
-        [root, os.path.join(grass_session["gisbase"], "etc", "python")]))
-    env.pop("PYTHONUNBUFFERED", None)
-    out = subprocess.run([sys.executable, "-c", script], env=env, stdout=subprocess.PIPE,
-                         stderr=subprocess.STDOUT, text=True, timeout=60)
+    out = _run_script(script, grass_session)
     assert out.returncode == 0, out.stdout
     lines = out.stdout.splitlines()
     assert lines.index("figure=1") < lines.index("said after the figure"), lines
@@ -76,11 +83,6 @@ def test_an_object_an_interruption_caught_half_made_prints_nothing(run, grass_se
     traceback beside the ERROR: line (a test of r.histo.classify's clean-up
     failed on it once in CI). In a process of its own: pytest catches such
     exceptions itself."""
-    import subprocess
-    import sys
-
-    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(
-        os.path.abspath(__file__)))))
     script = ("import sys\n"
               "from reconstruction import grassio\n"
               "class HalfMade:\n"
@@ -90,10 +92,7 @@ def test_an_object_an_interruption_caught_half_made_prints_nothing(run, grass_se
               "    half = HalfMade()\n"
               "    raise KeyboardInterrupt\n"
               "sys.exit(grassio.run_main(main))\n")
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
-        [root, os.path.join(grass_session["gisbase"], "etc", "python")]))
-    out = subprocess.run([sys.executable, "-c", script], env=env, stdout=subprocess.PIPE,
-                         stderr=subprocess.STDOUT, text=True, timeout=60)
+    out = _run_script(script, grass_session)
     assert out.returncode == 1, out.stdout
     assert "ERROR: Interrupted" in out.stdout, out.stdout
     assert "Traceback" not in out.stdout and "Exception ignored" not in out.stdout, out.stdout
