@@ -230,15 +230,18 @@ def _edge_offsets(profiles, centre):
     """Per edge of ``profiles``: the fitted line as (offset at the edge's start,
     slope along it) in map units, NaN where the edge has no line."""
     result = np.full((len(profiles.p), 2), np.nan)
+    # the profiles come edge after edge (:func:`_edge_profiles`)
+    bounds = np.searchsorted(profiles.edge, np.arange(len(profiles.p) + 1))
     for k in range(len(profiles.p)):
-        mine = profiles.edge == k
-        found = mine & ~np.isnan(centre)
+        mine = slice(bounds[k], bounds[k + 1])
+        found = ~np.isnan(centre[mine])
         count = int(found.sum())
-        if count < max(3, MIN_FOUND * mine.sum()):
+        if count < max(3, MIN_FOUND * (bounds[k + 1] - bounds[k])):
             continue
-        offset, slope = float(np.median(centre[found])), 0.0
+        values, along = centre[mine][found], profiles.along[mine][found]
+        offset, slope = float(np.median(values)), 0.0
         if count >= MIN_SLOPE_PROFILES:
-            fitted = stats.theilslopes(centre[found], profiles.along[found])
+            fitted = stats.theilslopes(values, along)
             if fitted.high_slope - fitted.low_slope <= MAX_SLOPE_SPREAD:
                 offset, slope = float(fitted.intercept), float(fitted.slope)
         result[k] = offset, slope
