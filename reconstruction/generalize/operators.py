@@ -195,19 +195,24 @@ def alpha_shape(points, alpha):
 
 def _without_corner_fills(shape, polygon, reach):
     """``shape`` (an alpha shape of ``polygon``) without what it adds in the polygon's
-    concave corners.
+    concave corners and yards.
 
     What the shape adds beyond the polygon closed by ``reach`` (mitred) is, piece
-    by piece, a corner fill, dropped, or a dent, kept (the alpha shape closes it):
+    by piece, a corner fill or a yard, dropped, or a dent, kept (the alpha shape
+    closes it):
 
     - a corner fill spans a concave corner between two edges that go on beyond
       it (its walls cover less than DENT_WALLS of the edges they lie on, the
       outline simplified by reach / 4) and is shallow (its area below NOTCH x
       the square of the length it spans, its opening: at most a quarter for a
       triangle in a right-angled corner);
-    - a dent is deep (a notch: the gap of a removed label, a yard narrower than
-      the alpha disk) or lies between whole edges (a V the classification cut
-      into a plot's front: drawn on one map of a block and not on the next).
+    - a yard is wider than 2 x YARD x ``reach`` everywhere and enclosed or
+      deeper than YARD_DEPTH x its opening (a courtyard, the garden between a
+      plot's wings);
+    - a dent is the rest: deep (a notch: the gap of a removed label, a square
+      symbol printed on the plot's edge) or between whole edges (a V the
+      classification cut into a plot's front: drawn on one map of a block and
+      not on the next).
     """
     closed = polygon.buffer(reach, join_style="mitre").buffer(-reach, join_style="mitre")
     beyond = shapely.get_parts(shapely.difference(shape, closed))
@@ -216,9 +221,10 @@ def _without_corner_fills(shape, polygon, reach):
     rim = shapely.buffer(closed.boundary, 1e-6)
     opening = shapely.length(beyond) - shapely.length(shapely.intersection(
         shapely.boundary(beyond), rim))
-    shallow = shapely.area(beyond) < NOTCH * np.maximum(opening, 0) ** 2
+    area, span2 = shapely.area(beyond), np.maximum(opening, 0) ** 2
+    shallow = area < NOTCH * span2
     yards = (~shapely.is_empty(shapely.buffer(beyond, -YARD * reach, join_style="mitre"))
-             & (shapely.area(beyond) >= YARD_DEPTH * np.maximum(opening, 0) ** 2))
+             & (area >= YARD_DEPTH * span2))
     edges = _edges(closed, reach / 4) if shallow.any() else None
     dropped = [piece for piece, yard, low in zip(beyond, yards, shallow)
                if yard or (low and _wall_share(_walls(piece, rim, reach / 4), edges,
@@ -263,7 +269,8 @@ def alpha_generalize(polygon, alpha, sampling="regular", spacing=None, rng=None)
     than the alpha disk, and drops collinear vertices.
 
     The alpha shape closes notches (:func:`_without_corner_fills`), but it does
-    not fill the plot's concave corners. Alone it would: a Delaunay triangle
+    not fill the plot's yards (courtyards and gardens at least 9 m wide with
+    alpha 12) nor its concave corners. Alone it would: a Delaunay triangle
     across a right-angled corner has the corner's hypotenuse as its
     circumcircle's diameter, so with alpha 12 every inner corner of a
     courtyard or an L lost a triangle with legs up to 17 m (issue 32: on the
