@@ -74,6 +74,13 @@ def _between_areas(area):
     return low < neighbours.max(axis=0)
 
 
+def printed_cells(classes, config):
+    """The cells of the classes ``config`` removes (printed over the map), which
+    :func:`inside_outlines` leaves as they are; None unless ``config.outline``
+    is ``inside``."""
+    return np.isin(classes, list(config.remove)) if config.outline == "inside" else None
+
+
 def inside_outlines(classes, bands, labels, share=0.5, printed=None):
     """``classes`` with the edge cells of the ``labels`` areas decided by colour.
 

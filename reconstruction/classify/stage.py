@@ -224,7 +224,7 @@ def classify_map(bands, segmentations, read_segments, training, config, grid,
     timing.append(("classification", time.perf_counter() - start))
     start = time.perf_counter()
 
-    printed = np.isin(classes, list(config.remove)) if config.outline == "inside" else None
+    printed = outlines.printed_cells(classes, config)
     classes, rule = _remove(classes, config, grid)
     if printed is not None:
         classes = outlines.inside_outlines(classes, bands, config.separate, printed=printed)

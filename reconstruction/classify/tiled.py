@@ -135,7 +135,7 @@ def classify_tiles(tiles, read_bands, read_segments, training, config, grid, pai
     # 3. the removal, by the rule of the thickest removed object of the whole map
     rule = removal_rule(thickness, config, grid)
     check_tiles(side, rule.window)
-    printed = np.isin(classes, list(config.remove)) if config.outline == "inside" else None
+    printed = outlines.printed_cells(classes, config)
     if rule.active(config.remove):
         out = np.zeros_like(classes)
         for tile in tiles:
