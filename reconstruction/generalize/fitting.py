@@ -18,7 +18,13 @@ outline for maps whose plots are digitised on the line's centre
 (``outline="centre"``). For maps that draw the outline stroke inside the
 plot (``outline="inside"``), the plot ends at the stroke's outer edge: the
 centre plus half the stroke width, which the map gives too
-(:func:`stroke_width`).
+(:func:`stroke_width`). There the stroke is a darker shade of the plots'
+own colour, which text and symbols do not share: the profiles are read a
+second time with the stroke's colour (the median of the lines first
+found), and only a colour on the way from the outside's to it is a line
+(:func:`_stroke_like`), so that a street name printed along an edge does not
+pull the edge onto its letters. Lines centred on the boundary are printed in
+the same ink as the text (Delft 1961), and are not checked so.
 
 Each edge's line is then fitted to the centres found along it: a
 Theil-Sen line (robust to the few profiles a label or a symbol crosses),
@@ -63,6 +69,11 @@ MIN_SLOPE_PROFILES, MAX_SLOPE_SPREAD = 8, 0.05
 MIN_CORNER, MAX_CORNER_MOVE = 15.0, 10.0
 #: the stroke colour: the median of the darkest this share of the profiles' lines
 DARKEST = 0.05
+#: on maps that draw the outline inside the plots, a line's colour lies on the
+#: way from the outside's colour to the stroke's (the median colour of the
+#: lines first found), at most this far along it (text ink is darker) and off
+#: it by at most this share of it (:func:`_stroke_like`)
+MAX_DEPTH, MAX_ASIDE = 1.5, 0.35
 #: passes of the fit, each from where the one before left the edges
 PASSES = 2
 
@@ -176,14 +187,32 @@ def _crossing(share, first, level, offsets):
     return np.where(j > 0, where, np.nan)
 
 
-def _lines(profiles, cell):
-    """The :class:`_Lines` of the profiles of an :class:`_Edges`."""
+def _stroke_like(colours, outside, stroke):
+    """Which colours of ``colours`` (P, T, B) look like the outline ``stroke``
+    (B,) seen against ``outside`` (P, B): how far along the way from the
+    outside to the stroke, (P, T), NaN for those farther than
+    :data:`MAX_DEPTH` or off the way by more than :data:`MAX_ASIDE` of it."""
+    towards = stroke[None] - outside
+    depth = _shares(colours, outside, towards)
+    aside = np.linalg.norm(colours - outside[:, None] - depth[..., None] * towards[:, None],
+                           axis=2) / np.maximum(np.linalg.norm(towards, axis=1), 1e-9)[:, None]
+    return np.where((depth <= MAX_DEPTH) & (aside <= MAX_ASIDE), depth, np.nan)
+
+
+def _lines(profiles, cell, stroke=None):
+    """The :class:`_Lines` of the profiles of an :class:`_Edges`; with the
+    ``stroke`` colour (B,), only colours like it are lines."""
     colours, offsets = profiles.colours, profiles.offsets
     outside = np.median(colours[:, offsets >= (REACH + MARGIN - 1.0) * cell], axis=1)
     inside = np.median(colours[:, offsets <= -(REACH + MARGIN - 1.0) * cell], axis=1)
     near = np.abs(offsets) <= REACH * cell
-    distance = np.linalg.norm(colours - outside[:, None], axis=2)
-    peak = np.argmax(np.where(near[None], distance, -1.0), axis=1)
+    if stroke is None:
+        score = np.linalg.norm(colours - outside[:, None], axis=2)
+    else:
+        score = np.nan_to_num(_stroke_like(colours, outside, stroke), nan=-np.inf)
+    score = np.where(near[None], score, -np.inf)
+    peak = np.argmax(score, axis=1)
+    some = np.isfinite(score[np.arange(len(score)), peak])
     colour = colours[np.arange(len(colours)), peak]
     towards = colour - outside
     share = _shares(colours, outside, towards)
@@ -193,7 +222,7 @@ def _lines(profiles, cell):
     last = len(offsets) - 1
     inner = -_crossing(share[:, ::-1], last - peak, (1.0 + fill) / 2.0, -offsets[::-1])
     centre = (inner + outer) / 2.0
-    clear = ((np.linalg.norm(towards, axis=1) >= MIN_CONTRAST) & (fill <= MAX_FILL)
+    clear = (some & (np.linalg.norm(towards, axis=1) >= MIN_CONTRAST) & (fill <= MAX_FILL)
              & (np.abs(centre) <= REACH * cell))
     return _Lines(np.where(clear, centre, np.nan), colour, outside, inside)
 
@@ -297,6 +326,11 @@ def _fit_once(polygons, bands, place, cell, outline, stroke):
     if not len(profiles.edge):
         return OutlineFit(list(polygons), len(profiles.p), 0, None)
     lines = _lines(profiles, cell)
+    found = ~np.isnan(lines.centre)
+    if outline == "inside" and found.any():
+        # the stroke has the plots' own colour: text and symbols beside an edge
+        # are not taken for it
+        lines = _lines(profiles, cell, np.median(lines.colour[found], axis=0))
     width = None
     centre = lines.centre
     if outline == "inside":

@@ -16,15 +16,17 @@ from reconstruction.geom.grid import MapImage
 PAPER = (238, 231, 212)
 FILL = (236, 183, 166)
 STROKE = (176, 100, 92)
+INK = (30, 27, 30)
 SIZE = 60          # cells a side, 1 m each
 SUB = 6            # sub-cells a side per cell
 
 
-def draw(plots, outline, stroke=0.9, seed=0, noise=4.0):
+def draw(plots, outline, stroke=0.9, seed=0, noise=4.0, ink=()):
     """A scanned map of ``plots`` on a SIZE x SIZE grid of 1 m cells, origin
     (0, 0): pink fill, a darker outline stroke ``stroke`` wide on the plot's
     boundary line's centre (``outline="centre"``) or inside the plot
-    (``"inside"``), each cell the mean of its SUB x SUB sub-cells, plus noise."""
+    (``"inside"``), black ``ink`` (text) over it, each cell the mean of its
+    SUB x SUB sub-cells, plus noise."""
     n = SIZE * SUB
     xs = (np.arange(n) + 0.5) / SUB
     gx, gy = np.meshgrid(xs, SIZE - xs)
@@ -35,6 +37,8 @@ def draw(plots, outline, stroke=0.9, seed=0, noise=4.0):
                  else plot.boundary.buffer(stroke / 2.0, cap_style="flat", join_style="mitre"))
         colours[shapely.contains_xy(plot, gx, gy)] = FILL
         colours[shapely.contains_xy(lines, gx, gy)] = STROKE
+    for geometry in ink:
+        colours[shapely.contains_xy(geometry, gx, gy)] = INK
     rgb = colours.reshape(SIZE, SUB, SIZE, SUB, 3).mean(axis=(1, 3))
     rgb += np.random.default_rng(seed).normal(0, noise, rgb.shape)
     return MapImage(np.clip(np.rint(rgb), 0, 255).astype(np.uint8), (0.0, SIZE, 0.0, SIZE))
@@ -110,6 +114,20 @@ def test_a_line_beyond_reach_is_not_taken():
     fitted = fitting.fit_outlines([plot], image, "inside", stroke=0.9).plots[0]
     assert fitted.bounds[2] < 30.7
     assert iou(fitted, truth) > 0.97
+
+
+@pytest.mark.parametrize("gap", [0.9, 1.8])
+def test_text_beside_an_edge_is_not_taken_for_the_stroke(gap):
+    """A street name printed along a plot's edge, ``gap`` beyond it, is a
+    darker line than the stroke (the fit took it without the check): on a map
+    that draws the outline inside the plots a line must have the stroke's
+    colour, so the edge stays on its stroke."""
+    truth = box(10.3, 10.3, 45.3, 30.3)
+    letters = box(12.0, 30.3 + gap, 43.0, 31.4 + gap)  # strokes 1.1 m thick
+    image = draw([truth], "inside", ink=[letters])
+    fit = fitting.fit_outlines([truth], image, "inside", stroke=0.9)
+    assert abs(fit.plots[0].bounds[3] - truth.bounds[3]) < 0.2
+    assert iou(fit.plots[0], truth) > 0.98
 
 
 def test_fit_step_in_the_chain():
