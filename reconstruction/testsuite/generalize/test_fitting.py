@@ -140,7 +140,9 @@ def test_fit_step_in_the_chain():
     assert [name for name, _ in result.steps] == ["raw", "douglas", "fit"]
     assert result.methods == ["douglas+fit"] * 2
     assert result.outline_fit.fitted == result.outline_fit.edges == 8
-    assert all(iou(p, t) > 0.97 and iou(p, t) > iou(c, t)
+    # the fit's error is about a sixth of a cell, as a line's place within a
+    # cell goes (0.12 m rms on these maps): on 1 m cells IoU 0.97-0.98 here
+    assert all(iou(p, t) > iou(c, t) + 0.02 and shapely.hausdorff_distance(p, t) < 0.3
                for p, t, c in zip(result.plots, truth, cells))
     with pytest.raises(ValueError, match="scanned map"):
         generalization.generalize_plots(cells, ("fit",))
