@@ -28,6 +28,17 @@ not pull the edge onto its letters; the line is looked for a little farther
 (:data:`REACH`). Lines centred on the boundary are printed in the same black
 as the text (Delft 1961), and are not checked so.
 
+The flanks' midpoint is off by up to a fifth of a cell, depending on where a
+line narrower than a cell lies within it (its samples are cells' means,
+interpolated). On maps that draw the outline inside the plots each profile's
+edge is then refined by a model of the drawing (fill, stroke, outside),
+averaged over the cells and sampled as the profile was (:func:`_drawn_edges`):
+rectangles drawn at every sub-cell place are fitted to 0.04-0.06 m instead of
+0.16 m (mean Hausdorff distance). On Delft's centred lines the model puts the
+edges on the line's centre more exactly, and that centre lies outside the
+digitised plots (+0.29 m instead of +0.25 m, IoU 0.955 instead of 0.956):
+there the midpoint stays.
+
 Each edge's line is then fitted to the centres found along it: a
 Theil-Sen line (robust to the few profiles a label or a symbol crosses),
 straight through the median when the edge is short or the slope uncertain.
@@ -82,6 +93,12 @@ DARKEST = 0.05
 MAX_DEPTH, MAX_ASIDE = 1.5, 0.35
 #: passes of the fit, each from where the one before left the edges
 PASSES = 2
+#: on maps that draw the outline inside the plots, each profile's edge is then
+#: placed where the drawing it implies (fill, stroke, outside), averaged over
+#: the cells and sampled as the profile was, matches the profile best: searched
+#: within this many cells of the flanks' estimate, in these steps (cells),
+#: coarse then fine (:func:`_drawn_edges`)
+MODEL_MOVE, MODEL_STEPS = 0.3, (0.05,)
 
 
 @dataclass(frozen=True)
@@ -265,6 +282,84 @@ def stroke_width(profiles, lines):
     return float(np.median(widths))
 
 
+def _cell_share(t, p, q):
+    """The share of a cell whose centre lies ``t`` before a straight line,
+    along the line's normal: the cell's extent along the normal is the sum of
+    two uniform spans ``p`` and ``q`` wide (its sides projected), a trapezoid."""
+    p, q = np.maximum(p, q), np.maximum(np.minimum(p, q), 1e-6)
+    a, b = (p - q) / 2.0, (p + q) / 2.0
+    ramp = np.where(t < -a, (t + b) ** 2 / (2.0 * p * q),
+                    np.where(t <= a, 0.5 + t / p, 1.0 - (b - t) ** 2 / (2.0 * p * q)))
+    return np.where(t <= -b, 0.0, np.where(t >= b, 1.0, ramp))
+
+
+def _drawn_edges(profiles, share, place, width, start, cell):
+    """Per profile, where the plot's edge lies (offset, map units) on a map
+    that draws its outline stroke ``width`` wide inside the plot: the drawing
+    fill | stroke | outside with the edge there, averaged over each cell and
+    sampled bilinearly as the profile ``share`` (P, T) was, fitted to it by
+    least squares (the fill's and the stroke's levels free), the edge searched
+    within :data:`MODEL_MOVE` cells of ``start`` (P,) (NaN: none). Unlike the
+    flanks' midpoint, this does not depend on where the line lies within a cell."""
+    north, west, nsres, ewres = place
+    rows = np.flatnonzero(~np.isnan(start))
+    result = np.full(len(start), np.nan)
+    if not len(rows):
+        return result
+    # every other sample: a cell's worth of samples adds little to its value
+    share = share[rows, ::2].astype(np.float32)
+    n = profiles.n[profiles.edge[rows]]
+    base = profiles.p[profiles.edge[rows]] + profiles.along[rows, None] \
+        * profiles.u[profiles.edge[rows]]
+    points = base[:, None, :] + profiles.offsets[None, ::2, None] * n[:, None, :]
+    col = (points[..., 0] - west) / ewres - 0.5
+    row = (north - points[..., 1]) / nsres - 0.5
+    c0, r0 = np.floor(col), np.floor(row)
+    fc, fr = col - c0, row - r0
+    # the four cells each sample is interpolated from: their weights and their
+    # centres' places along the normal
+    weights, places = [], []
+    for dr, dc in ((0, 0), (0, 1), (1, 0), (1, 1)):
+        weights.append((fr if dr else 1.0 - fr) * (fc if dc else 1.0 - fc))
+        x = west + (c0 + dc + 0.5) * ewres - base[:, None, 0]
+        y = north - (r0 + dr + 0.5) * nsres - base[:, None, 1]
+        places.append(x * n[:, None, 0] + y * n[:, None, 1])
+    weights = np.stack(weights, -1).astype(np.float32)
+    places = np.stack(places, -1).astype(np.float32)
+    spans = tuple((np.abs(n[:, k])[:, None, None] * res).astype(np.float32)
+                  for k, res in ((0, ewres), (1, nsres)))
+
+    def misfit(edge):
+        edge = edge.astype(np.float32)[:, None, None]
+        fill = (weights * _cell_share(edge - np.float32(width) - places, *spans)).sum(-1)
+        stroke = (weights * _cell_share(edge - places, *spans)).sum(-1) - fill
+        a11, a12, a22 = (fill * fill).sum(1), (fill * stroke).sum(1), (stroke * stroke).sum(1)
+        b1, b2 = (fill * share).sum(1), (stroke * share).sum(1)
+        det = np.maximum(a11 * a22 - a12 ** 2, 1e-12)
+        level_fill, level_stroke = (a22 * b1 - a12 * b2) / det, (a11 * b2 - a12 * b1) / det
+        left = share - level_fill[:, None] * fill - level_stroke[:, None] * stroke
+        return np.where(level_stroke > 0, (left * left).sum(1), np.inf)
+
+    centre = start[rows]
+    for step, reach in zip(MODEL_STEPS, (MODEL_MOVE, *MODEL_STEPS)):
+        grid = np.arange(-reach, reach + 1e-9, step) * cell
+        costs = np.stack([misfit(centre + g) for g in grid], axis=1)
+        best = np.argmin(costs, axis=1)
+        centre = centre + grid[best]
+    # a parabola through the best fine step and its neighbours
+    inner = (best > 0) & (best < len(grid) - 1)
+    k = np.arange(len(rows))
+    b = np.clip(best, 1, len(grid) - 2)
+    y0, y1, y2 = costs[k, b - 1], costs[k, b], costs[k, b + 1]
+    ok = inner & np.isfinite(y0) & np.isfinite(y1) & np.isfinite(y2)
+    curve = np.where(ok, y0 - 2.0 * y1 + y2, 1.0)
+    ok &= curve > 0
+    centre = centre + np.where(ok, 0.5 * (y0 - y2) / np.where(ok, curve, 1.0), 0.0) \
+        * MODEL_STEPS[-1] * cell
+    result[rows] = np.where(np.isfinite(costs[k, best]), centre, np.nan)
+    return result
+
+
 def _edge_offsets(profiles, centre, reach):
     """Per edge of ``profiles``: the fitted line as (offset at the edge's start,
     slope along it) in map units, NaN where the edge has no line; a slope that
@@ -351,7 +446,9 @@ def _fit_once(polygons, bands, place, cell, outline, stroke):
     if outline == "inside":
         width = stroke if stroke is not None else stroke_width(profiles, lines)
         if width is not None:
-            centre = centre + width / 2.0
+            colour = np.median(lines.colour[~np.isnan(lines.centre)], axis=0)
+            share = _shares(profiles.colours, lines.outside, colour[None] - lines.outside)
+            centre = _drawn_edges(profiles, share, place, width, centre + width / 2.0, cell)
     fits = _edge_offsets(profiles, centre, reach * cell + (width or 0.0) / 2.0)
     out, first = [], 0
     for polygon, plot in zip(polygons, rings):

@@ -130,6 +130,23 @@ def test_text_beside_an_edge_is_not_taken_for_the_stroke(gap):
     assert iou(fit.plots[0], truth) > 0.98
 
 
+def test_inside_outlines_are_fitted_wherever_the_line_lies_within_a_cell():
+    """The flanks' midpoint is off by up to a fifth of a cell as the stroke's
+    place within a cell goes; the model of the drawing, averaged over the
+    cells, is not: noise-free rectangles at ten sub-cell places, straight and
+    turned 17 degrees, each within 0.12 m."""
+    worst = 0.0
+    for k, phase in enumerate(np.linspace(0.0, 0.9, 10)):
+        for angle in (0, 17):
+            truth = affinity.rotate(box(10 + phase, 12 + 0.7 * phase, 40 + 0.3 * phase,
+                                        35 + 0.9 * phase), angle, origin=(30, 30))
+            image = draw([truth], "inside", noise=0.0, seed=k)
+            fitted = fitting.fit_outlines([truth.buffer(0.3, join_style="mitre")], image,
+                                          "inside", stroke=0.9).plots[0]
+            worst = max(worst, shapely.hausdorff_distance(fitted, truth))
+    assert worst < 0.12
+
+
 def test_fit_step_in_the_chain():
     truth = [box(10.4, 10.6, 28.9, 24.3), box(33.2, 30.1, 52.7, 51.4)]
     image = draw(truth, "inside", seed=3)
