@@ -99,6 +99,9 @@ PASSES = 2
 #: within this many cells of the flanks' estimate, in these steps (cells),
 #: coarse then fine (:func:`_drawn_edges`)
 MODEL_MOVE, MODEL_STEPS = 0.3, (0.05,)
+#: an edge lies on the drawn line where its profiles find it within this many
+#: cells (:func:`outline_support`; the flanks' estimate is off by up to 0.2)
+ON_LINE = 0.35
 
 
 @dataclass(frozen=True)
@@ -352,7 +355,8 @@ def _drawn_edges(profiles, share, place, width, start, cell):
     b = np.clip(best, 1, len(grid) - 2)
     y0, y1, y2 = costs[k, b - 1], costs[k, b], costs[k, b + 1]
     ok = inner & np.isfinite(y0) & np.isfinite(y1) & np.isfinite(y2)
-    curve = np.where(ok, y0 - 2.0 * y1 + y2, 1.0)
+    y0, y1, y2 = (np.where(ok, y, 0.0) for y in (y0, y1, y2))
+    curve = y0 - 2.0 * y1 + y2
     ok &= curve > 0
     centre = centre + np.where(ok, 0.5 * (y0 - y2) / np.where(ok, curve, 1.0), 0.0) \
         * MODEL_STEPS[-1] * cell
@@ -427,39 +431,81 @@ def _refit_ring(ring, index, profiles, fits, cell):
     return np.array(corners)
 
 
-def _fit_once(polygons, bands, place, cell, outline, stroke):
-    """One pass of :func:`fit_outlines` over the plots ``polygons``."""
+@dataclass(frozen=True)
+class _Reading:
+    """What the map shows across the edges of a set of plots: their ``rings``
+    (per plot), the :class:`_Edges` ``profiles`` and each ring edge's
+    ``index`` among them, the :class:`_Lines` ``lines`` read in them, the
+    stroke ``width`` (``outline="inside"``, else None) and ``edges``: where
+    the plot's edge lies by the flanks of the line (P,), NaN where no line."""
+
+    rings: list
+    profiles: _Edges
+    index: np.ndarray
+    lines: _Lines
+    width: Optional[float]
+    edges: np.ndarray
+
+
+def _read(polygons, bands, place, cell, outline, stroke):
+    """The :class:`_Reading` of the plots ``polygons`` on the map ``bands``, or
+    None when none of their edges is long enough."""
     rings = [_rings(p) for p in polygons]
     flat = [r for plot in rings for r in plot]
     reach = REACH[outline]
     profiles, index = _edge_profiles(flat, bands, place, cell, reach)
     if not len(profiles.edge):
-        return OutlineFit(list(polygons), len(profiles.p), 0, None)
+        return None
     lines = _lines(profiles, cell, reach)
     found = ~np.isnan(lines.centre)
     if outline == "inside" and found.any():
         # the stroke has the plots' own colour: text and symbols beside an edge
         # are not taken for it
         lines = _lines(profiles, cell, reach, np.median(lines.colour[found], axis=0))
-    width = None
-    centre = lines.centre
+    width, edges = None, lines.centre
     if outline == "inside":
         width = stroke if stroke is not None else stroke_width(profiles, lines)
         if width is not None:
-            colour = np.median(lines.colour[~np.isnan(lines.centre)], axis=0)
-            share = _shares(profiles.colours, lines.outside, colour[None] - lines.outside)
-            centre = _drawn_edges(profiles, share, place, width, centre + width / 2.0, cell)
-    fits = _edge_offsets(profiles, centre, reach * cell + (width or 0.0) / 2.0)
+            edges = edges + width / 2.0
+    return _Reading(rings, profiles, index, lines, width, edges)
+
+
+def _fit_once(polygons, bands, place, cell, outline, stroke):
+    """One pass of :func:`fit_outlines` over the plots ``polygons``."""
+    reading = _read(polygons, bands, place, cell, outline, stroke)
+    if reading is None:
+        return OutlineFit(list(polygons), 0, 0, None)
+    profiles, lines, width, centre = reading.profiles, reading.lines, reading.width, reading.edges
+    if width is not None:
+        colour = np.median(lines.colour[~np.isnan(lines.centre)], axis=0)
+        share = _shares(profiles.colours, lines.outside, colour[None] - lines.outside)
+        centre = _drawn_edges(profiles, share, place, width, centre, cell)
+    fits = _edge_offsets(profiles, centre, REACH[outline] * cell + (width or 0.0) / 2.0)
     out, first = [], 0
-    for polygon, plot in zip(polygons, rings):
+    for polygon, plot in zip(polygons, reading.rings):
         new_rings = []
         for ring in plot:
-            new_rings.append(_refit_ring(ring, index[first:first + len(ring)], profiles, fits,
-                                         cell))
+            new_rings.append(_refit_ring(ring, reading.index[first:first + len(ring)], profiles,
+                                         fits, cell))
             first += len(ring)
         fitted = shapely.Polygon(new_rings[0], new_rings[1:])
         out.append(fitted if fitted.is_valid and not fitted.is_empty else polygon)
     return OutlineFit(out, len(profiles.p), int((~np.isnan(fits[:, 0])).sum()), width)
+
+
+def _bands(image):
+    """The bands (float), place (north, west, nsres, ewres) and cell size of a
+    :class:`~reconstruction.geom.grid.MapImage`."""
+    rows, cols = image.rgb.shape[:2]
+    west, east, south, north = (float(v) for v in image.extent)
+    nsres, ewres = (north - south) / rows, (east - west) / cols
+    bands = [image.rgb[..., b].astype(np.float64) for b in range(image.rgb.shape[2])]
+    return bands, (north, west, nsres, ewres), (nsres + ewres) / 2.0
+
+
+def _check(outline):
+    if outline not in OUTLINES:
+        raise ValueError("unknown outline '{}' (one of {})".format(outline, ", ".join(OUTLINES)))
 
 
 def fit_outlines(polygons, image, outline="centre", stroke=None):
@@ -476,16 +522,39 @@ def fit_outlines(polygons, image, outline="centre", stroke=None):
     the last pass); a plot whose fitted outline is not one valid polygon is
     kept as it was.
     """
-    if outline not in OUTLINES:
-        raise ValueError("unknown outline '{}' (one of {})".format(outline, ", ".join(OUTLINES)))
-    rows, cols = image.rgb.shape[:2]
-    west, east, south, north = (float(v) for v in image.extent)
-    nsres, ewres = (north - south) / rows, (east - west) / cols
-    bands = [image.rgb[..., b].astype(np.float64) for b in range(image.rgb.shape[2])]
+    _check(outline)
+    bands, place, cell = _bands(image)
     fit = OutlineFit(list(polygons), 0, 0, None)
     for _ in range(PASSES):
         if not fit.plots:
             break
-        fit = _fit_once(fit.plots, bands, (north, west, nsres, ewres), (nsres + ewres) / 2.0,
-                        outline, stroke)
+        fit = _fit_once(fit.plots, bands, place, cell, outline, stroke)
     return fit
+
+
+def outline_support(polygons, image, outline="centre", stroke=None):
+    """How much of each plot's outline the map draws a line on: the share
+    (0-1, (n,) array) of its perimeter along edges whose profiles find the
+    line within :data:`ON_LINE` cells of the edge (the share of the edge's
+    profiles that do; edges too short to read count as unsupported)."""
+    _check(outline)
+    bands, place, cell = _bands(image)
+    support = np.zeros(len(polygons))
+    reading = _read(polygons, bands, place, cell, outline, stroke)
+    if reading is None:
+        return support
+    profiles = reading.profiles
+    on_line = np.abs(np.nan_to_num(reading.edges, nan=np.inf)) <= ON_LINE * cell
+    share = (np.bincount(profiles.edge, weights=on_line, minlength=len(profiles.p))
+             / np.maximum(np.bincount(profiles.edge, minlength=len(profiles.p)), 1))
+    first = 0
+    for k, plot in enumerate(reading.rings):
+        supported = perimeter = 0.0
+        for ring in plot:
+            index = reading.index[first:first + len(ring)]
+            length = np.hypot(*(np.roll(ring, -1, axis=0) - ring).T)
+            supported += float((length * np.where(index >= 0, share[index], 0.0)).sum())
+            perimeter += float(length.sum())
+            first += len(ring)
+        support[k] = supported / perimeter if perimeter > 0 else 0.0
+    return support
