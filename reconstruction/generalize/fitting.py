@@ -99,6 +99,8 @@ PASSES = 2
 #: within this many cells of the flanks' estimate, in these steps (cells),
 #: coarse then fine (:func:`_drawn_edges`)
 MODEL_MOVE, MODEL_STEPS = 0.3, (0.05,)
+#: ... on every this many samples of a profile (0.3 cells apart: enough)
+MODEL_EVERY = 3
 #: an edge lies on the drawn line where its profiles find it within this many
 #: cells (:func:`outline_support`; the flanks' estimate is off by up to 0.2)
 ON_LINE = 0.35
@@ -309,12 +311,11 @@ def _drawn_edges(profiles, share, place, width, start, cell):
     result = np.full(len(start), np.nan)
     if not len(rows):
         return result
-    # every other sample: a cell's worth of samples adds little to its value
-    share = share[rows, ::2].astype(np.float32)
+    share = share[rows, ::MODEL_EVERY].astype(np.float32)
     n = profiles.n[profiles.edge[rows]]
     base = profiles.p[profiles.edge[rows]] + profiles.along[rows, None] \
         * profiles.u[profiles.edge[rows]]
-    points = base[:, None, :] + profiles.offsets[None, ::2, None] * n[:, None, :]
+    points = base[:, None, :] + profiles.offsets[None, ::MODEL_EVERY, None] * n[:, None, :]
     col = (points[..., 0] - west) / ewres - 0.5
     row = (north - points[..., 1]) / nsres - 0.5
     c0, r0 = np.floor(col), np.floor(row)

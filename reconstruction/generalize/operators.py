@@ -576,15 +576,21 @@ def _better_supported(fitted, raw, image, width, tolerance):
     fitted, a map that draws its outlines ``width`` wide inside the plots
     draws its line along more of than their ``fitted`` outline (see
     :data:`SUPPORT_GAIN`)."""
-    plain = [douglas(p, tolerance) for p in raw]
-    plain = fitting.fit_outlines(plain, image, "inside", width).plots
     support = fitting.outline_support(fitted, image, "inside", width)
+    # only a plot whose outline the map supports along less than all but
+    # SUPPORT_GAIN of it can gain
+    room = np.flatnonzero(support <= 1.0 - SUPPORT_GAIN)
+    if not len(room):
+        return
+    plain = fitting.fit_outlines([douglas(raw[i], tolerance) for i in room], image, "inside",
+                                 width).plots
     plain_support = fitting.outline_support(plain, image, "inside", width)
-    for i, (old, new) in enumerate(zip(fitted, plain)):
-        if (plain_support[i] >= support[i] + SUPPORT_GAIN and new.is_valid
+    for i, new, new_support in zip(room, plain, plain_support):
+        old = fitted[i]
+        if (new_support >= support[i] + SUPPORT_GAIN and new.is_valid
                 and abs(new.area - old.area) < SUPPORT_AREA * old.area
                 and acceptable(new, old)):
-            yield i, new
+            yield int(i), new
 
 
 def _fallback(method, i, current, steps, previous, alpha, distance, angle, orthogonal,
