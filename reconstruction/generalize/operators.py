@@ -579,10 +579,12 @@ def _better_supported(fitted, raw, image, width, tolerance):
     support = fitting.outline_support(fitted, image, "inside", width)
     # only a plot whose outline the map supports along less than all but
     # SUPPORT_GAIN of it can gain
-    room = np.flatnonzero(support <= 1.0 - SUPPORT_GAIN)
-    if not len(room):
+    room = [int(i) for i in np.flatnonzero(support <= 1.0 - SUPPORT_GAIN)]
+    plain = [douglas(raw[i], tolerance) for i in room]
+    room = [i for i, p in zip(room, plain) if p is not None]  # a plot that breaks: none
+    if not room:
         return
-    plain = fitting.fit_outlines([douglas(raw[i], tolerance) for i in room], image, "inside",
+    plain = fitting.fit_outlines([p for p in plain if p is not None], image, "inside",
                                  width).plots
     plain_support = fitting.outline_support(plain, image, "inside", width)
     for i, new, new_support in zip(room, plain, plain_support):
@@ -590,7 +592,7 @@ def _better_supported(fitted, raw, image, width, tolerance):
         if (new_support >= support[i] + SUPPORT_GAIN and new.is_valid
                 and abs(new.area - old.area) < SUPPORT_AREA * old.area
                 and acceptable(new, old)):
-            yield int(i), new
+            yield i, new
 
 
 def _fallback(method, i, current, steps, previous, alpha, distance, angle, orthogonal,

@@ -171,6 +171,16 @@ def test_a_turned_plot_takes_its_cells_outline_where_the_map_draws_that():
     assert iou(better[0], truth[0]) > 0.97 > 0.9 > iou(fitted[0], truth[0])
 
 
+def test_no_alternative_outline_where_the_cells_outline_breaks():
+    """Cells whose simplified outline breaks (a sliver simplified away) offer
+    no alternative, even for a plot the map supports nowhere."""
+    image = draw([box(10.4, 12.3, 31.7, 30.6)], "inside")
+    sliver = shapely.Polygon([(40.0, 40.0), (40.6, 40.0), (40.0, 40.6)])
+    assert generalization.douglas(sliver, 1.0) is None
+    assert list(generalization._better_supported([box(40, 40, 46, 46)], [sliver], image,
+                                                 0.9, 1.0)) == []
+
+
 def test_fit_step_in_the_chain():
     truth = [box(10.4, 10.6, 28.9, 24.3), box(33.2, 30.1, 52.7, 51.4)]
     image = draw(truth, "inside", seed=3)
