@@ -96,8 +96,9 @@ PASSES = 2
 #: on maps that draw the outline inside the plots, each profile's edge is then
 #: placed where the drawing it implies (fill, stroke, outside), averaged over
 #: the cells and sampled as the profile was, matches the profile best: searched
-#: within this many cells of the flanks' estimate, in these steps (cells),
-#: coarse then fine (:func:`_drawn_edges`)
+#: within this many cells of the flanks' estimate, in steps of these many cells
+#: (each search within one step of the one before), the last refined by a
+#: parabola (:func:`_drawn_edges`)
 MODEL_MOVE, MODEL_STEPS = 0.3, (0.05,)
 #: ... on every this many samples of a profile (0.3 cells apart: enough)
 MODEL_EVERY = 3
@@ -241,7 +242,8 @@ def _lines(profiles, cell, reach, stroke=None):
         like = _stroke_like(colours, outside, stroke)
         score = np.nan_to_num(like, nan=-np.inf)
         # a profile across text (darker than the stroke) near the edge is not read
-        inked = (near[None] & (_shares(colours, outside, stroke[None] - outside) > MAX_DEPTH)).any(axis=1)
+        darker = _shares(colours, outside, stroke[None] - outside) > MAX_DEPTH
+        inked = (near[None] & darker).any(axis=1)
     score = np.where(near[None], score, -np.inf)
     peak = np.argmax(score, axis=1)
     some = np.isfinite(score[np.arange(len(score)), peak]) & ~inked
@@ -477,7 +479,7 @@ def _fit_once(polygons, bands, place, cell, outline, stroke):
     if reading is None:
         return OutlineFit(list(polygons), 0, 0, None)
     profiles, lines, width, centre = reading.profiles, reading.lines, reading.width, reading.edges
-    if width is not None:
+    if width is not None:  # outline="inside": the drawing model
         colour = np.median(lines.colour[~np.isnan(lines.centre)], axis=0)
         share = _shares(profiles.colours, lines.outside, colour[None] - lines.outside)
         centre = _drawn_edges(profiles, share, place, width, centre, cell)
