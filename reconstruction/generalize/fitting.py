@@ -535,29 +535,87 @@ def fit_outlines(polygons, image, outline="centre", stroke=None):
     return fit
 
 
+def edge_support(polygons, image, outline="centre", stroke=None):
+    """Where the map draws a line along each plot's edges: per plot, per ring
+    (exterior first, counter-clockwise; holes clockwise), ``(ring, shares)``:
+    the ring's vertices (k, 2) and, for the edge from each vertex to the
+    next, the share (0-1) of its profiles that find the line within
+    :data:`ON_LINE` cells of the edge (NaN: too short to read)."""
+    _check(outline)
+    bands, place, cell = _bands(image)
+    reading = _read(polygons, bands, place, cell, outline, stroke)
+    if reading is None:
+        return [[(ring, np.full(len(ring), np.nan)) for ring in _rings(p)] for p in polygons]
+    profiles = reading.profiles
+    on_line = np.abs(np.nan_to_num(reading.edges, nan=np.inf)) <= ON_LINE * cell
+    share = (np.bincount(profiles.edge, weights=on_line, minlength=len(profiles.p))
+             / np.maximum(np.bincount(profiles.edge, minlength=len(profiles.p)), 1))
+    result, first = [], 0
+    for plot in reading.rings:
+        rings = []
+        for ring in plot:
+            index = reading.index[first:first + len(ring)]
+            rings.append((ring, np.where(index >= 0, share[np.maximum(index, 0)], np.nan)))
+            first += len(ring)
+        result.append(rings)
+    return result
+
+
 def outline_support(polygons, image, outline="centre", stroke=None):
     """How much of each plot's outline the map draws a line on: the share
     (0-1, (n,) array) of its perimeter along edges whose profiles find the
     line within :data:`ON_LINE` cells of the edge (the share of the edge's
     profiles that do; edges too short to read count as unsupported)."""
-    _check(outline)
-    bands, place, cell = _bands(image)
     support = np.zeros(len(polygons))
-    reading = _read(polygons, bands, place, cell, outline, stroke)
-    if reading is None:
-        return support
-    profiles = reading.profiles
-    on_line = np.abs(np.nan_to_num(reading.edges, nan=np.inf)) <= ON_LINE * cell
-    share = (np.bincount(profiles.edge, weights=on_line, minlength=len(profiles.p))
-             / np.maximum(np.bincount(profiles.edge, minlength=len(profiles.p)), 1))
-    first = 0
-    for k, plot in enumerate(reading.rings):
+    for k, rings in enumerate(edge_support(polygons, image, outline, stroke)):
         supported = perimeter = 0.0
-        for ring in plot:
-            index = reading.index[first:first + len(ring)]
+        for ring, shares in rings:
             length = np.hypot(*(np.roll(ring, -1, axis=0) - ring).T)
-            supported += float((length * np.where(index >= 0, share[index], 0.0)).sum())
+            supported += float((length * np.nan_to_num(shares, nan=0.0)).sum())
             perimeter += float(length.sum())
-            first += len(ring)
         support[k] = supported / perimeter if perimeter > 0 else 0.0
     return support
+
+
+#: a cut corner: an edge the map draws no line along (its profiles' share on
+#: the line below the first), between two it does (at least the second),
+#: whose lines meet at this angle or more (degrees) beyond both of them, at
+#: most twice the edge's length (plus a cell) from its middle
+#: (:func:`restore_corners`)
+CUT, DRAWN, CORNER_ANGLE = 0.2, 0.6, 45.0
+
+
+def restore_corners(ring, shares, cell=1.0):
+    """The ring (k, 2) with each cut corner (see :data:`CUT`) restored: the
+    edge dropped, its neighbours extended to where they meet; ``shares``: per
+    edge, as :func:`edge_support` gives them. The same array when none is."""
+    count = len(ring)
+    if count < 4:
+        return ring
+    drawn = np.nan_to_num(shares, nan=0.0) >= DRAWN
+    cut = np.nan_to_num(shares, nan=0.0) < CUT
+    corners = {}
+    sin_min = np.sin(np.radians(CORNER_ANGLE))
+    for i in range(count):
+        if not (cut[i] and drawn[i - 1] and drawn[(i + 1) % count]) or (i - 1) % count in corners:
+            continue
+        a0, a1 = ring[i - 1], ring[i]
+        b0, b1 = ring[(i + 1) % count], ring[(i + 2) % count]
+        d1, d2 = a1 - a0, b1 - b0
+        sine = _cross(d1, d2) / max(np.hypot(*d1) * np.hypot(*d2), 1e-12)
+        if abs(sine) < sin_min:
+            continue
+        corner = _meet(a0, d1, b0, d2)
+        beyond = np.dot(corner - a1, d1) >= 0 and np.dot(corner - b0, d2) <= 0
+        near = np.hypot(*(corner - (a1 + b0) / 2.0)) <= 2 * np.hypot(*(b0 - a1)) + cell
+        if beyond and near:
+            corners[i] = corner
+    if not corners:
+        return ring
+    out = []
+    for k in range(count):
+        if k in corners:
+            out.append(corners[k])
+        elif (k - 1) % count not in corners:
+            out.append(ring[k])
+    return np.array(out)

@@ -90,6 +90,11 @@ LINES_IOU = 0.75
 #: lines it took five plots back to outlines of 9-43 vertices from 3-5, and the
 #: turning distance rose (0.156 -> 0.169)
 SUPPORT_GAIN, SUPPORT_AREA = 0.1, 0.2
+#: ... and a corner the generalisation cut off where the map draws none
+#: (fitting.restore_corners) is restored when the outline changes area by less
+#: than CORNER_AREA and the map supports it no less (a courtyard's corner, the
+#: inside corner of a U: seed 1 IoU 0.972 -> 0.992 and 0.953 -> 0.976)
+CORNER_AREA = 0.1
 
 METHODS = ("alpha", "lines", "simplify", "douglas", "fit")
 SAMPLINGS = ("regular", "hexagonal", "stratified", "random")
@@ -546,6 +551,8 @@ def generalize_plots(polygons, methods=("alpha", "lines"), alpha=12.0, distance=
                 for i, plain in _better_supported(new, steps[0][1], image,
                                                   outline_fit.stroke_width, tolerance):
                     new[i], labels[i] = plain, "fit/douglas"
+                for i, squared in _corners_restored(new, image, outline_fit.stroke_width):
+                    new[i], labels[i] = squared, labels[i] + "/corner"
         failed = [i for i in range(len(current)) if new[i] is None]
         for i in failed:
             new[i], labels[i], redone = _fallback(method, i, current, steps, previous, alpha,
@@ -593,6 +600,27 @@ def _better_supported(fitted, raw, image, width, tolerance):
                 and abs(new.area - old.area) < SUPPORT_AREA * old.area
                 and acceptable(new, old)):
             yield i, new
+
+
+def _corners_restored(plots, image, width):
+    """(index, outline) of the plots with a corner the generalisation cut and
+    the map draws (fitting.restore_corners), where the restored outline is
+    valid, within CORNER_AREA of the plot's area and no less supported."""
+    changed = {}
+    for i, rings in enumerate(fitting.edge_support(plots, image, "inside", width)):
+        restored = [fitting.restore_corners(ring, shares) for ring, shares in rings]
+        if any(len(new) != len(ring) for new, (ring, _) in zip(restored, rings)):
+            outline = shapely.Polygon(restored[0], restored[1:])
+            if (outline.is_valid and not outline.is_empty
+                    and abs(outline.area - plots[i].area) < CORNER_AREA * plots[i].area):
+                changed[i] = shapely.orient_polygons(outline)
+    if not changed:
+        return
+    before = fitting.outline_support([plots[i] for i in changed], image, "inside", width)
+    after = fitting.outline_support(list(changed.values()), image, "inside", width)
+    for (i, outline), old, new in zip(changed.items(), before, after):
+        if new >= old:
+            yield i, outline
 
 
 def _fallback(method, i, current, steps, previous, alpha, distance, angle, orthogonal,

@@ -181,6 +181,30 @@ def test_no_alternative_outline_where_the_cells_outline_breaks():
                                                  0.9, 1.0)) == []
 
 
+def test_a_cut_corner_is_restored_where_its_neighbours_are_drawn():
+    ring = np.array([(0.0, 0.0), (10.0, 0.0), (10.0, 7.0), (7.0, 10.0), (0.0, 10.0)])
+    restored = fitting.restore_corners(ring, np.array([1.0, 0.9, 0.0, 0.8, 1.0]))
+    assert shapely.Polygon(restored).equals(box(0, 0, 10, 10))
+    # a corner the map draws cut (a line along it), or whose neighbours it does
+    # not draw, stays
+    for shares in ([1.0, 0.9, 0.7, 0.8, 1.0], [1.0, 0.3, 0.0, 0.8, 1.0]):
+        assert fitting.restore_corners(ring, np.array(shares)) is ring
+
+
+def test_a_courtyard_corner_cut_by_the_generalisation_comes_back():
+    """The inner corner of a courtyard, cut off by the generalisation where
+    the map draws none, is restored: the edges either side of it meet."""
+    truth = box(10.4, 10.2, 50.3, 49.6).difference(box(22.1, 21.7, 37.8, 38.3))
+    image = draw([truth], "inside", seed=2)
+    cut = box(10.4, 10.2, 50.3, 49.6).difference(shapely.Polygon(
+        [(22.1, 21.7), (37.8, 21.7), (37.8, 33.3), (32.8, 38.3), (22.1, 38.3)]))
+    fitted = fitting.fit_outlines([cut], image, "inside", stroke=0.9).plots
+    restored = dict(generalization._corners_restored(fitted, image, 0.9))
+    assert list(restored) == [0]
+    assert iou(restored[0], truth) > 0.99 > iou(fitted[0], truth)
+    assert len(restored[0].interiors[0].coords) == 5
+
+
 def test_fit_step_in_the_chain():
     truth = [box(10.4, 10.6, 28.9, 24.3), box(33.2, 30.1, 52.7, 51.4)]
     image = draw(truth, "inside", seed=3)
