@@ -96,10 +96,9 @@ PASSES = 2
 #: on maps that draw the outline inside the plots, each profile's edge is then
 #: placed where the drawing it implies (fill, stroke, outside), averaged over
 #: the cells and sampled as the profile was, matches the profile best: searched
-#: within this many cells of the flanks' estimate, in steps of these many cells
-#: (each search within one step of the one before), the last refined by a
-#: parabola (:func:`_drawn_edges`)
-MODEL_MOVE, MODEL_STEPS = 0.3, (0.05,)
+#: within this many cells of the flanks' estimate, in steps of this many cells,
+#: refined by a parabola (:func:`_drawn_edges`)
+MODEL_MOVE, MODEL_STEP = 0.3, 0.05
 #: ... on every this many samples of a profile (0.3 cells apart: enough)
 MODEL_EVERY = 3
 #: an edge lies on the drawn line where its profiles find it within this many
@@ -346,13 +345,11 @@ def _drawn_edges(profiles, share, place, width, start, cell):
         left = share - level_fill[:, None] * fill - level_stroke[:, None] * stroke
         return np.where(level_stroke > 0, (left * left).sum(1), np.inf)
 
-    centre = start[rows]
-    for step, reach in zip(MODEL_STEPS, (MODEL_MOVE, *MODEL_STEPS)):
-        grid = np.arange(-reach, reach + 1e-9, step) * cell
-        costs = np.stack([misfit(centre + g) for g in grid], axis=1)
-        best = np.argmin(costs, axis=1)
-        centre = centre + grid[best]
-    # a parabola through the best fine step and its neighbours
+    grid = np.arange(-MODEL_MOVE, MODEL_MOVE + 1e-9, MODEL_STEP) * cell
+    costs = np.stack([misfit(start[rows] + g) for g in grid], axis=1)
+    best = np.argmin(costs, axis=1)
+    centre = start[rows] + grid[best]
+    # a parabola through the best step and its neighbours
     inner = (best > 0) & (best < len(grid) - 1)
     k = np.arange(len(rows))
     b = np.clip(best, 1, len(grid) - 2)
@@ -362,7 +359,7 @@ def _drawn_edges(profiles, share, place, width, start, cell):
     curve = y0 - 2.0 * y1 + y2
     ok &= curve > 0
     centre = centre + np.where(ok, 0.5 * (y0 - y2) / np.where(ok, curve, 1.0), 0.0) \
-        * MODEL_STEPS[-1] * cell
+        * MODEL_STEP * cell
     result[rows] = np.where(np.isfinite(costs[k, best]), centre, np.nan)
     return result
 
@@ -588,7 +585,8 @@ CUT, DRAWN, CORNER_ANGLE = 0.2, 0.6, 45.0
 def restore_corners(ring, shares, cell=1.0):
     """The ring (k, 2) with each cut corner (see :data:`CUT`) restored: the
     edge dropped, its neighbours extended to where they meet; ``shares``: per
-    edge, as :func:`edge_support` gives them. The same array when none is."""
+    edge, as :func:`edge_support` gives them; ``cell``: the map's cell size (map
+    units). The same array when none is."""
     count = len(ring)
     if count < 4:
         return ring
@@ -597,7 +595,7 @@ def restore_corners(ring, shares, cell=1.0):
     corners = {}
     sin_min = np.sin(np.radians(CORNER_ANGLE))
     for i in range(count):
-        if not (cut[i] and drawn[i - 1] and drawn[(i + 1) % count]) or (i - 1) % count in corners:
+        if not (cut[i] and drawn[i - 1] and drawn[(i + 1) % count]):
             continue
         a0, a1 = ring[i - 1], ring[i]
         b0, b1 = ring[(i + 1) % count], ring[(i + 2) % count]

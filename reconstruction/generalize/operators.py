@@ -586,13 +586,13 @@ def _better_supported(fitted, raw, image, width, tolerance):
     support = fitting.outline_support(fitted, image, "inside", width)
     # only a plot whose outline the map supports along less than all but
     # SUPPORT_GAIN of it can gain
-    room = [int(i) for i in np.flatnonzero(support <= 1.0 - SUPPORT_GAIN)]
-    plain = [douglas(raw[i], tolerance) for i in room]
-    room = [i for i, p in zip(room, plain) if p is not None]  # a plot that breaks: none
-    if not room:
+    simplified = ((int(i), douglas(raw[i], tolerance))
+                  for i in np.flatnonzero(support <= 1.0 - SUPPORT_GAIN))
+    candidates = [(i, p) for i, p in simplified if p is not None]  # a plot that breaks: none
+    if not candidates:
         return
-    plain = fitting.fit_outlines([p for p in plain if p is not None], image, "inside",
-                                 width).plots
+    room, plain = zip(*candidates)
+    plain = fitting.fit_outlines(list(plain), image, "inside", width).plots
     plain_support = fitting.outline_support(plain, image, "inside", width)
     for i, new, new_support in zip(room, plain, plain_support):
         old = fitted[i]
