@@ -179,6 +179,10 @@
 # % guisection: Segmentation
 # %end
 # %flag
+# % key: n
+# % description: Do not register the bands: classify them as they are, even when one lies a whole cell off the others
+# %end
+# %flag
 # % key: p
 # % description: Print the tuning table (threshold, minsize, VW, Moran's I, normalised criteria, F) and the chosen pair
 # %end
@@ -223,6 +227,9 @@ def main(options, flags):
             ",".join(bands)))
     grassio.require_vector(options["training"])
     grid = classify.stage.Grid.from_region(None, gs.region())
+    if config.register:
+        bands, shifts = grassio.registered_bands(bands, grid)
+        grassio.say([shifts.message(config.bands)])
     xy, columns = grassio.read_points(options["training"])
     grassio.require_columns(options, columns, ("class_column",), options["training"])
 
@@ -257,7 +264,7 @@ def main(options, flags):
                              + "\nnv 255:255:255\n")
             gs.run_command("r.support", map=output,
                            source1="training points <{}>, inputs <{}>".format(
-                               options["training"], ",".join(bands)),
+                               options["training"], ",".join(config.bands)),
                            description="i.segment threshold={} minsize={}".format(
                                *result.best_pair))
             gs.raster_history(output, overwrite=True)

@@ -159,6 +159,11 @@
 # % guisection: Method
 # %end
 # %flag
+# % key: n
+# % description: Do not register the bands of map=: the fit reads them as they are, even when one lies a whole cell off the others
+# % guisection: Method
+# %end
+# %flag
 # % key: g
 # % description: Print the assessment figures in shell script style (key=value)
 # % guisection: Assessment

@@ -30,7 +30,9 @@ class ClassifyConfig:
     ``outline``: where the map draws the outline of the ``separate`` classes'
     areas (:data:`~reconstruction.classify.outlines.OUTLINES`);
     ``keep_segments``: segments= is given; ``exhaustive``: flag -e (a full
-    i.segment run per pair); ``print_table``: flag -p.
+    i.segment run per pair); ``print_table``: flag -p; ``register``: the
+    bands are registered to each other first (not flag -n,
+    :mod:`~reconstruction.geom.registration`).
     """
 
     thresholds: tuple
@@ -54,6 +56,7 @@ class ClassifyConfig:
     keep_segments: bool = False
     exhaustive: bool = False
     print_table: bool = False
+    register: bool = True
 
     @property
     def pairs(self):
@@ -117,7 +120,7 @@ def read_config(options, flags=None):
         bands=tuple(bands), label_column=options.get("label_column", "label"),
         class_column=options.get("class_column", "class"),
         keep_segments=bool(options.get("segments")), exhaustive=bool(flags.get("e")),
-        print_table=bool(flags.get("p")))
+        print_table=bool(flags.get("p")), register=not flags.get("n"))
 
 
 def _optional_number(text, key):

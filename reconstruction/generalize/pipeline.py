@@ -15,6 +15,7 @@ import numpy as np
 
 from ..core.messages import note, verbose
 from ..geom.grid import MapImage
+from ..geom.registration import register_image
 from .config import GeneralizeConfig
 from .stage import GeneralizedPlots, generalize_map, raw_plots
 
@@ -55,4 +56,8 @@ def run(inputs, config: GeneralizeConfig) -> GeneralizedPlots:
                                                                           config.min_area))])
     inputs.say([note("Generalising {} plots ({})...".format(len(raw.polygons),
                                                             ", ".join(config.methods)))])
-    return generalize_map(raw, config, inputs.gt_points, inputs.gt_polygons, inputs.image)
+    image = inputs.image
+    if image is not None and config.register:
+        image, shifts = register_image(image)
+        inputs.say([shifts.message(config.maps)])
+    return generalize_map(raw, config, inputs.gt_points, inputs.gt_polygons, image)

@@ -7,14 +7,16 @@
 - ``grid``: a raster as a numpy array with its place on the ground
   (:class:`Grid`), a map picture (:class:`MapImage`), the box an input
   covers (:class:`Extent`);
+- ``registration``: a scan's colour planes moved back by the whole cells
+  one lies off the others (:func:`~reconstruction.geom.registration.band_shifts`);
 - ``solidset``: many LoD2 solids as flat numpy arrays (:class:`SolidSet`) and
   their semantic surfaces.
 """
 
-from . import grid, overlaps, polygons, rings, solidset
+from . import grid, overlaps, polygons, registration, rings, solidset
 from .grid import Extent, Grid, MapImage
 from .overlaps import OverlapRule, resolve_overlaps
 from .solidset import SolidSet
 
 __all__ = ["Extent", "Grid", "MapImage", "OverlapRule", "SolidSet", "grid", "overlaps",
-           "polygons", "resolve_overlaps", "rings", "solidset"]
+           "polygons", "registration", "resolve_overlaps", "rings", "solidset"]

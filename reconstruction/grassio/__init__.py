@@ -14,9 +14,12 @@ import grassio``; ``grassio.read_areas(...)``):
 - ``points``: 3D point maps and rasters near footprints (v.histo.lod2);
 - ``images``: the map's colour rasters as a picture (v.histo.lod2 ``map=``,
   v.histo.generalize's fit step);
+- ``bands``: the map's colour rasters registered to each other
+  (r.histo.classify, :func:`registered_bands`);
 - ``tiles``: i.segment runs on tiles and windows (r.histo.classify).
 """
 
+from .bands import registered_bands
 from .checks import (check_outputs, given, location_epsg, prefetch_checks, projection,
                      require_columns, require_features, require_new_file, require_projected,
                      require_raster, require_vector, vector_counts)
@@ -32,6 +35,7 @@ from .temp import (forget_temp_map, is_temp_map, output_name, register_cleanup, 
 from .tiles import run_segmentations, segment_tiles, window_criteria, window_env
 
 __all__ = [
+    "registered_bands",
     "check_outputs", "given", "location_epsg", "prefetch_checks", "projection",
     "require_columns", "require_features", "require_new_file", "require_projected",
     "require_raster", "require_vector", "vector_counts",

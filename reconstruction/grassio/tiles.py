@@ -20,14 +20,19 @@ from .run import doing, finish_tool
 from .temp import forget_temp_map, temp_map
 
 
-def window_env(grid, tile):
-    """Environment whose region is ``tile``'s outer window of ``grid``."""
+def cells_env(grid, row0, row1, col0, col1):
+    """Environment whose region is the cells ``[row0, row1) x [col0, col1)`` of ``grid``."""
     env = os.environ.copy()
     env["GRASS_REGION"] = gs.region_env(
-        n=grid.north - tile.orow0 * grid.nsres, s=grid.north - tile.orow1 * grid.nsres,
-        w=grid.west + tile.ocol0 * grid.ewres, e=grid.west + tile.ocol1 * grid.ewres,
-        rows=tile.orow1 - tile.orow0, cols=tile.ocol1 - tile.ocol0)
+        n=grid.north - row0 * grid.nsres, s=grid.north - row1 * grid.nsres,
+        w=grid.west + col0 * grid.ewres, e=grid.west + col1 * grid.ewres,
+        rows=row1 - row0, cols=col1 - col0)
     return env
+
+
+def window_env(grid, tile):
+    """Environment whose region is ``tile``'s outer window of ``grid``."""
+    return cells_env(grid, tile.orow0, tile.orow1, tile.ocol0, tile.ocol1)
 
 
 def _start(inputs, pair, output, memory, seeds=None, env=None):

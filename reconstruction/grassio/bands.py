@@ -1,0 +1,40 @@
+"""A scanned map's colour rasters registered to each other in GRASS
+(r.histo.classify): the shifts are estimated on the map's central window
+(:func:`~reconstruction.geom.registration.band_shifts`), and each band found a
+whole cell off the others is moved back into a temporary raster by r.mapcalc
+(``out = band[rows,cols]``) in the current region; the others are used as
+they are.
+"""
+
+import numpy as np
+
+import grass.script as gs
+
+from ..geom.registration import band_shifts
+from .maps import read_raster
+from .run import doing
+from .temp import temp_map
+from .tiles import cells_env
+
+#: the shifts are estimated on at most this many cells a side around the
+#: map's centre (a few hundred edges are plenty; a sheet may be 20,000 a side)
+SAMPLE = 1024
+
+
+def registered_bands(names, grid):
+    """``(names, shifts)``: the rasters to classify in place of ``names`` (the
+    moved bands as temporary rasters, removed at exit) and the
+    :class:`~reconstruction.geom.registration.BandShifts` found."""
+    rows, cols = min(grid.rows, SAMPLE), min(grid.cols, SAMPLE)
+    row0, col0 = (grid.rows - rows) // 2, (grid.cols - cols) // 2
+    env = cells_env(grid, row0, row0 + rows, col0, col0 + cols)
+    shifts = band_shifts([read_raster(name, np.float64, env) for name in names])
+    out = list(names)
+    for i in shifts.moved:
+        dr, dc = shifts.shifts[i]
+        out[i] = temp_map("raster", "registered")
+        with doing("moving raster map <{}> back by {} rows, {} columns".format(
+                names[i], dr, dc)):
+            gs.run_command("r.mapcalc", expression="{} = {}[{},{}]".format(
+                out[i], names[i], dr, dc), quiet=True)
+    return out, shifts
