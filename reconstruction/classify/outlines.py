@@ -9,12 +9,14 @@ about half a cell all round (issue 32: on the synthetic map 4,900 of the
 6,650 cells wrongly given to plots were such edge cells, a quarter to a half
 covered).
 
-:func:`inside_outlines` decides each edge cell by its colour, on the line
-between the stroke's colour and the local colour outside: the cell belongs
-to the area when the stroke covers at least half of it. The stroke fills a
-strip about one cell wide along the outline, so the outermost cell of an
-area is either such a mix of stroke and outside, or nearly all stroke (the
-edge falls near a cell boundary): no fill colour enters the decision.
+:func:`inside_outlines` decides each edge cell by its colour. An outermost
+cell of an area is a mix of three colours at most: the stroke's, the
+colour outside (paper, a garden) and the area's fill (where the classifier
+stopped a cell short of the stroke); it stays in the area when the outside
+covers less than half of it (unmixed by least squares against the local
+colours). A cell beside an area joins it when it lies at least halfway
+from the outside's colour to the stroke's: the stroke fills a strip about
+one cell wide along the outline, so such a cell holds the area's edge.
 
 Maps that centre the outline on the boundary (the digitised Delft plots
 follow the line's centre) keep their edge cells as classified
@@ -63,6 +65,20 @@ def stroke_share(colours, stroke, outside):
         (direction * direction).sum(axis=1), 1e-12)
 
 
+def outside_share(colours, stroke, outside, fill):
+    """How much of each cell the outside covers: the cell's colour unmixed
+    into the ``outside``, ``stroke`` and ``fill`` colours (least squares, the
+    weights adding up to 1, not bounded); (n, bands) each, ``stroke`` (bands,)
+    too."""
+    to_stroke, to_fill, seen = stroke - outside, fill - outside, colours - outside
+    a11 = (to_stroke * to_stroke).sum(axis=1)
+    a12 = (to_stroke * to_fill).sum(axis=1)
+    a22 = (to_fill * to_fill).sum(axis=1)
+    b1, b2 = (to_stroke * seen).sum(axis=1), (to_fill * seen).sum(axis=1)
+    det = np.maximum(a11 * a22 - a12 * a12, 1e-9)
+    return 1.0 - ((a22 * b1 - a12 * b2) + (a11 * b2 - a12 * b1)) / det
+
+
 def _between_areas(area):
     """Cells 4-next to two or more separate areas of ``area``."""
     parts, _n = ndimage.label(area, FOUR)
@@ -85,15 +101,17 @@ def inside_outlines(classes, bands, labels, share=0.5, printed=None):
     """``classes`` with the edge cells of the ``labels`` areas decided by colour.
 
     ``bands``: the map's bands (arrays like ``classes``, nan for no data);
-    an outermost cell of an area whose stroke share (:func:`stroke_share`) is
-    below ``share`` takes the class of the nearest cell outside the area; a
-    cell next to an area (4-connected) whose share reaches it joins the area.
-    The outside colour is the mean of the cells at least
-    :data:`OUTSIDE_DEPTH` cells away from the area in a :data:`WINDOW`
-    window; an edge cell without such cells, on no data, or ``printed`` (a
-    boolean array: the cells of classes printed over the map, e.g. text, whose
-    colour is ink, not the outline's) stays as it is, and so does a cell next
-    to two areas of a label (it would join them).
+    an outermost cell of an area that the area covers less than ``share`` of
+    (the outside more than 1 - ``share``, :func:`outside_share`; without fill
+    cells nearby, the stroke less than ``share``, :func:`stroke_share`) takes the class of the
+    nearest cell outside the area; a cell next to an area (4-connected) whose
+    stroke share reaches ``share`` joins the area. The outside colour is the
+    mean of the cells at least :data:`OUTSIDE_DEPTH` cells away from the area
+    in a :data:`WINDOW` window, the fill's the mean of the area's cells
+    farther than that inside it; an edge cell without outside cells, on no
+    data, or ``printed`` (a boolean array: the cells of classes printed over
+    the map, e.g. text, whose colour is ink, not the outline's) stays as it
+    is, and so does a cell next to two areas of a label (it would join them).
     """
     image = np.stack([np.asarray(b, dtype=float) for b in bands], axis=-1)
     valid = np.isfinite(image).all(axis=-1)
@@ -111,12 +129,20 @@ def inside_outlines(classes, bands, labels, share=0.5, printed=None):
         beside = ~area & ndimage.binary_dilation(area, FOUR) & valid & ~_between_areas(area)
         _, (near_r, near_c) = ndimage.distance_transform_edt(area, return_indices=True)
         far = ~area & valid & (ndimage.distance_transform_edt(~area) >= OUTSIDE_DEPTH)
+        deep = area & valid & (ndimage.distance_transform_edt(area) > OUTSIDE_DEPTH)
         outside, seen = _local_mean(image, far, WINDOW)
+        fill, filled = _local_mean(image, deep, WINDOW)
         stroke = stroke_colour(image, ring)
-        for cells, joins in ((ring, False), (beside, True)):
-            r, c = np.nonzero(cells & (seen > 0))
-            f = stroke_share(image[r, c], stroke[None, :], outside[r, c])
-            pick = f >= share if joins else f < share
-            r, c = r[pick], c[pick]
-            out[r, c] = label if joins else out[near_r[r, c], near_c[r, c]]
+        # the ring: cells the outside covers most of leave the area
+        r, c = np.nonzero(ring & (seen > 0))
+        colours, around = image[r, c], outside[r, c]
+        leaves = np.where(filled[r, c] > 0,
+                          outside_share(colours, stroke[None, :], around, fill[r, c]) > 1.0 - share,
+                          stroke_share(colours, stroke[None, :], around) < share)
+        r, c = r[leaves], c[leaves]
+        out[r, c] = out[near_r[r, c], near_c[r, c]]
+        # beside: cells the stroke covers most of join it
+        r, c = np.nonzero(beside & (seen > 0))
+        joins = stroke_share(image[r, c], stroke[None, :], outside[r, c]) >= share
+        out[r[joins], c[joins]] = label
     return out

@@ -103,3 +103,27 @@ def test_a_cell_between_two_areas_or_under_print_does_not_join_them():
     assert (out[15:17, 5:9] == classes[15:17, 5:9]).all()
     without = outlines.inside_outlines(classes, bands, (1,))
     assert (without[15, 5:9] == 1).all()  # the ink looks like the outline: it would join
+
+
+def test_a_fill_cell_stays_when_the_classifier_stopped_short_of_the_stroke():
+    # the stroke along every edge of a plot classified as the outside (a
+    # colour plane off by a cell gives it the garden's colour): the fill
+    # cells that are now the area's outermost keep it, the stroke joins it
+    bands, share, truth = drawn_plots([(6.0, 22.0, 6.0, 22.0), NEAR_CELL_EDGES])
+    classes = np.where(share > 0.2, 1, 2)
+    classes[6, 6:22] = classes[21, 6:22] = classes[6:22, 6] = classes[6:22, 21] = 2
+    assert (classes[:24, :24] == 1).sum() == 14 * 14
+    out = outlines.inside_outlines(classes, bands, (1,))
+    # all but the four corner cells, which touch the area only diagonally
+    wrong = np.argwhere(out != np.where(truth, 1, 2))
+    assert sorted(map(tuple, wrong)) == [(6, 6), (6, 21), (21, 6), (21, 21)]
+
+
+def test_outside_share_unmixes_three_colours():
+    outside, stroke, fill = np.array(PAPER), np.array(STROKE), np.array(FILL)
+    colours = np.array([outside, stroke, fill, 0.5 * outside + 0.5 * stroke,
+                        0.3 * outside + 0.2 * stroke + 0.5 * fill])
+    n = len(colours)
+    share = outlines.outside_share(colours, stroke[None], np.tile(outside, (n, 1)),
+                                   np.tile(fill, (n, 1)))
+    assert share == pytest.approx([1.0, 0.0, 0.0, 0.5, 0.3], abs=1e-9)
