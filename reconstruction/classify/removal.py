@@ -325,6 +325,59 @@ def bridges(before, after, holes, min_cells=1, distance=3, nodata=0, labels=None
     return joined
 
 
+def _to_ink(colours, ink, pure):
+    """How far each colour of ``colours`` (n, B) lies from the mixes of ``ink``
+    (B,) and the ``pure`` colour (B,): from the nearest point of the segment
+    between them."""
+    towards, seen = pure - ink, colours - ink
+    mix = np.clip(seen @ towards / max(float(towards @ towards), 1e-9), 0.0, 1.0)
+    return np.linalg.norm(seen - mix[:, None] * towards[None, :], axis=1)
+
+
+def letter_gaps(classes, image, removed, labels, width, window, nodata=0):
+    """``classes`` with the cells between removed letters decided by colour.
+
+    A street name printed in a narrow street between two plots leaves the
+    paper between its letters a cell or two wide; the segmentation may
+    merge those cells with the plots' fill and the classifier give them to
+    the plots (a colour plane off by a cell does: issue 32's synthetic map).
+    The refill then has no street left between the plots and joins them. The
+    cells of the ``labels`` classes (the separate ones, e.g. buildings) in
+    their thin parts (:func:`thin_parts`, ``width`` cells) within ``window``
+    cells of a ``removed`` cell take the class whose colour, mixed with the
+    removed objects' ink, comes closest to theirs (:func:`_to_ink`; each
+    class's colour and the ink: the medians of their cells, the classes'
+    away from their edges). ``image``: (rows, cols, bands) floats. A cell of
+    a letter's own class stays: its colour is the class's.
+    """
+    classes = np.asarray(classes)
+    removed = np.asarray(removed, dtype=bool)
+    out = classes.copy()
+    if not removed.any() or width <= 1:
+        return out
+    base = np.where(removed, nodata, classes)
+    near = ndimage.binary_dilation(removed, np.ones((window, window), dtype=bool))
+    gaps = (near & np.isin(classes, list(labels))
+            & thin_parts(base, width, nodata, hidden=removed, exact=labels))
+    if not gaps.any():
+        return out
+    valid = np.isfinite(image).all(axis=-1)
+    ink = np.median(image[removed & valid], axis=0)
+    names, colours = [], []
+    for label in np.unique(base[valid]):
+        core = ndimage.binary_erosion(base == label, _EIGHT) & valid
+        if label != nodata and core.any():
+            names.append(label)
+            colours.append(np.median(image[core], axis=0))
+    rows, cols = np.nonzero(gaps & valid)
+    if not names or not len(rows):
+        return out
+    seen = image[rows, cols]
+    distance = np.stack([_to_ink(seen, ink, colour) for colour in colours], axis=1)
+    out[rows, cols] = np.asarray(names)[distance.argmin(axis=1)]
+    return out
+
+
 #: The four axes along which a refilled cell is looked at from both sides
 #: (:func:`outgrowths`), as (row, column) steps.
 AXES = ((0, 1), (1, 0), (1, 1), (1, -1))
@@ -380,7 +433,7 @@ def outgrowths(before, after, holes, label, nodata=0):
 
 
 def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, min_width=0,
-                   separate=(), nodata=0):
+                   separate=(), nodata=0, image=None):
     """Remove classes (e.g. text, symbols), thin parts and tiny regions from a class raster.
 
     1. Holes: the cells of the ``remove`` labels, the thin parts of every
@@ -409,6 +462,10 @@ def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, m
     4. Regions left smaller than ``min_cells`` are refilled once more (the
        modal class of their 3 x 3 surroundings, :func:`fill_from_surroundings`).
 
+    With the map's ``image`` (rows, cols, bands), the cells of the
+    ``separate`` classes between the removed letters are first given the
+    class of their colour (:func:`letter_gaps`).
+
     Returns ``(classes, window used)``; cells that could not be filled (no
     known cell within reach) become ``nodata``.
     """
@@ -416,6 +473,8 @@ def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, m
     removed = np.isin(classes, list(remove)) if len(remove) else np.zeros(classes.shape, bool)
     if window is None:
         window = removal_window(removed)
+    if image is not None and len(separate):
+        classes = letter_gaps(classes, image, removed, separate, min_width, window, nodata)
     base = np.where(removed, nodata, classes)
     holes = removed.copy()
     if min_width > 1:

@@ -225,7 +225,7 @@ def classify_map(bands, segmentations, read_segments, training, config, grid,
     start = time.perf_counter()
 
     printed = outlines.printed_cells(classes, config)
-    classes, rule = _remove(classes, config, grid)
+    classes, rule = _remove(classes, config, grid, np.stack(bands, axis=-1))
     if printed is not None:
         classes = outlines.inside_outlines(classes, bands, config.separate, printed=printed)
     timing.append(("removal", time.perf_counter() - start))
@@ -298,15 +298,19 @@ def removal_rule(thickness, config, grid):
     return RemovalRule(window, min_cells, width_cells, float(thickness), tuple(derived))
 
 
-def _remove(classes, config, grid):
-    """Removal of text, symbols, thin parts and small regions: ``(classes, RemovalRule or None)``."""
+def _remove(classes, config, grid, image=None):
+    """Removal of text, symbols, thin parts and small regions: ``(classes,
+    RemovalRule or None)``; with the map's ``image`` (rows, cols, bands), the
+    cells between the removed letters are first given the class of their
+    colour (:func:`~reconstruction.classify.removal.letter_gaps`)."""
     removed = np.isin(classes, list(config.remove)) if config.remove else None
     thickness = removal.object_thickness(removed) if removed is not None else 0.0
     rule = removal_rule(thickness, config, grid)
     if not rule.active(config.remove):
         return classes, None
     out, _window = removal.remove_classes(classes, config.remove, rule.window, config.iterations,
-                                     rule.min_cells, rule.width_cells, config.separate)
+                                     rule.min_cells, rule.width_cells, config.separate,
+                                     image=image)
     return out, rule
 
 

@@ -141,7 +141,9 @@ def classify_tiles(tiles, read_bands, read_segments, training, config, grid, pai
         for tile in tiles:
             cleaned, _w = removal.remove_classes(classes[tile.outer], config.remove, rule.window,
                                             config.iterations, rule.min_cells, rule.width_cells,
-                                            config.separate)
+                                            config.separate,
+                                            image=(np.stack(read_bands(tile), axis=-1)
+                                                   if config.separate else None))
             out[tile.core] = cleaned[tile.core_in_outer]
             done += 1
             percent(done, total)

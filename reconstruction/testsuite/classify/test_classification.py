@@ -387,6 +387,49 @@ def test_a_name_filling_the_street_does_not_join_the_plots_across_it():
     assert (out[13:17, 5:35] == 4).all()
 
 
+PAPER, FILL, INK = (238.0, 231.0, 212.0), (236.0, 183.0, 166.0), (60.0, 58.0, 50.0)
+
+
+def _name_in_a_narrow_street():
+    """Two plots either side of a 5-cell street whose name covers all of it
+    where they face each other; the paper between the letters (rows of cells
+    across the street, a little ink in them) classified as the plots' class.
+    Returns (classes, image)."""
+    classes = np.full((40, 30), 4)          # street
+    classes[5:35, 2:12] = 1                 # plot west of the street
+    classes[5:35, 17:28] = 1                # plot east of the street
+    image = np.where((classes == 1)[..., None], FILL, PAPER)
+    classes[2:38, 12:17] = 2                # the name, letters 3 cells tall ...
+    classes[4:38:4, 12:17] = 1              # ... the paper between them classified as plot
+    image[classes == 2] = INK
+    gaps = (classes == 1) & (np.arange(30)[None, :] >= 12) & (np.arange(30)[None, :] < 17)
+    image[gaps] = 0.8 * np.array(PAPER) + 0.2 * np.array(INK)
+    return classes, image
+
+
+def test_the_paper_between_letters_keeps_two_plots_apart():
+    from scipy import ndimage
+
+    classes, image = _name_in_a_narrow_street()
+    joined, _ = removal.remove_classes(classes, [2], window=5, min_cells=10, min_width=3,
+                                       separate=[1])
+    assert ndimage.label(joined == 1)[1] == 1          # by the classes alone
+    out, _ = removal.remove_classes(classes, [2], window=5, min_cells=10, min_width=3,
+                                    separate=[1], image=image)
+    assert ndimage.label(out == 1)[1] == 2
+    assert (out[5:35, 14] == 4).all()          # the street goes on between them
+
+
+def test_letter_gaps_go_to_the_class_of_their_colour():
+    classes, image = _name_in_a_narrow_street()
+    removed = classes == 2
+    out = removal.letter_gaps(classes, image, removed, (1,), 3, 5)
+    assert (out[4:38:4, 12:17] == 4).all()
+    assert (out[:, :12] == classes[:, :12]).all() and (out[:, 17:] == classes[:, 17:]).all()
+    image[classes == 1] = FILL              # between letters printed over a plot: its fill
+    assert (removal.letter_gaps(classes, image, removed, (1,), 3, 5) == classes).all()
+
+
 @settings(max_examples=30, deadline=None)
 @given(st.integers(0, 10_000), st.integers(1, 3))
 def test_fill_leaves_no_hole_and_invents_no_class(seed, half):
