@@ -148,14 +148,15 @@ def band_shifts(bands, reach=REACH):
     return BandShifts(tuple(shifts), reference, tuple(before), tuple(after))
 
 
-def registered(band, shift, nodata=np.nan):
+def registered(band, shift):
     """``band`` moved back by its ``shift`` ``(rows, cols)``: the content found
-    ``rows`` south and ``cols`` east of a cell comes to that cell; cells with
-    nothing to take get ``nodata`` (what ``r.mapcalc "out = band[rows,cols]"``
-    writes)."""
+    ``rows`` south and ``cols`` east of a cell comes to that cell; a cell with
+    nothing to take (along the map's edge) keeps its own value, as
+    ``r.mapcalc "out = if(isnull(band[rows,cols]), band, band[rows,cols])"``
+    writes it."""
     band = np.asarray(band, dtype=float)
     dr, dc = shift
-    out = np.full(band.shape, nodata, dtype=float)
+    out = band.copy()
     rows, cols = band.shape
     out[max(0, -dr):rows - max(0, dr), max(0, -dc):cols - max(0, dc)] = \
         band[max(0, dr):rows - max(0, -dr), max(0, dc):cols - max(0, -dc)]
@@ -164,11 +165,10 @@ def registered(band, shift, nodata=np.nan):
 
 def register_image(image):
     """A :class:`~reconstruction.geom.grid.MapImage` with its bands registered
-    to each other (cells with nothing to take white, as no data is on a map
-    picture), and the :class:`BandShifts` found."""
+    to each other (:func:`registered`), and the :class:`BandShifts` found."""
     bands = [image.rgb[..., k].astype(float) for k in range(image.rgb.shape[-1])]
     shifts = band_shifts(bands)
     if not shifts.moved:
         return image, shifts
-    rgb = np.dstack([registered(b, s, nodata=255.0) for b, s in zip(bands, shifts.shifts)])
+    rgb = np.dstack([registered(b, s) for b, s in zip(bands, shifts.shifts)])
     return MapImage(rgb.astype(image.rgb.dtype), image.extent), shifts

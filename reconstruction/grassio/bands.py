@@ -2,8 +2,9 @@
 (r.histo.classify): the shifts are estimated on the map's central window
 (:func:`~reconstruction.geom.registration.band_shifts`), and each band found a
 whole cell off the others is moved back into a temporary raster by r.mapcalc
-(``out = band[rows,cols]``) in the current region; the others are used as
-they are.
+(``out = band[rows,cols]``; along the map's edge, where there is nothing to
+take, a cell keeps its own value) in the current region; the others are
+used as they are.
 """
 
 import numpy as np
@@ -35,6 +36,7 @@ def registered_bands(names, grid):
         out[i] = temp_map("raster", "registered")
         with doing("moving raster map <{}> back by {} rows, {} columns".format(
                 names[i], dr, dc)):
-            gs.run_command("r.mapcalc", expression="{} = {}[{},{}]".format(
-                out[i], names[i], dr, dc), quiet=True)
+            moved = "{}[{},{}]".format(names[i], dr, dc)
+            gs.run_command("r.mapcalc", expression="{} = if(isnull({}), {}, {})".format(
+                out[i], moved, names[i], moved), quiet=True)
     return out, shifts
