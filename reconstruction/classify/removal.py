@@ -334,44 +334,40 @@ def _to_ink(colours, ink, pure):
     return np.linalg.norm(seen - mix[:, None] * towards[None, :], axis=1)
 
 
-def letter_gaps(classes, image, removed, labels, width, window, nodata=0):
-    """``classes`` with the cells between removed letters decided by colour.
+def letter_gaps(classes, image, removed, labels, window, nodata=0):
+    """``classes`` with the cells around removed letters decided by colour.
 
     A street name printed in a narrow street between two plots leaves the
     paper between its letters a cell or two wide; the segmentation may
     merge those cells with the plots' fill and the classifier give them to
     the plots (a colour plane off by a cell does: issue 32's synthetic map).
-    The refill then has no street left between the plots and joins them. The
-    cells of the ``labels`` classes (the separate ones, e.g. buildings) in
-    their thin parts (:func:`thin_parts`, ``width`` cells) within ``window``
-    cells of a ``removed`` cell take the class whose colour, mixed with the
-    removed objects' ink, comes closest to theirs (:func:`_to_ink`; each
-    class's colour and the ink: the medians of their cells, the classes'
-    away from their edges). ``image``: (rows, cols, bands) floats. A cell of
-    a letter's own class stays: its colour is the class's.
+    The refill then has no street left between the plots and joins them, or
+    grows a plot out into the name. The cells of the ``labels`` classes (the
+    separate ones, e.g. buildings) within ``window`` cells of a ``removed``
+    cell take the class whose colour, mixed with the removed objects' ink,
+    comes closest to theirs (:func:`_to_ink`; each class's colour and the
+    ink: the medians of their cells, the classes' away from their edges).
+    ``image``: (rows, cols, bands) floats. The cells of a plot a label is
+    printed over keep their class: their colour is the plot's.
     """
     classes = np.asarray(classes)
     removed = np.asarray(removed, dtype=bool)
     out = classes.copy()
-    if not removed.any() or width <= 1:
-        return out
-    base = np.where(removed, nodata, classes)
-    near = ndimage.binary_dilation(removed, np.ones((window, window), dtype=bool))
-    gaps = (near & np.isin(classes, list(labels))
-            & thin_parts(base, width, nodata, hidden=removed, exact=labels))
-    if not gaps.any():
+    if not removed.any():
         return out
     valid = np.isfinite(image).all(axis=-1)
-    ink = np.median(image[removed & valid], axis=0)
+    near = ndimage.binary_dilation(removed, np.ones((window, window), dtype=bool))
+    rows, cols = np.nonzero(near & np.isin(classes, list(labels)) & valid)
+    base = np.where(removed, nodata, classes)
     names, colours = [], []
     for label in np.unique(base[valid]):
         core = ndimage.binary_erosion(base == label, _EIGHT) & valid
         if label != nodata and core.any():
             names.append(label)
             colours.append(np.median(image[core], axis=0))
-    rows, cols = np.nonzero(gaps & valid)
-    if not names or not len(rows):
+    if not len(rows) or not names or not (removed & valid).any():
         return out
+    ink = np.median(image[removed & valid], axis=0)
     seen = image[rows, cols]
     distance = np.stack([_to_ink(seen, ink, colour) for colour in colours], axis=1)
     out[rows, cols] = np.asarray(names)[distance.argmin(axis=1)]
@@ -463,7 +459,7 @@ def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, m
        modal class of their 3 x 3 surroundings, :func:`fill_from_surroundings`).
 
     With the map's ``image`` (rows, cols, bands), the cells of the
-    ``separate`` classes between the removed letters are first given the
+    ``separate`` classes around the removed letters are first given the
     class of their colour (:func:`letter_gaps`).
 
     Returns ``(classes, window used)``; cells that could not be filled (no
@@ -474,7 +470,7 @@ def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, m
     if window is None:
         window = removal_window(removed)
     if image is not None and len(separate):
-        classes = letter_gaps(classes, image, removed, separate, min_width, window, nodata)
+        classes = letter_gaps(classes, image, removed, separate, window, nodata)
     base = np.where(removed, nodata, classes)
     holes = removed.copy()
     if min_width > 1:
