@@ -597,7 +597,7 @@ def _better_supported(fitted, raw, image, width, tolerance):
     for i, new, new_support in zip(room, plain, plain_support):
         old = fitted[i]
         if (new_support >= support[i] + SUPPORT_GAIN and new.is_valid
-                and abs(new.area - old.area) < SUPPORT_AREA * old.area
+                and abs(new.area - raw[i].area) < SUPPORT_AREA * raw[i].area
                 and acceptable(new, old)):
             yield i, new
 
