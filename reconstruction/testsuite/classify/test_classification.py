@@ -423,11 +423,11 @@ def test_the_paper_between_letters_keeps_two_plots_apart():
 def test_letter_gaps_go_to_the_class_of_their_colour():
     classes, image = _name_in_a_narrow_street()
     removed = classes == 2
-    out = removal.letter_gaps(classes, image, removed, (1,), 5)
+    out = removal.letter_gaps(classes, image, removed, (1,), 3)
     assert (out[4:38:4, 12:17] == 4).all()
     assert (out[:, :12] == classes[:, :12]).all() and (out[:, 17:] == classes[:, 17:]).all()
     image[classes == 1] = FILL              # between letters printed over a plot: its fill
-    assert (removal.letter_gaps(classes, image, removed, (1,), 5) == classes).all()
+    assert (removal.letter_gaps(classes, image, removed, (1,), 3) == classes).all()
 
 
 @settings(max_examples=30, deadline=None)
