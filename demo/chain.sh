@@ -103,10 +103,11 @@ fi
 # ---------------------------------------------------------------------------
 # 2. Classify the map's pixels from the training points; text and symbols
 #    are removed (replaced by the class around them); the synthetic map
-#    draws each plot's outline inside the plot (outline=inside)
+#    draws each plot's outline inside the plot (outline=inside), and its
+#    scan's red plane lies a cell east of the others (-b registers the bands)
 # ---------------------------------------------------------------------------
 classify_stage $MAP.red,$MAP.green,$MAP.blue ${MAP}_training ${MAP}_classes \
-    remove=$REMOVE min_area=50 min_width=3 separate=$BUILDING outline=inside
+    remove=$REMOVE min_area=50 min_width=3 separate=$BUILDING outline=inside -b
 
 # ---------------------------------------------------------------------------
 # 3. Generalised building plots from the building class, scored against the
@@ -114,7 +115,7 @@ classify_stage $MAP.red,$MAP.green,$MAP.blue ${MAP}_training ${MAP}_classes \
 #    their edges then moved onto the outline strokes the map draws (fit)
 # ---------------------------------------------------------------------------
 generalize_stage ${MAP}_classes $BUILDING min_area=$MIN_AREA $truth \
-    method=alpha,lines,fit map=$MAP.red,$MAP.green,$MAP.blue outline=inside
+    method=alpha,lines,fit map=$MAP.red,$MAP.green,$MAP.blue outline=inside -b
 
 # ---------------------------------------------------------------------------
 # 3b. A sheet of a series keeps the plots it builds: those whose larger part

@@ -179,8 +179,8 @@
 # % guisection: Segmentation
 # %end
 # %flag
-# % key: n
-# % description: Do not register the bands: classify them as they are, even when one lies a whole cell off the others
+# % key: b
+# % description: Register the bands: a band found a whole cell off the others is moved back before the classification (without it, a warning says so)
 # %end
 # %flag
 # % key: p
@@ -191,6 +191,7 @@ import os
 import signal
 import sys
 import time
+from dataclasses import replace
 
 # Ctrl-C before the module runs (while Python loads it, while GRASS parses its
 # options): one error line, as during its work (grassio.run_main takes over)
@@ -227,9 +228,11 @@ def main(options, flags):
             ",".join(bands)))
     grassio.require_vector(options["training"])
     grid = classify.stage.Grid.from_region(None, gs.region())
+    shifts = grassio.read_band_shifts(bands, grid)
     if config.register:
-        bands, shifts = grassio.registered_bands(bands, grid)
-        grassio.say([shifts.message(config.bands)])
+        bands = grassio.registered_bands(bands, shifts)
+    grassio.say([shifts.message(config.bands, config.register)])
+    config = replace(config, in_register=config.register or not shifts.moved)
     xy, columns = grassio.read_points(options["training"])
     grassio.require_columns(options, columns, ("class_column",), options["training"])
 

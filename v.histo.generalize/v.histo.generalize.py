@@ -159,8 +159,8 @@
 # % guisection: Method
 # %end
 # %flag
-# % key: n
-# % description: Do not register the bands of map=: the fit reads them as they are, even when one lies a whole cell off the others
+# % key: b
+# % description: Register the bands of map=: a band found a whole cell off the others is moved back before the fit reads them (without it, a warning says so)
 # % guisection: Method
 # %end
 # %flag

@@ -30,9 +30,13 @@ class ClassifyConfig:
     ``outline``: where the map draws the outline of the ``separate`` classes'
     areas (:data:`~reconstruction.classify.outlines.OUTLINES`);
     ``keep_segments``: segments= is given; ``exhaustive``: flag -e (a full
-    i.segment run per pair); ``print_table``: flag -p; ``register``: the
-    bands are registered to each other first (not flag -n,
-    :mod:`~reconstruction.geom.registration`).
+    i.segment run per pair); ``print_table``: flag -p; ``register``: flag
+    -b, the bands are registered to each other first
+    (:mod:`~reconstruction.geom.registration`); ``in_register``: the bands
+    classified are in register (none found off, or registered), which the
+    module sets from its estimate: only then are the outermost cells of an
+    ``outline=inside`` area unmixed into three colours
+    (:func:`~reconstruction.classify.outlines.inside_outlines`).
     """
 
     thresholds: tuple
@@ -56,7 +60,8 @@ class ClassifyConfig:
     keep_segments: bool = False
     exhaustive: bool = False
     print_table: bool = False
-    register: bool = True
+    register: bool = False
+    in_register: bool = True
 
     @property
     def pairs(self):
@@ -120,7 +125,7 @@ def read_config(options, flags=None):
         bands=tuple(bands), label_column=options.get("label_column", "label"),
         class_column=options.get("class_column", "class"),
         keep_segments=bool(options.get("segments")), exhaustive=bool(flags.get("e")),
-        print_table=bool(flags.get("p")), register=not flags.get("n"))
+        print_table=bool(flags.get("p")), register=bool(flags.get("b")))
 
 
 def _optional_number(text, key):

@@ -97,13 +97,14 @@ def printed_cells(classes, config):
     return np.isin(classes, list(config.remove)) if config.outline == "inside" else None
 
 
-def inside_outlines(classes, bands, labels, share=0.5, printed=None):
+def inside_outlines(classes, bands, labels, share=0.5, printed=None, unmix=True):
     """``classes`` with the edge cells of the ``labels`` areas decided by colour.
 
     ``bands``: the map's bands (arrays like ``classes``, nan for no data);
     an outermost cell of an area that the area covers less than ``share`` of
     (the outside more than 1 - ``share``, :func:`outside_share`; without fill
-    cells nearby, the stroke less than ``share``, :func:`stroke_share`) takes the class of the
+    cells nearby, or not ``unmix``, the stroke less than ``share``,
+    :func:`stroke_share`) takes the class of the
     nearest cell outside the area; a cell next to an area (4-connected) whose
     stroke share reaches ``share`` joins the area. The outside colour is the
     mean of the cells at least :data:`OUTSIDE_DEPTH` cells away from the area
@@ -112,6 +113,9 @@ def inside_outlines(classes, bands, labels, share=0.5, printed=None):
     data, or ``printed`` (a boolean array: the cells of classes printed over
     the map, e.g. text, whose colour is ink, not the outline's) stays as it
     is, and so does a cell next to two areas of a label (it would join them).
+    ``unmix``: False for bands not in register (a colour plane off by a cell
+    makes a cell's colour no mix of its neighbours'; unmixed, the edges of
+    the synthetic town's plots came out differently on its three maps).
     """
     image = np.stack([np.asarray(b, dtype=float) for b in bands], axis=-1)
     valid = np.isfinite(image).all(axis=-1)
@@ -136,7 +140,7 @@ def inside_outlines(classes, bands, labels, share=0.5, printed=None):
         # the ring: cells the outside covers most of leave the area
         r, c = np.nonzero(ring & (seen > 0))
         colours, around = image[r, c], outside[r, c]
-        leaves = np.where(filled[r, c] > 0,
+        leaves = np.where((filled[r, c] > 0) & unmix,
                           outside_share(colours, stroke[None, :], around, fill[r, c]) > 1.0 - share,
                           stroke_share(colours, stroke[None, :], around) < share)
         r, c = r[leaves], c[leaves]

@@ -227,7 +227,8 @@ def classify_map(bands, segmentations, read_segments, training, config, grid,
     printed = outlines.printed_cells(classes, config)
     classes, rule = _remove(classes, config, grid, np.stack(bands, axis=-1))
     if printed is not None:
-        classes = outlines.inside_outlines(classes, bands, config.separate, printed=printed)
+        classes = outlines.inside_outlines(classes, bands, config.separate, printed=printed,
+                                           unmix=config.in_register)
     timing.append(("removal", time.perf_counter() - start))
     return ClassifyResult(
         classes=classes, pairs=pairs, criteria=criteria, tuning=tuning, chosen=ids[best],

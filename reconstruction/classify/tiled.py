@@ -154,7 +154,8 @@ def classify_tiles(tiles, read_bands, read_segments, training, config, grid, pai
         out = classes.copy()
         for tile in tiles:
             edged = outlines.inside_outlines(classes[tile.outer], read_bands(tile), config.separate,
-                                             printed=printed[tile.outer])
+                                             printed=printed[tile.outer],
+                                             unmix=config.in_register)
             out[tile.core] = edged[tile.core_in_outer]
         classes = out
     percent(total, total)

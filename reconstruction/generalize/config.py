@@ -23,8 +23,8 @@ class GeneralizeConfig:
     the map draws the plots' outlines, for the fit step (map=), and
     ``stroke`` the width of an outline drawn inside them (None: measured);
     ``maps``: the scanned map's red, green and blue rasters (map=);
-    ``register``: they are registered to each other before the fit reads
-    them (not flag -n, :mod:`~reconstruction.geom.registration`).
+    ``register``: flag -b, they are registered to each other before the
+    fit reads them (:mod:`~reconstruction.geom.registration`).
     """
 
     methods: tuple = ("alpha", "lines")
@@ -41,7 +41,7 @@ class GeneralizeConfig:
     outline: str = "centre"
     stroke: Optional[float] = None
     maps: tuple = ()
-    register: bool = True
+    register: bool = False
 
 
 def read_config(options, flags):
@@ -71,4 +71,4 @@ def read_config(options, flags):
                   else None),
         shell=bool(flags.get("g")), outline=outline,
         stroke=positive("stroke") if options.get("stroke") else None,
-        maps=tuple(parse_list(options["map"])) if scan else (), register=not flags.get("n"))
+        maps=tuple(parse_list(options["map"])) if scan else (), register=bool(flags.get("b")))

@@ -57,7 +57,9 @@ def run(inputs, config: GeneralizeConfig) -> GeneralizedPlots:
     inputs.say([note("Generalising {} plots ({})...".format(len(raw.polygons),
                                                             ", ".join(config.methods)))])
     image = inputs.image
-    if image is not None and config.register:
-        image, shifts = register_image(image)
-        inputs.say([shifts.message(config.maps)])
+    if image is not None:
+        registered, shifts = register_image(image)
+        if config.register:
+            image = registered
+        inputs.say([shifts.message(config.maps, config.register)])
     return generalize_map(raw, config, inputs.gt_points, inputs.gt_polygons, image)

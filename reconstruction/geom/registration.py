@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
-from ..core.messages import note, verbose
+from ..core.messages import note, verbose, warning
 from .grid import MapImage
 
 #: shifts tried, in cells either way along rows and columns
@@ -52,21 +52,26 @@ class BandShifts:
         """The indices of the bands that are shifted."""
         return [i for i, s in enumerate(self.shifts) if s != (0, 0)]
 
-    def message(self, names):
-        """What moved, in the terms of ``names`` (the bands' maps), as a
-        :class:`~reconstruction.core.messages.Message`: printed by default
-        when a band moved, with --verbose when none did."""
+    def message(self, names, registered=True):
+        """What was found, in the terms of ``names`` (the bands' maps), as a
+        :class:`~reconstruction.core.messages.Message`: with --verbose when no
+        band is off; when one is, a message that it was moved back
+        (``registered``) or a warning that it was not (flag -b would)."""
         if not self.moved:
-            return verbose("Bands registered to each other: no band is off by a whole cell")
+            return verbose("Bands in register: no band is off by a whole cell")
         parts = []
         for i in self.moved:
             dr, dc = self.shifts[i]
             where = ", ".join(p for p in (_cells(dr, "south", "north"),
                                          _cells(dc, "east", "west")) if p)
-            parts.append("<{}> lies {} of <{}> (edges' correlation {:.3f} -> {:.3f})".format(
-                names[i], where, names[self.reference], self.before[i], self.after[i]))
-        return note("Bands registered: {}; moved back before reading the map".format(
-            "; ".join(parts)))
+            parts.append("<{}> lies {} of <{}> (edges' correlation {:.3f}, {:.3f} moved "
+                         "back)".format(names[i], where, names[self.reference], self.before[i],
+                                        self.after[i]))
+        if registered:
+            return note("Bands registered: {}; moved back before reading the map".format(
+                "; ".join(parts)))
+        return warning("Bands out of register: {}; read as they are (flag -b registers "
+                       "them)".format("; ".join(parts)))
 
 
 def _cells(count, positive, negative):

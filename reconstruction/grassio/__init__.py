@@ -15,11 +15,11 @@ import grassio``; ``grassio.read_areas(...)``):
 - ``images``: the map's colour rasters as a picture (v.histo.lod2 ``map=``,
   v.histo.generalize's fit step);
 - ``bands``: the map's colour rasters registered to each other
-  (r.histo.classify, :func:`registered_bands`);
+  (r.histo.classify: :func:`read_band_shifts`, :func:`registered_bands`);
 - ``tiles``: i.segment runs on tiles and windows (r.histo.classify).
 """
 
-from .bands import registered_bands
+from .bands import read_band_shifts, registered_bands
 from .checks import (check_outputs, given, location_epsg, prefetch_checks, projection,
                      require_columns, require_features, require_new_file, require_projected,
                      require_raster, require_vector, vector_counts)
@@ -35,7 +35,7 @@ from .temp import (forget_temp_map, is_temp_map, output_name, register_cleanup, 
 from .tiles import run_segmentations, segment_tiles, window_criteria, window_env
 
 __all__ = [
-    "registered_bands",
+    "read_band_shifts", "registered_bands",
     "check_outputs", "given", "location_epsg", "prefetch_checks", "projection",
     "require_columns", "require_features", "require_new_file", "require_projected",
     "require_raster", "require_vector", "vector_counts",

@@ -22,14 +22,18 @@ from .tiles import cells_env
 SAMPLE = 1024
 
 
-def registered_bands(names, grid):
-    """``(names, shifts)``: the rasters to classify in place of ``names`` (the
-    moved bands as temporary rasters, removed at exit) and the
-    :class:`~reconstruction.geom.registration.BandShifts` found."""
+def read_band_shifts(names, grid):
+    """The :class:`~reconstruction.geom.registration.BandShifts` of the rasters
+    ``names``, estimated on the central window of ``grid``."""
     rows, cols = min(grid.rows, SAMPLE), min(grid.cols, SAMPLE)
     row0, col0 = (grid.rows - rows) // 2, (grid.cols - cols) // 2
     env = cells_env(grid, row0, row0 + rows, col0, col0 + cols)
-    shifts = band_shifts([read_raster(name, np.float64, env) for name in names])
+    return band_shifts([read_raster(name, np.float64, env) for name in names])
+
+
+def registered_bands(names, shifts):
+    """The rasters to read in place of ``names``: each band ``shifts`` moves,
+    moved back into a temporary raster (removed at exit), the others as they are."""
     out = list(names)
     for i in shifts.moved:
         dr, dc = shifts.shifts[i]
@@ -39,4 +43,4 @@ def registered_bands(names, grid):
             moved = "{}[{},{}]".format(names[i], dr, dc)
             gs.run_command("r.mapcalc", expression="{} = if(isnull({}), {}, {})".format(
                 out[i], moved, names[i], moved), quiet=True)
-    return out, shifts
+    return out

@@ -117,6 +117,9 @@ def test_a_fill_cell_stays_when_the_classifier_stopped_short_of_the_stroke():
     # all but the four corner cells, which touch the area only diagonally
     wrong = np.argwhere(out != np.where(truth, 1, 2))
     assert sorted(map(tuple, wrong)) == [(6, 6), (6, 21), (21, 6), (21, 21)]
+    # bands not in register: by the stroke share alone, the fill cells leave
+    plain = outlines.inside_outlines(classes, bands, (1,), unmix=False)
+    assert (plain[7, 8:20] == 2).all()
 
 
 def test_outside_share_unmixes_three_colours():

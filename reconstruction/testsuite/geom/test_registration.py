@@ -59,9 +59,12 @@ def test_a_moved_band_is_named_with_its_shift():
     bands = drawn_map(4)
     bands[0] = moved(bands[0], (0, 1))
     found = registration.band_shifts(bands)
-    message = found.message(["map.red", "map.green", "map.blue"])
+    names = ["map.red", "map.green", "map.blue"]
+    message = found.message(names)
     assert message.level == "message"
     assert "<map.red> lies 1 cell east of <map.green>" in message.text
+    left = found.message(names, registered=False)
+    assert left.level == "warning" and "flag -b" in left.text
 
 
 def test_one_ink_printed_out_of_register_moves_no_band():
