@@ -64,9 +64,9 @@ class BandShifts:
             dr, dc = self.shifts[i]
             where = ", ".join(p for p in (_cells(dr, "south", "north"),
                                          _cells(dc, "east", "west")) if p)
-            parts.append("<{}> lies {} of <{}> (edges' correlation {:.3f}, {:.3f} moved "
-                         "back)".format(names[i], where, names[self.reference], self.before[i],
-                                        self.after[i]))
+            parts.append("<{}> lies {} of <{}> (edges' correlation {:.3f} as it is, {:.3f} "
+                         "moved back)".format(names[i], where, names[self.reference],
+                                              self.before[i], self.after[i]))
         if registered:
             return note("Bands registered: {}; moved back before reading the map".format(
                 "; ".join(parts)))
