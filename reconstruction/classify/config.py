@@ -36,7 +36,10 @@ class ClassifyConfig:
     classified are in register (none found off, or registered), which the
     module sets from its estimate: only then are the outermost cells of an
     ``outline=inside`` area unmixed into three colours
-    (:func:`~reconstruction.classify.outlines.inside_outlines`).
+    (:func:`~reconstruction.classify.outlines.inside_outlines`) and the
+    cells next to removed letters decided by colour
+    (:func:`~reconstruction.classify.removal.letter_gaps`): the colours of
+    planes out of register are no mixes of their neighbours'.
     """
 
     thresholds: tuple

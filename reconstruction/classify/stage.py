@@ -225,7 +225,8 @@ def classify_map(bands, segmentations, read_segments, training, config, grid,
     start = time.perf_counter()
 
     printed = outlines.printed_cells(classes, config)
-    classes, rule = _remove(classes, config, grid, np.stack(bands, axis=-1))
+    classes, rule = _remove(classes, config, grid,
+                            np.stack(bands, axis=-1) if config.in_register else None)
     if printed is not None:
         classes = outlines.inside_outlines(classes, bands, config.separate, printed=printed,
                                            unmix=config.in_register)

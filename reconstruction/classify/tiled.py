@@ -143,7 +143,8 @@ def classify_tiles(tiles, read_bands, read_segments, training, config, grid, pai
                                             config.iterations, rule.min_cells, rule.width_cells,
                                             config.separate,
                                             image=(np.stack(read_bands(tile), axis=-1)
-                                                   if config.separate else None))
+                                                   if config.separate and config.in_register
+                                                   else None))
             out[tile.core] = cleaned[tile.core_in_outer]
             done += 1
             percent(done, total)
