@@ -140,8 +140,8 @@ def inside_outlines(classes, bands, labels, share=0.5, printed=None, unmix=True)
         # the ring: cells the outside covers most of leave the area
         r, c = np.nonzero(ring & (seen > 0))
         colours, around = image[r, c], outside[r, c]
-        leaves = np.where((filled[r, c] > 0) & unmix,
-                          outside_share(colours, stroke[None, :], around, fill[r, c]) > 1.0 - share,
+        unmixed = outside_share(colours, stroke[None, :], around, fill[r, c]) > 1.0 - share
+        leaves = np.where((filled[r, c] > 0) & unmix, unmixed,
                           stroke_share(colours, stroke[None, :], around) < share)
         r, c = r[leaves], c[leaves]
         out[r, c] = out[near_r[r, c], near_c[r, c]]

@@ -339,9 +339,10 @@ def _to_ink(colours, ink, pure):
 #: this many times closer to that class's mixes with the ink than to its own
 #: class's, and at least this far (0-255 RGB distance) from its own class's
 #: (:func:`letter_gaps`). Measured on Delft's building cells (offset / IoU
-#: against the 10 digitised plots; no change: +0.106 m / 0.957): ratio 2 ->
-#: -0.004 / 0.954, 3 -> +0.071 / 0.956, 4 and 25 -> +0.099 / 0.957; the
-#: synthetic seeds' plots 0.976-0.983 with any of them
+#: against the 10 digitised plots; no cell decided: +0.106 m / 0.957; thin
+#: parts only: +0.094 / 0.956): ratio 2 -> +0.021 / 0.956, 3 -> +0.073,
+#: 4 -> +0.087 / 0.956; the synthetic seeds' plots (registered): thin parts
+#: only 0.971 / 0.983 / 0.977, ratio 2 or 4: 0.975 / 0.983 / 0.978
 GAP_RATIO, GAP_DISTANCE = 4.0, 25.0
 
 
@@ -355,8 +356,8 @@ def letter_gaps(classes, image, removed, labels, width, nodata=0):
     The refill then has no street left between the plots and joins them, or
     grows a plot out into the name. Each cell of the ``labels`` classes (the
     separate ones, e.g. buildings) next to a ``removed`` cell (8 neighbours:
-    the paper between letters is) is compared with the classes' colours mixed with the removed
-    objects' ink (:func:`_to_ink`; each class's colour and the ink: the
+    the paper between letters is) is compared with the classes' colours
+    mixed with the removed objects' ink (:func:`_to_ink`; each class's colour and the ink: the
     medians of their cells, the classes' away from their edges): in a thin
     part of its class (:func:`thin_parts`, ``width`` cells: between letters)
     it takes the class that comes closest; elsewhere only a class it is
