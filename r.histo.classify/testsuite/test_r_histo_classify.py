@@ -170,6 +170,32 @@ def test_seed_makes_runs_identical_and_other_options_take_effect(small):
     assert _temp_maps() == []
 
 
+def test_a_band_out_of_register_is_a_warning_and_flag_b_moves_it_back(small):
+    """The synthetic map's red plane lies a cell east of green and blue: a
+    warning without -b; with it, a message, another classification, and no
+    temporary raster left."""
+    from histo_testing import run_module
+
+    from reconstruction import grassio
+
+    common = dict(input=_inputs(small), training="train_small", threshold="0.09,0.09",
+                  minsize="8,8", remove="6", separate=1, outline="inside", nprocs=2, seed=1)
+    rc, _out, err = run_module(MODULE, output="plain", **common)
+    assert rc == 0, err
+    assert "WARNING: Bands out of register: <{}> lies 1 cell east of <{}>".format(
+        small.red, small.green) in " ".join(err.split())
+    rc, _out, err = run_module(MODULE, flags="b", output="registered", **common)
+    assert rc == 0, err
+    text = " ".join(err.split())
+    assert "Bands registered: <{}> lies 1 cell east".format(small.red) in text
+    assert "WARNING: Bands" not in text
+    assert not _temp_maps()
+    plain = grassio.read_raster("plain", dtype=np.int32)
+    registered = grassio.read_raster("registered", dtype=np.int32)
+    assert (plain != registered).mean() > 0.001
+    assert (registered > 0).all()            # the moved band's last column kept its own
+
+
 def test_temporary_maps_removed_after_a_failing_segmentation(small):
     # the first pair segments, the second is refused by i.segment (minsize > 100000):
     # the first segmentation must not be left behind
