@@ -30,6 +30,9 @@ from .grid import MapImage
 
 #: shifts tried, in cells either way along rows and columns
 REACH = 2
+#: the shifts are estimated on at most this many cells a side around the
+#: map's centre (a few hundred edges are plenty; a sheet may be 20,000 a side)
+SAMPLE = 1024
 #: a shift is taken where the correlation of the edges gains at least this
 #: much over the bands left as they are (noise alone moves it by thousandths)
 MIN_GAIN = 0.02
@@ -95,16 +98,23 @@ def _edges(band):
     return np.where(valid, (magnitude - values.mean()) / max(values.std(), 1e-9), 0.0), valid
 
 
+def _overlap(shape, dr, dc):
+    """The cells of a grid of ``shape`` that have a cell ``dr`` rows south and
+    ``dc`` columns east of them, and those cells: two (rows, cols) slices."""
+    rows, cols = shape
+    here = (slice(max(0, -dr), rows - max(0, dr)), slice(max(0, -dc), cols - max(0, dc)))
+    there = (slice(max(0, dr), rows - max(0, -dr)), slice(max(0, dc), cols - max(0, -dc)))
+    return here, there
+
+
 def _correlation(a, b, valid_a, valid_b, dr, dc):
     """Correlation of edges ``a`` with ``b`` moved back by ``(dr, dc)``: ``a``
     at a cell against ``b`` ``dr`` rows south and ``dc`` columns east of it."""
-    rows, cols = a.shape
-    ra, rb = slice(max(0, -dr), rows - max(0, dr)), slice(max(0, dr), rows - max(0, -dr))
-    ca, cb = slice(max(0, -dc), cols - max(0, dc)), slice(max(0, dc), cols - max(0, -dc))
-    both = valid_a[ra, ca] & valid_b[rb, cb]
+    here, there = _overlap(a.shape, dr, dc)
+    both = valid_a[here] & valid_b[there]
     if both.sum() < 2:
         return 0.0
-    x, y = a[ra, ca][both], b[rb, cb][both]
+    x, y = a[here][both], b[there][both]
     x, y = x - x.mean(), y - y.mean()
     return float((x * y).sum() / max(np.sqrt((x * x).sum() * (y * y).sum()), 1e-12))
 
@@ -120,12 +130,23 @@ def _offset(a, b, valid_a, valid_b, reach):
     return best, scores[(0, 0)], scores[best]
 
 
+def central_window(shape, size=SAMPLE):
+    """The rows and columns ``(row0, row1, col0, col1)`` of the window of at
+    most ``size`` x ``size`` cells at the centre of a grid of ``shape``."""
+    rows, cols = min(shape[0], size), min(shape[1], size)
+    row0, col0 = (shape[0] - rows) // 2, (shape[1] - cols) // 2
+    return row0, row0 + rows, col0, col0 + cols
+
+
 def band_shifts(bands, reach=REACH):
     """The :class:`BandShifts` of ``bands`` (2-D arrays of one grid, nan for
-    no data): for every pair, the whole-cell shift (within ``reach`` cells)
-    that best lines up their edges; the reference is the band whose shifts
-    to the others add up to the fewest cells (the first of equals), each
-    other band gets its shift against it."""
+    no data), estimated on their :func:`central_window`: for every pair, the
+    whole-cell shift (within ``reach`` cells) that best lines up their edges;
+    the reference is the band whose shifts to the others add up to the fewest
+    cells (the first of equals), each other band gets its shift against it."""
+    if bands:
+        row0, row1, col0, col1 = central_window(np.shape(bands[0]))
+        bands = [np.asarray(b)[row0:row1, col0:col1] for b in bands]
     edges = [_edges(b) for b in bands]
     count = len(edges)
     if count < 2:
@@ -160,11 +181,9 @@ def registered(band, shift):
     ``r.mapcalc "out = if(isnull(band[rows,cols]), band, band[rows,cols])"``
     writes it."""
     band = np.asarray(band, dtype=float)
-    dr, dc = shift
+    here, there = _overlap(band.shape, *shift)
     out = band.copy()
-    rows, cols = band.shape
-    out[max(0, -dr):rows - max(0, dr), max(0, -dc):cols - max(0, dc)] = \
-        band[max(0, dr):rows - max(0, -dr), max(0, dc):cols - max(0, -dc)]
+    out[here] = band[there]
     return out
 
 

@@ -11,23 +11,18 @@ import numpy as np
 
 import grass.script as gs
 
-from ..geom.registration import band_shifts
+from ..geom.registration import band_shifts, central_window
 from .maps import read_raster
 from .run import doing
 from .temp import temp_map
 from .tiles import cells_env
 
-#: the shifts are estimated on at most this many cells a side around the
-#: map's centre (a few hundred edges are plenty; a sheet may be 20,000 a side)
-SAMPLE = 1024
-
-
 def read_band_shifts(names, grid):
     """The :class:`~reconstruction.geom.registration.BandShifts` of the rasters
-    ``names``, estimated on the central window of ``grid``."""
-    rows, cols = min(grid.rows, SAMPLE), min(grid.cols, SAMPLE)
-    row0, col0 = (grid.rows - rows) // 2, (grid.cols - cols) // 2
-    env = cells_env(grid, row0, row0 + rows, col0, col0 + cols)
+    ``names``, estimated on the central window of ``grid`` (only that window is
+    read)."""
+    row0, row1, col0, col1 = central_window((grid.rows, grid.cols))
+    env = cells_env(grid, row0, row1, col0, col1)
     return band_shifts([read_raster(name, np.float64, env) for name in names])
 
 

@@ -103,3 +103,12 @@ def test_no_data_is_left_out_of_the_estimate():
 def test_fewer_bands(count):
     bands = drawn_map(7)[:count]
     assert registration.band_shifts(bands).shifts == ((0, 0),) * count
+
+
+def test_the_estimate_reads_the_central_window_only():
+    assert registration.central_window((3000, 500)) == (988, 2012, 0, 500)
+    bands = drawn_map(8, size=120)
+    bands[1] = moved(bands[1], (1, 0))
+    # a map larger than the window, no data around the drawing: the same shifts
+    wide = [np.pad(b, 600, mode="constant", constant_values=np.nan) for b in bands]
+    assert registration.band_shifts(wide).shifts == registration.band_shifts(bands).shifts
