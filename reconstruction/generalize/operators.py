@@ -83,9 +83,10 @@ LINES_IOU = 0.75
 #: On maps that draw the outline inside the plots (outline="inside"), the fit
 #: step also fits the raw cells' outline, simplified (douglas): where the map
 #: draws its line along at least SUPPORT_GAIN more of that outline's perimeter
-#: (fitting.outline_support) and the two differ in area by less than
-#: SUPPORT_AREA, the plot takes it: the generalisation had gone astray (a
-#: wedge's tip cut short into a triangle, seed 1: IoU 0.84 -> 0.96). Only there
+#: (fitting.outline_support) and its area is within SUPPORT_AREA of the raw
+#: cells', the plot takes it: the generalisation had gone astray (a wedge's
+#: tip cut short into a triangle, seed 1: IoU 0.84 -> 0.96; a plot made a
+#: triangle half as large again as its cells, seed 3: 0.67 -> 0.95). Only there
 #: does the support count nothing but the plots' own stroke; on Delft's centred
 #: lines it took five plots back to outlines of 9-43 vertices from 3-5, and the
 #: turning distance rose (0.156 -> 0.169)
