@@ -133,16 +133,17 @@ def inside_outlines(classes, bands, labels, share=0.5, printed=None, unmix=True)
         beside = ~area & ndimage.binary_dilation(area, FOUR) & valid & ~_between_areas(area)
         _, (near_r, near_c) = ndimage.distance_transform_edt(area, return_indices=True)
         far = ~area & valid & (ndimage.distance_transform_edt(~area) >= OUTSIDE_DEPTH)
-        deep = area & valid & (ndimage.distance_transform_edt(area) > OUTSIDE_DEPTH)
         outside, seen = _local_mean(image, far, WINDOW)
-        fill, filled = _local_mean(image, deep, WINDOW)
         stroke = stroke_colour(image, ring)
         # the ring: cells the outside covers most of leave the area
         r, c = np.nonzero(ring & (seen > 0))
         colours, around = image[r, c], outside[r, c]
-        unmixed = outside_share(colours, stroke[None, :], around, fill[r, c]) > 1.0 - share
-        leaves = np.where((filled[r, c] > 0) & unmix, unmixed,
-                          stroke_share(colours, stroke[None, :], around) < share)
+        leaves = stroke_share(colours, stroke[None, :], around) < share
+        if unmix:
+            deep = area & valid & (ndimage.distance_transform_edt(area) > OUTSIDE_DEPTH)
+            fill, filled = _local_mean(image, deep, WINDOW)
+            unmixed = outside_share(colours, stroke[None, :], around, fill[r, c]) > 1.0 - share
+            leaves = np.where(filled[r, c] > 0, unmixed, leaves)
         r, c = r[leaves], c[leaves]
         out[r, c] = out[near_r[r, c], near_c[r, c]]
         # beside: cells the stroke covers most of join it
