@@ -15,7 +15,7 @@ import numpy as np
 
 from ..core.messages import note, verbose
 from ..geom.grid import MapImage
-from ..geom.registration import register_image
+from ..geom.registration import image_shifts, register_image
 from .config import GeneralizeConfig
 from .stage import GeneralizedPlots, generalize_map, raw_plots
 
@@ -58,8 +58,8 @@ def run(inputs, config: GeneralizeConfig) -> GeneralizedPlots:
                                                             ", ".join(config.methods)))])
     image = inputs.image
     if image is not None:
-        registered, shifts = register_image(image)
+        shifts = image_shifts(image)
         if config.register:
-            image = registered
+            image = register_image(image, shifts)
         inputs.say([shifts.message(config.maps, config.register)])
     return generalize_map(raw, config, inputs.gt_points, inputs.gt_polygons, image)

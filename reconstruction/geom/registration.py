@@ -187,12 +187,20 @@ def registered(band, shift):
     return out
 
 
-def register_image(image):
-    """A :class:`~reconstruction.geom.grid.MapImage` with its bands registered
-    to each other (:func:`registered`), and the :class:`BandShifts` found."""
-    bands = [image.rgb[..., k].astype(float) for k in range(image.rgb.shape[-1])]
-    shifts = band_shifts(bands)
+def _image_bands(image):
+    return [image.rgb[..., k].astype(float) for k in range(image.rgb.shape[-1])]
+
+
+def image_shifts(image):
+    """The :class:`BandShifts` of a :class:`~reconstruction.geom.grid.MapImage`'s bands."""
+    return band_shifts(_image_bands(image))
+
+
+def register_image(image, shifts):
+    """The :class:`~reconstruction.geom.grid.MapImage` with its bands moved back
+    by their ``shifts`` (:func:`image_shifts`, :func:`registered`); the same
+    image when none moves."""
     if not shifts.moved:
-        return image, shifts
-    rgb = np.dstack([registered(b, s) for b, s in zip(bands, shifts.shifts)])
-    return MapImage(rgb.astype(image.rgb.dtype), image.extent), shifts
+        return image
+    rgb = np.dstack([registered(b, s) for b, s in zip(_image_bands(image), shifts.shifts)])
+    return MapImage(rgb.astype(image.rgb.dtype), image.extent)

@@ -52,7 +52,7 @@ def test_bands_in_register_stay_and_say_so_quietly():
     message = found.message(["r", "g", "b"])
     assert message.level == "verbose"
     image = MapImage(np.dstack(bands).clip(0, 255).astype(np.uint8), (0, 120, 0, 120))
-    assert registration.register_image(image)[0] is image
+    assert registration.register_image(image, registration.image_shifts(image)) is image
 
 
 def test_a_moved_band_is_named_with_its_shift():
@@ -65,6 +65,11 @@ def test_a_moved_band_is_named_with_its_shift():
     assert "<map.red> lies 1 cell east of <map.green>" in message.text
     left = found.message(names, registered=False)
     assert left.level == "warning" and "flag -b" in left.text
+    rgb = np.dstack(bands).clip(0, 255).astype(np.uint8)
+    image = MapImage(rgb, (0, 120, 0, 120))
+    back = registration.register_image(image, registration.image_shifts(image)).rgb
+    assert np.array_equal(back[:, :-1, 0], rgb[:, 1:, 0])      # red moved back a cell
+    assert np.array_equal(back[..., 1:], rgb[..., 1:])
 
 
 def test_one_ink_printed_out_of_register_moves_no_band():
