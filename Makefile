@@ -75,6 +75,10 @@ GLTF_VALIDATOR := gltf-validator@2.0.0-dev.3.10
 # chromium, the real browser the HTML 3D viewer's tests drive headless
 # through Playwright (never a browser Playwright downloads), and libjs-three
 # (three.js r111), which the viewer inlines so it opens from file:// offline.
+# Redis (redis-server) and curl for the map series' actinia service, python3-dev
+# for the uWSGI build of actinia's venv (section "actinia" below); defined
+# before DEBIAN_PACKAGES, whose := expands it at once.
+ACTINIA_DEBIAN_PACKAGES := redis-server curl python3-dev
 DEBIAN_PACKAGES := grass-core grass-dev subversion make gcc python3-venv man-db \
 	libboost-filesystem1.74.0 libmpfr6 libgmp10 libgeos-c1v5 libegl1 libgl1-mesa-dri \
 	chromium libjs-three $(ACTINIA_DEBIAN_PACKAGES)
@@ -156,7 +160,6 @@ clean-dist:
 # runs a series through them (README, "A map series on actinia").
 ACTINIA_VENV ?= $(HOME)/.local/share/histo/actinia-venv
 ACTINIA_CORE := actinia-core==4.14.1
-ACTINIA_DEBIAN_PACKAGES := redis-server curl python3-dev
 
 actinia: debian-packages
 	@wanted="$(ACTINIA_CORE) $$(cat tools/actinia/constraints.txt)"; \
