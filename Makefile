@@ -130,7 +130,7 @@ build: deps
 	@echo "histo built into $(DIST)"
 
 test: build
-	$(VENV_ENV) HISTO_DIST=$(DIST) $(HISTO_PYTHON) -m pytest $(PYTEST_ARGS)
+	$(VENV_ENV) HISTO_DIST=$(DIST) HISTO_STRICT_SKIPS=1 $(HISTO_PYTHON) -m pytest $(PYTEST_ARGS)
 
 demo: build
 	$(VENV_ENV) HISTO_DIST=$(DIST) bash demo/run_demo.sh "$(DEMO_DIR)"

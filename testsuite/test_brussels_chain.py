@@ -22,8 +22,9 @@ pytestmark = [pytest.mark.grass, pytest.mark.acceptance]
 
 @pytest.fixture(scope="module")
 def chain(shared_data, tmp_path_factory):
-    if not os.path.isdir(os.path.join(shared_data, "bxls_1924")):
-        pytest.skip("the Brussels 1924 data is not in '{}'".format(shared_data))
+    folder = os.path.join(shared_data, "bxls_1924")
+    if not os.path.isdir(folder):
+        pytest.skip("the Brussels 1924 data is not at '{}'".format(folder))
     need_grass_and_suite()
     folder = tmp_path_factory.mktemp("brussels")
     run_chain("brussels_1924.sh", 3857, folder, shared_data)

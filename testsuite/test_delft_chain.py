@@ -31,8 +31,9 @@ STAGES = ("import", "classify", "generalize", "align", "subdivide", "lod2")
 
 @pytest.fixture(scope="module")
 def chain(shared_data, tmp_path_factory):
-    if not os.path.isdir(os.path.join(shared_data, "delft_1961_subset")):
-        pytest.skip("the Delft 1961 subset is not in '{}'".format(shared_data))
+    folder = os.path.join(shared_data, "delft_1961_subset")
+    if not os.path.isdir(folder):
+        pytest.skip("the Delft 1961 subset is not at '{}'".format(folder))
     need_grass_and_suite()
     runs = []
     for name in ("first", "second"):

@@ -62,10 +62,12 @@ def real_footprints(shared_data, grass_session):
 
 
 @pytest.mark.parametrize("name", [d[0] for d in DATA_SETS])
-def test_every_family_forced_is_valid_on_real_footprints(real_footprints, name, tmp_path):
+def test_every_family_forced_is_valid_on_real_footprints(real_footprints, shared_data, name,
+                                                        tmp_path):
     require_val3dity()
     if name not in real_footprints:
-        pytest.skip("{} footprints not in ../shared/data".format(name))
+        path = os.path.join(shared_data, dict((d[0], d[1]) for d in DATA_SETS)[name])
+        pytest.skip("the {} footprints are not at '{}'".format(name, path))
     vector, options = real_footprints[name]
     lines = []
     for family in FAMILIES:
