@@ -65,7 +65,8 @@ DEMO_DIR ?= $(CURDIR)/demo-output
 PYTEST_ARGS ?=
 # Khronos's glTF validator (npm, no dependencies of its own), which the tests
 # of the glTF export run on a written file; in NODE_DIR, outside the checkout
-# like the venv. Without npm it is left out and that test is skipped.
+# like the venv. Debian's npm is installed first where no npm is found (a
+# machine that has Node.js with its own npm keeps it).
 NODE_DIR ?= $(HOME)/.local/share/histo/node
 GLTF_VALIDATOR := gltf-validator@2.0.0-dev.3.10
 # GRASS 8.2 (core + Make system), what g.extension wants (make, gcc, svn),
@@ -101,8 +102,10 @@ venv: debian-packages
 
 node-tools:
 	@if ! command -v npm > /dev/null; then \
-	  echo "npm not found: $(GLTF_VALIDATOR) left out, its test will be skipped"; \
-	elif [ "$$(cat $(NODE_DIR)/.histo-node 2>/dev/null)" != "$(GLTF_VALIDATOR)" ]; then \
+	  echo "installing Debian's npm (for $(GLTF_VALIDATOR))"; \
+	  apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q npm; \
+	fi
+	@if [ "$$(cat $(NODE_DIR)/.histo-node 2>/dev/null)" != "$(GLTF_VALIDATOR)" ]; then \
 	  echo "installing $(GLTF_VALIDATOR) into $(NODE_DIR)"; mkdir -p $(NODE_DIR) && \
 	  flock $(NODE_DIR).lock npm install -q --prefix $(NODE_DIR) --no-save --no-audit --no-fund \
 	    $(GLTF_VALIDATOR) && echo $(GLTF_VALIDATOR) > $(NODE_DIR)/.histo-node; \
