@@ -176,3 +176,21 @@ def ends_on_shared(model):
                 on_shared += 1
                 kinds[kind] += 1
     return {"buildings": len(rows), "ends": total, "on_shared": on_shared, **kinds}
+
+
+def tops_outside(model, tol=1e-9):
+    """(id, top, ridge_height_low, ridge_height_high) of every building of
+    ``model`` whose top (the highest vertex of its solid above its
+    ``ground_height``) lies outside its ridge interval by more than ``tol``
+    (m: the floating point of the subtraction; the model is exact to the
+    millimetre); buildings without an interval are not looked at (issue 49,
+    item 5)."""
+    out = []
+    for oid, ring, walls, roofs, attrs in buildings(model):
+        low, high = attrs.get("ridge_height_low"), attrs.get("ridge_height_high")
+        if low is None or high is None:
+            continue
+        top = max(float(np.max(f[:, 2])) for f in [ring] + walls + roofs) - attrs["ground_height"]
+        if not low - tol <= top <= high + tol:
+            out.append((oid, round(top, 3), low, high))
+    return out

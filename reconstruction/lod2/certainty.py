@@ -23,6 +23,12 @@ and, in
 1   drawn         heights drawn from ranges, or nothing measured anywhere
 ==  ============  ==========================================================
 
+The class and the height interval agree: a measured height (class 4, or 3
+on a generated footprint) is its own interval, of no width, the building's
+eaves and top as built (:func:`~reconstruction.lod2.stage.built_intervals`);
+an inferred or drawn one (classes 3 to 1) spans its neighbours' spread or
+its range, around the built heights.
+
 A building copied from an existing 3D model keeps that model's attributes
 and gets ``certainty`` 5 and ``height_source`` and ``roof_source``
 ``copied`` where it has none of its own (:data:`COPIED_ATTRIBUTES`).

@@ -20,6 +20,7 @@ from ..core.crs import crs_url, epsg_code, geographic
 from ..core.errors import InputError
 from ..core.options import parse_list, parse_number, parse_range, processes
 from ..geom.grid import MapImage
+from .heights import GROUND_RANGE, MAX_HEIGHT
 from .neighbourhood import HeightRule
 from .render import View
 from .roofs.model import RoofConfig
@@ -188,8 +189,8 @@ def read_config(options, flags, location_epsg=None, street_labels=None):
                       step=parse_range(options["step"], "step", positive=True, allow_zero=False),
                       thickness=parse_number(options["thickness"], "thickness", minimum=0,
                                              allow_minimum=False))
-    height_range = parse_range(options["height"], "height", positive=True)
-    attic_range = parse_range(options["attic"], "attic", positive=True)
+    height_range = _height_range(options["height"], "height")
+    attic_range = _height_range(options["attic"], "attic")
     map_year = parse_number(options["year"], "year", cast=int) if options["year"] else None
     seed = parse_number(options["seed"], "seed", cast=int)
     nprocs = processes(options["nprocs"])
@@ -207,7 +208,9 @@ def read_config(options, flags, location_epsg=None, street_labels=None):
         options["input"]))
     heights = HeightConfig(
         eaves_column=options["eaves_column"], attic_column=options["attic_column"],
-        ground_column=options["ground_column"], ground=parse_number(options["ground"], "ground"),
+        ground_column=options["ground_column"],
+        ground=parse_number(options["ground"], "ground", minimum=GROUND_RANGE[0],
+                            maximum=GROUND_RANGE[1]),
         eaves_range=height_range, attic_range=attic_range,
         ground_percentile=parse_number(options["ground_percentile"], "ground_percentile",
                                        minimum=0),
@@ -226,6 +229,16 @@ def read_config(options, flags, location_epsg=None, street_labels=None):
         map_ignored=bool(options["map"] and not (output.render or output.viewer)),
         location_epsg=location_epsg, validate=bool(flags["v"]),
         previous=options.get("previous") or None)
+
+
+def _height_range(text, key):
+    """A ``min,max`` range of heights (m): 0 or more, at most
+    :data:`~reconstruction.lod2.heights.MAX_HEIGHT` (a building's plausible height)."""
+    bounds = parse_range(text, key, positive=True)
+    if bounds is not None and bounds[1] > MAX_HEIGHT:
+        raise InputError("Option {}=: the maximum {:g} m is not a plausible height (at most "
+                         "{:g} m)".format(key, bounds[1], MAX_HEIGHT))
+    return bounds
 
 
 def _streets(options, labels):

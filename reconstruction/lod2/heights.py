@@ -31,6 +31,7 @@ No footprint scans all points.
 import math
 import re
 from dataclasses import dataclass
+from typing import Optional
 
 import numpy as np
 
@@ -43,6 +44,33 @@ from .groupstats import group_percentiles
 GROUND_PERCENTILES = (0.0, 10.0, 20.0, 30.0, 40.0, 50.0)
 #: the roof percentiles the thesis computes from building points (roof-0.25, roof-0.99)
 ROOF_PERCENTILES = (25.0, 99.0)
+
+# Plausible heights (issue 49, item 8). A value outside them is a mistake in
+# the data (a ground of -1,000 m, a height in millimetres, 1e9), never a
+# building: measured heights outside are not used (counted by reason, the
+# footprint's heights inferred as an unmeasured one's), heights from the
+# footprints' own columns and grounds outside stop the module with one error.
+#: the tallest plausible building (m, its top above its ground): the
+#: tallest church towers of the historical maps' towns stand 100-160 m
+#: (Ulm 161.5 m), a 20th-century tower a few hundred
+MAX_HEIGHT = 300.0
+#: plausible ground elevations (m): land lies between the Dead Sea's shore
+#: (-430 m) and the top of Everest (8,849 m)
+GROUND_RANGE = (-450.0, 8850.0)
+#: a measured ground this far (m) from the median of the table's other grounds
+#: is implausible: a town's ground spans less (Delft 1880: -2.5..3.2 m;
+#: Brussels about 15-100 m)
+MAX_GROUND_SPREAD = 500.0
+#: a measured roof top this far (m) below the eaves is inverted (within it: a flat roof)
+INVERTED_TOLERANCE = 0.01
+
+#: why measured heights are not used (:attr:`MeasuredHeights.problem`), in the order checked
+NULL = "NULL"
+GROUND_OUTSIDE = "ground outside {:g}..{:g} m".format(*GROUND_RANGE)
+GROUND_APART = "ground more than {:g} m from the others' median".format(MAX_GROUND_SPREAD)
+NOT_ABOVE = "eaves not above the ground"
+INVERTED = "roof top below the eaves"
+TOO_TALL = "taller than {:g} m".format(MAX_HEIGHT)
 
 
 # ---------------------------------------------------------------------------
@@ -368,11 +396,21 @@ def height_columns(names, choice="auto"):
 @dataclass(frozen=True)
 class MeasuredHeights:
     """Heights by the data-flow contract (NaN where unknown): ``ground``
-    (absolute), ``eaves`` (above the ground), ``attic`` (above the eaves)."""
+    (absolute), ``eaves`` (above the ground), ``attic`` (above the eaves);
+    ``problem``: per row, why its heights are unknown (:data:`NULL`, or one of
+    the implausible values of :func:`implausible`), None where they are known."""
 
     ground: np.ndarray
     eaves: np.ndarray
     attic: np.ndarray
+    problem: Optional[np.ndarray] = None
+
+    def problems(self):
+        """Reason -> number of rows, for the rows whose heights are unknown."""
+        if self.problem is None:
+            return {}
+        reasons = [p for p in self.problem.tolist() if p is not None]
+        return {r: reasons.count(r) for r in dict.fromkeys(reasons)}
 
     @property
     def total(self):
@@ -413,20 +451,45 @@ def measured_heights(columns, source="auto", ground=None):
     if ground is not None:
         given = np.asarray(ground, dtype=float)
         g = np.where(np.isfinite(given), given, g)
-    e_abs = _first_present(columns, cols.eaves, n)
-    top = _first_present(columns, cols.top, n)
-    eaves = e_abs - g
-    attic = np.maximum(top - e_abs, 0.0)
-    bad = ~(eaves > 0)
-    eaves = np.where(bad, np.nan, eaves)
-    attic = np.where(bad | np.isnan(top), np.nan, attic)
-    return MeasuredHeights(g, eaves, attic)
+    return _measured(g, _first_present(columns, cols.eaves, n),
+                     _first_present(columns, cols.top, n))
 
 
 def roof_heights(roof, ground):
     """:class:`MeasuredHeights` from :class:`RoofPoints` and the absolute ground."""
-    ground = np.asarray(ground, dtype=float)
-    eaves = roof.low - ground
-    attic = np.maximum(roof.high - roof.low, 0.0)
-    bad = ~(eaves > 0)
-    return MeasuredHeights(ground, np.where(bad, np.nan, eaves), np.where(bad, np.nan, attic))
+    return _measured(np.broadcast_to(np.asarray(ground, dtype=float), np.shape(roof.low)),
+                     roof.low, roof.high)
+
+
+def _measured(ground, eaves, top):
+    """:class:`MeasuredHeights` of absolute ``ground``, ``eaves`` and roof ``top``;
+    unknown where a value is NULL (NaN) or :func:`implausible`."""
+    ground, eaves, top = (np.asarray(v, dtype=float) for v in (ground, eaves, top))
+    problem = implausible(ground, eaves, top)
+    bad = problem.astype(bool)
+    return MeasuredHeights(ground, np.where(bad, np.nan, eaves - ground),
+                           np.where(bad, np.nan, np.maximum(top - eaves, 0.0)),
+                           problem)
+
+
+def implausible(ground, eaves, top):
+    """Per row of absolute ``ground``, ``eaves`` and roof ``top`` heights, why
+    they are not a building's: :data:`NULL` (one is NaN), a ground outside
+    :data:`GROUND_RANGE` or :data:`MAX_GROUND_SPREAD` from the median of
+    the other rows' plausible grounds, eaves not above the ground, a top
+    more than :data:`INVERTED_TOLERANCE` below the eaves, a top more than
+    :data:`MAX_HEIGHT` above the ground; None where they are plausible."""
+    ground, eaves, top = (np.asarray(v, dtype=float) for v in (ground, eaves, top))
+    problem = np.full(ground.shape, None, dtype=object)
+    with np.errstate(invalid="ignore"):
+        null = np.isnan(ground) | np.isnan(eaves) | np.isnan(top)
+        outside = ~null & ((ground < GROUND_RANGE[0]) | (ground > GROUND_RANGE[1]))
+        usual = ground[~null & ~outside]
+        apart = ~null & ~outside & (np.abs(ground - np.median(usual)) > MAX_GROUND_SPREAD) \
+            if len(usual) else np.zeros(ground.shape, dtype=bool)
+        checks = ((TOO_TALL, np.maximum(eaves, top) - ground > MAX_HEIGHT),
+                  (INVERTED, top < eaves - INVERTED_TOLERANCE), (NOT_ABOVE, ~(eaves > ground)),
+                  (GROUND_APART, apart), (GROUND_OUTSIDE, outside), (NULL, null))
+    for reason, where in checks:           # the first of the order checked wins: set last
+        problem[where] = reason
+    return problem

@@ -87,11 +87,17 @@ class HeightReport:
     ground_grown: int = 0
     #: input footprints that are aligned footprints with measured heights
     matched: int = 0
-    #: aligned footprints with measured heights (donors), and those without
+    #: aligned footprints with measured heights (donors), and those without: NULL
+    #: in a height column (``aligned_unmeasured``), or implausible heights, not
+    #: used (``aligned_implausible``: reason -> count, see
+    #: :func:`reconstruction.lod2.heights.implausible`)
     aligned_measured: int = 0
     aligned_unmeasured: int = 0
-    #: footprints with building points
+    aligned_implausible: dict = field(default_factory=dict)
+    #: footprints with building points, and of those the heights not used as
+    #: implausible (reason -> count)
     with_points: int = 0
+    points_implausible: dict = field(default_factory=dict)
     #: of those with a known ground, the number whose points' top stands less than
     #: :data:`LOW_BUILDING` above it, the number measured and their median top (m)
     points_low: int = 0
@@ -119,8 +125,7 @@ class FootprintHeights:
 
 
 #: the attributes of a building's height interval (issue 31), in FootprintHeights.interval's order
-INTERVAL_ATTRIBUTES = ("eaves_height_low", "eaves_height_high", "ridge_height_low",
-                       "ridge_height_high")
+INTERVAL_ATTRIBUTES = lod2.INTERVAL_ATTRIBUTES
 
 
 def _array(geoms):
@@ -193,6 +198,27 @@ def _ground(geoms, columns, opts):
     return np.full(n, float(opts.ground)), dict(ground_from="constant")
 
 
+def check_ground(ground, cats=None, points=True):
+    """Raise :class:`InputError` when a footprint's ground from the ground points
+    (``points``) or the DTM lies outside :data:`~reconstruction.lod2.heights.GROUND_RANGE`
+    (a DTM's no-data value read as a height, -9999, or points of another
+    datum): every height of the building would stand on it."""
+    ground = np.asarray(ground, dtype=float)
+    low, high = hts.GROUND_RANGE
+    with np.errstate(invalid="ignore"):
+        bad = (ground < low) | (ground > high)
+    if bad.any():
+        first = int(np.argmax(bad))
+        raise InputError("The ground of footprint {} from the {} is {:g} m, not a plausible "
+                         "ground ({:g} to {:g} m){}: {}".format(
+                             "cat {}".format(cats[first]) if cats is not None else first + 1,
+                             "ground points" if points else "elevation raster", ground[first],
+                             low, high, "" if bad.sum() == 1 else
+                             " (and {} more footprints)".format(int(bad.sum()) - 1),
+                             "are they of another datum or unit?" if points else
+                             "is it the raster's no-data value (r.null setnull=)?"))
+
+
 def match_footprints(geoms, other, threshold=SAME_FOOTPRINT):
     """Per footprint of ``geoms``: the index of the footprint of ``other`` it is
     (intersection over union at least ``threshold``, the best), -1 for none."""
@@ -244,9 +270,10 @@ def _measured(geoms, ground, opts, report):
         if opts.ground_points is not None or opts.elevation is not None:
             al_ground = _ground(al.geometries, {}, opts)[0]
         m = hts.measured_heights(al.columns, al.choice, ground=al_ground)
+        problems = m.problems()
         if not m.known.any():
-            raise InputError("None of the {} aligned footprints has measured heights (all "
-                             "NULL, or roofs not above the ground)".format(len(m.known)))
+            raise InputError("None of the {} aligned footprints has measured heights ({})".format(
+                len(m.known), ", ".join("{} {}".format(n, k) for k, n in problems.items())))
         which = match_footprints(geoms, al.geometries)
         hit = which >= 0
         hit[hit] &= m.known[which[hit]]
@@ -255,8 +282,9 @@ def _measured(geoms, ground, opts, report):
         rest = np.setdiff1d(np.nonzero(m.known)[0], which[hit])
         donor_geoms = [al.geometries[k] for k in rest]
         donors = (donor_geoms, m.eaves[rest], m.attic[rest], _plot_of(donor_geoms, opts.plots))
+        unmeasured = problems.pop(hts.NULL, 0)
         report.update(matched=int(hit.sum()), aligned_measured=int(m.known.sum()),
-                      aligned_unmeasured=int((~m.known).sum()))
+                      aligned_unmeasured=unmeasured, aligned_implausible=problems)
     if opts.building_points is not None:
         check_points_near(opts.building_points, geoms, "building points", margin=0.0)
         roof = hts.roof_from_points(geoms, opts.building_points)
@@ -264,7 +292,10 @@ def _measured(geoms, ground, opts, report):
         use = ~np.isfinite(eaves) & np.isfinite(rh.eaves) & np.isfinite(rh.attic)
         eaves[use], attic[use] = rh.eaves[use], rh.attic[use]
         label[use] = HEIGHTS_POINTS
-        report.update(with_points=int(np.sum(roof.count > 0)), **_points_tops(roof, ground))
+        problems = rh.problems()
+        problems.pop(hts.NULL, None)
+        report.update(with_points=int(np.sum(roof.count > 0)), points_implausible=problems,
+                      **_points_tops(roof, ground))
     return eaves, attic, label, donors
 
 
@@ -288,6 +319,8 @@ def footprint_heights(geometries, columns, plot=None, options=None):
     geoms = _array(geometries)
     n = len(geoms)
     ground, report = _ground(geoms, columns, opts)
+    if report["ground_from"] in ("points", "elevation"):
+        check_ground(ground, columns.get("cat"), opts.ground_points is not None)
     source = np.full(n, HEIGHTS_COLUMN, dtype=object)
     interval = np.full((n, 4), np.nan)
     if opts.aligned is not None or opts.building_points is not None:
@@ -363,11 +396,13 @@ def with_attributes(prepared, **per_ring):
 def with_height_source(prepared, source, interval=None):
     """``prepared`` with the ``height_source`` attribute (values per footprint) and,
     given the (F, 4) ``interval`` of :class:`FootprintHeights`, the attributes of
-    :data:`INTERVAL_ATTRIBUTES` (rounded to the centimetre; null where unknown)."""
+    :data:`INTERVAL_ATTRIBUTES` (null where unknown), which
+    :func:`~reconstruction.lod2.stage.build` sets for the roofs as built
+    (:func:`~reconstruction.lod2.stage.built_intervals`)."""
     source = np.asarray(source, dtype=object)
     prepared = with_attributes(prepared, **{HEIGHT_SOURCE: source[prepared.source]})
     if interval is None:
         return prepared
-    ends = np.round(np.asarray(interval, dtype=float)[prepared.source], 2)
+    ends = np.asarray(interval, dtype=float)[prepared.source]
     return with_attributes(prepared, **{name: ends[:, k] for k, name in
                                         enumerate(INTERVAL_ATTRIBUTES)})

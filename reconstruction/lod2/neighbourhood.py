@@ -385,7 +385,12 @@ def infer_heights(footprints, eaves, attic, plot=None, plots=None, rule=None,
         est, lo, hi = robust_heights(geoms[todo], geoms[known], values[known], rule,
                                      sized=(False, True), interval=rule.interval)
         got = np.isfinite(est).all(axis=1)
-        out[todo[got]], low[todo[got]], high[todo[got]] = est[got], lo[got], hi[got]
+        # the estimate, kept within M +- k MAD and the neighbours' range after the
+        # size step moved their heights, can stand outside their moved
+        # quantiles: the interval holds it still
+        out[todo[got]] = est[got]
+        low[todo[got]] = np.fmin(lo[got], est[got])
+        high[todo[got]] = np.fmax(hi[got], est[got])
         source[todo[got]] = NEIGHBOURS
         todo = todo[~got]
     if len(todo) and plot is not None:

@@ -132,8 +132,10 @@ def height_messages(report, config):
         if report.aligned_unmeasured:
             out.append(warning("{} aligned footprints have no measured heights (NULL)".format(
                 report.aligned_unmeasured)))
+        out.extend(_implausible("aligned footprints", report.aligned_implausible))
     if h.building_points:
         out.append(note("{} footprints have building points".format(report.with_points)))
+        out.extend(_implausible("footprints' building points", report.points_implausible))
         if report.points_measured and 2 * report.points_low > report.points_measured:
             out.append(warning("The building points of <{}> stand less than {:g} m above the "
                                "ground on {} of {} footprints (median {:.2f} m): are they ground "
@@ -143,6 +145,13 @@ def height_messages(report, config):
     out.append(verbose("Height sources: {}".format(
         ", ".join("{} {}".format(v, k) for k, v in report.sources.items()))))
     return out
+
+
+def _implausible(what, problems):
+    """One warning per reason of measured heights not used as implausible (reason -> count)."""
+    return [warning("{} {} have implausible measured heights ({}): not used, their heights "
+                    "inferred as for footprints without".format(n, what, reason))
+            for reason, n in problems.items()]
 
 
 def street_messages(streets):

@@ -32,6 +32,7 @@ from ..core.contract import PLOT, SOURCE
 from ..core.errors import InputError
 from ..geom.solidset import SolidSet, concat, semantics
 from .config import AUTO, Lod2Config
+from .heights import GROUND_RANGE, MAX_HEIGHT
 from .outlines import clean_rings, footprint_polygons, rings_are_simple
 from .roofs.codes import code_attributes
 from .roofs.plan import ROOF_TYPES
@@ -90,6 +91,15 @@ class RoofRequests:
 
 #: why a building has its roof type (RoofRequests.source)
 ROOF_RULE, ROOF_OPTION, ROOF_COLUMN, ROOF_EARLIER = "rule", "option", "column", "earlier epoch"
+
+#: the attributes of a building's height interval (issue 31): the low and high
+#: ends of its eaves height and of its ridge height (its top) above the ground.
+#: Per footprint (F, 4) in this order they are the heights' intervals (a measured
+#: height its own, an inferred one its neighbours' spread, a drawn one its
+#: range); given as :attr:`Prepared.extra` under these names, :func:`build`
+#: writes them for the building as built (:func:`built_intervals`)
+INTERVAL_ATTRIBUTES = ("eaves_height_low", "eaves_height_high", "ridge_height_low",
+                       "ridge_height_high")
 
 
 @dataclass(frozen=True)
@@ -199,11 +209,24 @@ class Lod2Result:
 # Inputs from attribute columns
 # ---------------------------------------------------------------------------
 
+#: the plausible values (low, high; None: open) of a column of heights, by its
+#: label (:func:`numeric_column`): an eaves or roof height of more than
+#: :data:`~reconstruction.lod2.heights.MAX_HEIGHT` (a height in millimetres,
+#: 1e9) or a ground outside :data:`~reconstruction.lod2.heights.GROUND_RANGE`
+#: (-1,000 m) is a mistake in the data, which no building can be built from
+#: (a zero or negative eaves height only leaves its footprint out, a negative
+#: roof height gives a flat roof: the thesis's columns use them for "none")
+PLAUSIBLE = {"eaves height": (None, MAX_HEIGHT), "roof height": (None, MAX_HEIGHT),
+             "ground elevation": GROUND_RANGE}
+
+
 def numeric_column(columns, name, label):
     """Values of a numeric column as floats (None or '' -> nan).
 
     ``columns``: name -> values; ``label`` says what the column is for in
-    the messages. Raises :class:`InputError` when it is missing or not numeric.
+    the messages. Raises :class:`InputError` when it is missing or not
+    numeric, or, for the heights of :data:`PLAUSIBLE`, a value is outside
+    its bounds (naming the first such feature by its ``cat``).
     """
     if name not in columns:
         raise InputError("Column <{}> ({}) not found in the input map; available: {}".format(
@@ -218,7 +241,22 @@ def numeric_column(columns, name, label):
         except (TypeError, ValueError):
             raise InputError("Column <{}> ({}) is not numeric: value <{}>".format(
                 name, label, v)) from None
-    return np.asarray(out, dtype=float)
+    values = np.asarray(out, dtype=float)
+    low, high = PLAUSIBLE.get(label, (None, None))
+    with np.errstate(invalid="ignore"):
+        bad = np.isinf(values) | (values < (-np.inf if low is None else low)) \
+            | (values > (np.inf if high is None else high))
+    if bad.any():
+        first = int(np.argmax(bad))
+        cats = columns.get("cat")
+        raise InputError("Column <{}> ({}) of {}: {:g} m is not a plausible {} ({}): is the "
+                         "column in another unit, or its value a placeholder?{}".format(
+                             name, label, "feature cat {}".format(cats[first]) if cats is not None
+                             else "row {}".format(first + 1), values[first], label,
+                             "at most {:g} m".format(high) if low is None else
+                             "{:g} to {:g} m".format(low, high),
+                             "" if bad.sum() == 1 else " ({} such values)".format(int(bad.sum()))))
+    return values
 
 
 def heights_from_columns(columns, count, eaves_column=None, attic_column=None,
@@ -419,6 +457,12 @@ def _result(prepared, built, count, config):
     }
     for name, values in prepared.extra:
         attributes[name] = [values[j] for j in kept]
+    if INTERVAL_ATTRIBUTES[0] in attributes:
+        ends = built_intervals(
+            np.column_stack([np.asarray(attributes[k], dtype=float) for k in INTERVAL_ATTRIBUTES]),
+            prepared.eaves[fsrc], np.where(got == "flat", 0.0, buildings.attic[kept]),
+            np.round(solid_tops(ss) - attributes["ground_height"], 3))
+        attributes.update((name, ends[:, k]) for k, name in enumerate(INTERVAL_ATTRIBUTES))
     failed = np.zeros(len(buildings), dtype=bool)
     failed[[f.index for f in log]] = True
     changed = got != buildings.roof_types[kept]
@@ -430,6 +474,47 @@ def _result(prepared, built, count, config):
                                       fallbacks=[RoofFallback(cats[src[f.index]], f.kind, f.reason)
                                                  for f in log])
     return Lod2Result(ss, semantics(ss), ids, got, fsrc, attributes, report)
+
+
+def solid_tops(ss):
+    """The highest z (m, absolute) of every solid of ``ss`` (a SolidSet); NaN for an empty one."""
+    top = np.full(len(ss), -np.inf)
+    if len(ss.rings):
+        owner = ss.face_solid[ss.entry_face]
+        np.maximum.at(top, owner, ss.vertices[ss.rings, 2] / 1000.0)
+    return np.where(np.isfinite(top), top, np.nan)
+
+
+def built_intervals(interval, eaves, roof, top):
+    """The (B, 4) height intervals of :data:`INTERVAL_ATTRIBUTES` of buildings as built.
+
+    ``interval`` (B, 4): those of their heights (NaN: unknown); ``eaves`` and
+    ``roof``: the eaves and roof heights they were built with (0 for a flat
+    roof); ``top``: the highest z of each solid above its ground (m).
+
+    The heights' intervals bound the eaves and the ridge the roof was asked
+    to reach, but the roof that stands may end elsewhere: a flat roof (drawn
+    by the rules, asked for, or a pitched roof that failed and fell back)
+    ends at the eaves, so its ridge interval is the eaves'; a gable facade
+    (neck, bell, spout, crow-stepped) rises above the roof's ridge by its
+    crown, which raises both ends by as much. So the ridge interval is the
+    eaves' (flat) or the ridge's (pitched) moved by ``top - (eaves + roof)``:
+    it holds the built top wherever the heights' interval held the heights
+    (a measured building's is its top exactly). The ends are rounded to the
+    millimetre (the solids' grid, the written heights') and widened to hold
+    the values as written (the eaves rounded to the millimetre, the top):
+    the top is never outside by rounding."""
+    interval = np.asarray(interval, dtype=float).reshape(-1, 4)
+    eaves, roof, top = (np.asarray(v, dtype=float) for v in (eaves, roof, top))
+    flat = roof <= 0
+    shift = top - (eaves + roof)
+    ridge = np.where(flat[:, None], interval[:, 0:2], interval[:, 2:4]) + shift[:, None]
+    out = np.round(np.column_stack([interval[:, 0:2], ridge]), 3)
+    value = np.column_stack([np.round(eaves, 3), top])
+    known = ~np.isnan(out)
+    out[:, 0::2] = np.where(known[:, 0::2], np.fmin(out[:, 0::2], value), np.nan)
+    out[:, 1::2] = np.where(known[:, 1::2], np.fmax(out[:, 1::2], value), np.nan)
+    return out
 
 
 def citymodel_text(result, reference_system=None, title=None):

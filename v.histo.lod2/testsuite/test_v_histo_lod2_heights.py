@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from histo_testing import import_features, run_module
-from lod2_ends import ends_on_shared, model_ends
+from lod2_ends import ends_on_shared, model_ends, tops_outside
 
 pytestmark = pytest.mark.grass
 
@@ -161,6 +161,58 @@ def test_aligned_footprints_give_measured_heights_and_the_rest_inferred(houses, 
         else:
             assert a["height_source"] == "neighbours"
             assert 8.0 <= a["eaves_height"] <= 11.0
+
+
+@pytest.mark.parametrize("roof", ["flat", "neck", "bell", "auto"])
+def test_every_ridge_interval_holds_its_building_s_top_whatever_its_roof(houses, tmp_path, roof):
+    """A flat roof on a measured house kept the ridge interval of the roof it
+    did not get (its top 4 m below it), a neck or bell gable's crown stood
+    above it (issue 49, item 5). A measured house's intervals are its heights
+    as built; an inferred one's hold them."""
+    aligned = import_features(aligned_features(), "al", tmp_path)
+    out = str(tmp_path / "i.json")
+    rc, _, err = run(input=houses, output=out, aligned=aligned, ground=2.0, roof=roof, seed=3)
+    assert rc == 0, err
+    model = load(out)
+    assert tops_outside(model) == []
+    attrs = by_footprint(model)
+    for cat in (1, 4, 8, 11):
+        a = attrs[cat]
+        # measured heights on a footprint of unknown source (no source column): class 3
+        assert a["certainty"] == 3 and a["height_source"] == "measured"
+        assert a["eaves_height_low"] == a["eaves_height_high"] == a["eaves_height"]
+        assert a["ridge_height_low"] == a["ridge_height_high"]
+        if a["roof_type"] == "flat":
+            assert a["ridge_height_low"] == a["eaves_height"]
+    assert all(a["ridge_height_low"] < a["ridge_height_high"] for c, a in attrs.items()
+               if c not in (1, 4, 8, 11))
+
+
+def test_implausible_measured_heights_warn_apart_from_nulls_and_lend_nothing(houses, tmp_path):
+    """A ground of -1,000 m gave house 2 eaves of 1,010 m, which reached its
+    neighbours' intervals; a NULL, a roof top below the eaves and eaves of 1e9
+    were all counted as "no measured heights (NULL)" (issue 49, item 8)."""
+    feats = aligned_features()
+    bad = {2: {"ground-0.2": -1000.0, "roof-0.25": 12.0, "roof-0.99": 16.0},
+           3: {"ground-0.2": None, "roof-0.25": 12.0, "roof-0.99": 16.0},
+           5: {"ground-0.2": 2.0, "roof-0.25": 12.0, "roof-0.99": 9.0},
+           6: {"ground-0.2": 2.0, "roof-0.25": 1e9, "roof-0.99": 1e9}}
+    houses_at = {f["properties"]["gid"]: f["geometry"] for f in block()}
+    feats += [{"type": "Feature", "properties": props, "geometry": houses_at[gid]}
+              for gid, props in bad.items()]
+    aligned = import_features(feats, "al_bad", tmp_path)
+    out = str(tmp_path / "bad_heights.json")
+    rc, _, err = run(input=houses, output=out, aligned=aligned, ground=2.0, roof="gable")
+    assert rc == 0, err
+    assert "1 aligned footprints have no measured heights (NULL)" in err
+    for reason in ("ground outside -450..8850 m", "roof top below the eaves",
+                   "taller than 300 m"):
+        assert "WARNING: 1 aligned footprints have implausible measured heights ({}): not " \
+            "used".format(reason) in err, err
+    attrs = by_footprint(load(out))
+    assert [attrs[c]["height_source"] for c in (2, 3, 5, 6)] == ["neighbours"] * 4
+    assert max(a["ridge_height_high"] for a in attrs.values()) < 20.0
+    assert max(a["eaves_height"] for a in attrs.values()) < 12.0
 
 
 def test_plots_and_the_thesis_rule(houses, tmp_path):
@@ -346,7 +398,14 @@ def test_an_excel_rules_file_is_read_without_a_word(houses, tmp_path):
     ("streets_bad_label", "neither a number nor a category label"),
     ("rules_sum", "sum to 90"),
     ("rules_missing", "Cannot read the roof rules"),
-    ("rules_latin1", "is not UTF-8 text (byte 0xe9 at offset 3): save it as CSV UTF-8"),
+    ("rules_latin1", "is not UTF-8 text (byte 0xe9 at offset 3): save it as UTF-8"),
+    ("rules_reversed", "line 3 (1920-1900, n-sided): the period starts after it ends"),
+    ("eaves_1e9", "Column <h_building> (eaves height) of feature cat 3: 1e+09 m is not a "
+                  "plausible eaves height (at most 300 m)"),
+    ("ground_column", "Column <g> (ground elevation) of feature cat 2: -1000 m is not a "
+                      "plausible ground elevation"),
+    ("dtm_nodata", "from the elevation raster is -9999 m, not a plausible ground"),
+    ("height_range", "height=: the maximum 1000 m is not a plausible height"),
     ("rules_fraction", "a year must be a whole number, not <1899.5>"),
     ("streets_elsewhere", "has no data within 10 m of the footprints"),
     ("percentile", "ground_percentile"),
@@ -391,6 +450,28 @@ def test_bad_inputs_fail_cleanly(houses, tmp_path, case, expect):
         kwargs["rules"] = str(path)
     elif case == "rules_missing":
         kwargs["rules"] = str(tmp_path / "nothing.csv")
+    elif case == "rules_reversed":
+        path = tmp_path / "reversed.csv"
+        path.write_text("from,to,shape,flat\n,1899,n,100\n1920,1900,n,100\n1901,,n,100\n")
+        kwargs["rules"] = str(path)
+    elif case in ("eaves_1e9", "ground_column"):
+        feats = block()
+        if case == "eaves_1e9":
+            feats[2]["properties"]["h_building"] = 1e9
+        else:
+            for f in feats:
+                f["properties"]["g"] = -1000.0 if f["properties"]["gid"] == 2 else 2.0
+            kwargs["ground_column"] = "g"
+        kwargs["input"] = import_features(feats, "bad_" + case, tmp_path)
+    elif case == "dtm_nodata":
+        import grass.script as gs
+
+        gs.run_command("g.region", n=Y0 + 44, s=Y0 - 20, e=X0 + 56, w=X0 - 20, res=1.0,
+                       quiet=True)
+        gs.mapcalc("dtm_9999 = -9999", quiet=True)
+        kwargs["elevation"] = "dtm_9999"
+    elif case == "height_range":
+        kwargs["height"] = "5,1000"
     elif case == "percentile":
         kwargs["ground_percentile"] = 70
     rc, _, err = run(**kwargs)

@@ -70,16 +70,19 @@ file's order. Weights in percent, one column per roof type
 """
 
 import csv
+import functools
 import io
 import json
 import math
-from dataclasses import dataclass
+import re
+from dataclasses import dataclass, field
 
 from typing import Optional
 
 import numpy as np
 import shapely
 
+from ...core import jsontext
 from ...core.errors import InputError
 from . import plan as roofs
 
@@ -116,7 +119,8 @@ class RoofRule:
     """One row: a period (``first``..``last`` years, None = open), a shape class
     (``"square"``, ``"4"``, another vertex count, or ``"n"``), optionally a
     range of spans (``min_width`` <= span < ``max_width``, m, None = open) and
-    the weights (name, percent) in drawing order."""
+    the weights (name, percent) in drawing order. ``where`` says where the row
+    stands in its file (``"line 7"``), for the messages; not compared."""
 
     first: float
     last: float
@@ -124,6 +128,7 @@ class RoofRule:
     weights: tuple
     min_width: Optional[float] = None
     max_width: Optional[float] = None
+    where: str = field(default="", compare=False)
 
     @property
     def rank(self):
@@ -159,14 +164,22 @@ class RoofRules:
     def __post_init__(self):
         _check(self.rules)
 
-    @property
+    @functools.cached_property
     def periods(self):
         """The periods ``(first, last)`` in order."""
-        seen = []
-        for r in self.rules:
-            if (r.first, r.last) not in seen:
-                seen.append((r.first, r.last))
-        return sorted(seen, key=lambda p: -math.inf if p[0] is None else p[0])
+        return _periods(self.rules)
+
+    @functools.cached_property
+    def period_rows(self):
+        """For each of :attr:`periods`, the indices into ``rules`` of its rows in
+        the order they are tried (square rows first, then vertex counts, then
+        ``n``; each in table order). Grouped once: a table of thousands of
+        periods is read and drawn from in time linear in its rows."""
+        index = {p: k for k, p in enumerate(self.periods)}
+        rows = [[] for _ in self.periods]
+        for k, r in enumerate(self.rules):
+            rows[index[(r.first, r.last)]].append(k)
+        return tuple(tuple(sorted(here, key=lambda k: self.rules[k].rank)) for here in rows)
 
     def row_of(self, n_vertices, years, spans=None, square=None):
         """(F,) index into ``rules`` of the row of every footprint: in its
@@ -175,13 +188,12 @@ class RoofRules:
         n_vertices = np.asarray(n_vertices)
         years = np.asarray([np.nan if y is None else y for y in np.broadcast_to(
             np.asarray(years, dtype=object), n_vertices.shape)], dtype=float)
-        periods = self.periods
         period = self.period_of(years)
         row = np.full(n_vertices.shape, -1, dtype=np.int64)
-        for p, bounds in enumerate(periods):
-            here = [k for k, r in enumerate(self.rules) if (r.first, r.last) == bounds]
-            for k in sorted(here, key=lambda k: self.rules[k].rank):
-                sel = (period == p) & (row < 0) & self.rules[k].matches(n_vertices, spans, square)
+        for p in np.unique(period):
+            here = period == p
+            for k in self.period_rows[p]:
+                sel = here & (row < 0) & self.rules[k].matches(n_vertices, spans, square)
                 row[sel] = k
         return row
 
@@ -211,9 +223,8 @@ class RoofRules:
 
     def types_in(self, year):
         """The roof types with a share in some row of ``year``'s period (None: the first)."""
-        first, last = self.periods[int(self.period_of(np.nan if year is None else year))]
-        return {k for r in self.rules if (r.first, r.last) == (first, last)
-                for k, w in r.weights if w > 0}
+        p = int(self.period_of(np.nan if year is None else year))
+        return {k for r in self.period_rows[p] for k, w in self.rules[r].weights if w > 0}
 
     def table(self):
         """The rules as CSV text (the rules-file format)."""
@@ -231,15 +242,32 @@ def _number_text(value):
     return "" if value is None else "{:g}".format(value)
 
 
+def _periods(rules):
+    """The distinct periods ``(first, last)`` of ``rules``, by first year (open first)."""
+    return sorted(dict.fromkeys((r.first, r.last) for r in rules),
+                  key=lambda p: -math.inf if p[0] is None else p[0])
+
+
+#: a shape that is a vertex count: ASCII digits (``int`` takes other digits,
+#: "²".isdigit() is true and ``int`` refuses it), few enough for any footprint
+_VERTEX_COUNT = re.compile(r"[0-9]{1,9}")
+
+
 def _check(rules, where="rules"):
     if not rules:
         raise InputError("The roof {} have no rows".format(where))
     seen = set()
     for k, r in enumerate(rules):
-        what = "row {} ({}, {}-sided)".format(k + 1, _period_text(r.first, r.last), r.shape)
-        if r.shape not in ("n", "square") and not (r.shape.isdigit() and int(r.shape) >= 3):
+        what = "{} ({}, {}-sided)".format(r.where or "row {}".format(k + 1),
+                                         _period_text(r.first, r.last), r.shape)
+        if r.shape not in ("n", "square") and not (_VERTEX_COUNT.fullmatch(r.shape)
+                                                    and int(r.shape) >= 3):
             raise InputError("Roof rules {}: shape must be n, square or a vertex count of 3 or "
                              "more, not <{}>".format(what, r.shape))
+        if r.first is not None and r.last is not None and r.first > r.last:
+            raise InputError("Roof rules {}: the period starts after it ends (from {:g}, to "
+                             "{:g}): from is its first year, to its last".format(
+                                 what, r.first, r.last))
         for bound in (r.min_width, r.max_width):
             if bound is not None and not (math.isfinite(bound) and bound >= 0):
                 raise InputError("Roof rules {}: a width must be a number of metres, 0 or "
@@ -247,10 +275,14 @@ def _check(rules, where="rules"):
         if r.min_width is not None and r.max_width is not None and r.max_width <= r.min_width:
             raise InputError("Roof rules {}: max_width {:g} is not above min_width {:g}".format(
                 what, r.max_width, r.min_width))
+        names = set()
         for name, w in r.weights:
             if name not in roofs.ROOF_TYPES:
                 raise InputError("Roof rules {}: unknown roof type <{}> (known: {})".format(
                     what, name, ", ".join(roofs.ROOF_TYPES)))
+            if name in names:
+                raise InputError("Roof rules {}: two weights for {}".format(what, name))
+            names.add(name)
             if not (w >= 0 and math.isfinite(w)):
                 raise InputError("Roof rules {}: weight of {} must be 0 or more, not {}".format(
                     what, name, w))
@@ -262,23 +294,30 @@ def _check(rules, where="rules"):
             raise InputError("Roof rules {}: a second row for the same period, shape and "
                              "widths".format(what))
         seen.add(key)
-    periods = sorted({(r.first, r.last) for r in rules},
-                     key=lambda p: -math.inf if p[0] is None else p[0])
+    periods = _periods(rules)
     if periods[0][0] is not None or periods[-1][1] is not None:
         raise InputError("Roof rules: the first period must have no start and the last no end "
                          "(every year needs a row), not {}".format(
-                             ", ".join(_period_text(*p) for p in periods)))
+                             _periods_text(periods)))
     for (f0, l0), (f1, l1) in zip(periods, periods[1:]):
         if l0 is None or f1 is None or f1 != l0 + 1:
             raise InputError("Roof rules: periods {} and {} do not follow each other (the "
                              "next starts the year after the last ends)".format(
                                  _period_text(f0, l0), _period_text(f1, l1)))
+    covered = {(r.first, r.last) for r in rules
+               if r.shape == "n" and r.min_width is None and r.max_width is None}
     for p in periods:
-        if not any((r.first, r.last) == p and r.shape == "n" and r.min_width is None
-                   and r.max_width is None for r in rules):
+        if p not in covered:
             raise InputError("Roof rules: period {} has no row for n-sided footprints "
                              "(shape n, every other shape, of any width: min_width and "
                              "max_width empty)".format(_period_text(*p)))
+
+
+def _periods_text(periods):
+    """The periods as text, the first three and the last of a long list."""
+    shown = [_period_text(*p) for p in (periods if len(periods) <= 4 else
+                                        periods[:3] + periods[-1:])]
+    return ", ".join(shown if len(periods) <= 4 else shown[:3] + ["..."] + shown[-1:])
 
 
 def _period_text(first, last):
@@ -320,7 +359,7 @@ def _year(text, what):
             what, json.dumps(text)))
     try:
         value = float(text)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError("Roof rules {}: a year must be a number, not <{}>".format(
             what, text)) from None
     if not math.isfinite(value):
@@ -341,7 +380,7 @@ def _weight(text, what):
             what, json.dumps(text)))
     try:
         return float(text)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError("Roof rules {}: a weight must be a number, not <{}>".format(
             what, text)) from None
 
@@ -359,39 +398,67 @@ def _width(text, column, what):
             what, column, json.dumps(text)))
     try:
         return float(text)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError("Roof rules {}: {} must be a number of metres, not <{}>".format(
             what, column, text)) from None
 
 
+def _csv_records(text):
+    """(line, cells) of each record of CSV ``text`` but blank lines and ``#``
+    comments, ``line`` the number of its first line in the file (1: the
+    first line; comments and blank lines counted), the number an editor shows."""
+    numbers = []
+
+    def lines():
+        for number, line in enumerate(io.StringIO(text, newline=""), start=1):
+            if line.strip() and not line.lstrip().startswith("#"):
+                numbers.append(number)
+                yield line
+
+    reader = csv.reader(lines())
+    while True:
+        try:
+            cells = next(reader, None)
+        except csv.Error as error:
+            raise InputError("Roof rules line {}: not CSV ({})".format(
+                numbers[0] if numbers else 1, error)) from None
+        if cells is None:
+            return
+        yield numbers[0], cells
+        numbers.clear()
+
+
 def _from_csv(text):
-    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
-    reader = csv.reader(io.StringIO("\n".join(lines)))
-    header = [h.strip().lower() for h in next(reader, [])]
+    records = _csv_records(text)
+    line, cells = next(records, (1, []))
+    header = [h.strip().lower() for h in cells]
     for need in ("from", "to", "shape"):
         if need not in header:
             raise InputError("Roof rules: the CSV header needs columns from, to, shape and one "
                              "per roof type (got {})".format(", ".join(header) or "nothing"))
+    for k, name in enumerate(header):
+        if name in header[:k]:
+            raise InputError("Roof rules line {}: the column <{}> appears twice in the header "
+                             "(columns {} and {}): one column per roof type".format(
+                                 line, name, header.index(name) + 1, k + 1))
     names = [h for h in header if h not in ("from", "to", "shape") + WIDTH_COLUMNS]
     rows = []
-    for k, cells in enumerate(reader, start=2):
+    for line, cells in records:
+        what = "line {}".format(line)
         if len(cells) != len(header):
-            raise InputError("Roof rules line {}: {} values for {} columns".format(
-                k, len(cells), len(header)))
+            raise InputError("Roof rules {}: {} values for {} columns".format(
+                what, len(cells), len(header)))
         cell = dict(zip(header, (c.strip() for c in cells)))
-        what = "line {}".format(k)
         rows.append(RoofRule(_year(cell["from"], what), _year(cell["to"], what),
                              cell["shape"].lower(),
                              tuple((n, _weight(cell[n], what)) for n in names),
-                             *(_width(cell.get(c), c, what) for c in WIDTH_COLUMNS)))
+                             *(_width(cell.get(c), c, what) for c in WIDTH_COLUMNS),
+                             where=what))
     return tuple(rows)
 
 
-def _from_json(text):
-    try:
-        data = json.loads(text)
-    except ValueError as error:
-        raise InputError("Roof rules: not valid JSON ({})".format(error)) from None
+def _from_json(text, path):
+    data = jsontext.loads(text, RULES_FILE, path)
     items = data.get("rules") if isinstance(data, dict) else data
     if not isinstance(items, list):
         raise InputError('Roof rules: the JSON must be {"rules": [...]} or a list of rows')
@@ -404,17 +471,23 @@ def _from_json(text):
                              str(item.get("shape", "")).strip().lower(),
                              tuple((str(n).strip().lower(), _weight(w, what))
                                    for n, w in item["weights"].items()),
-                             *(_width(item.get(c), c, what) for c in WIDTH_COLUMNS)))
+                             *(_width(item.get(c), c, what) for c in WIDTH_COLUMNS),
+                             where=what))
     return tuple(rows)
 
 
-def parse_rules(text):
+#: what a rules file is called in the messages of :mod:`reconstruction.core.jsontext`
+RULES_FILE = "roof rules file"
+
+
+def parse_rules(text, path="(text)"):
     """:class:`RoofRules` from the text of a rules file (JSON when it starts
-    with ``{`` or ``[``, else CSV). A byte order mark and CRLF line ends
-    (Excel's CSV) are accepted. Raises InputError on any mistake."""
+    with ``{`` or ``[``, else CSV; ``path`` names it in the messages). A byte
+    order mark and CRLF line ends (Excel's CSV) are accepted. Raises
+    InputError on any mistake."""
     text = text[1:] if text.startswith(BOM) else text
     stripped = text.lstrip()
-    rows = _from_json(text) if stripped[:1] in ("{", "[") else _from_csv(text)
+    rows = _from_json(text, path) if stripped[:1] in ("{", "[") else _from_csv(text)
     return RoofRules(rows)
 
 
@@ -426,22 +499,11 @@ def read_rules(path):
     """:class:`RoofRules` from a rules file (see the module doc), UTF-8 text
     (with or without a byte order mark). A file of another encoding
     (Latin-1) or a binary file is refused with one InputError naming it."""
-    try:
-        with open(path, "rb") as f:
-            data = f.read()
-    except OSError as error:
-        raise InputError("Cannot read the roof rules file '{}': {}".format(
-            path, error.strerror or error)) from None
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError as error:
-        raise InputError("The roof rules file '{}' is not UTF-8 text (byte 0x{:02x} at "
-                         "offset {}): save it as CSV UTF-8 or JSON".format(
-                             path, data[error.start], error.start)) from None
+    text = jsontext.read_text(path, RULES_FILE)
     if "\x00" in text:
         raise InputError("The roof rules file '{}' is a binary file, not UTF-8 text: save it "
                          "as CSV UTF-8 or JSON".format(path))
-    return parse_rules(text)
+    return parse_rules(text, path)
 
 
 #: the default rules as a rules file (see the module doc); percent per row

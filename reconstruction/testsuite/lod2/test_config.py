@@ -108,6 +108,10 @@ def test_street_classes_numbers_or_labels():
     ({"streets": "cl", "street_classes": "canal"}, "Street class <canal>"),
     ({"streets": "cl"}, "street_classes="), ({"ground": "x"}, "ground="),
     ({"rules": "/nonexistent/rules.csv"}, "rules"),
+    # implausible heights (issue 49, item 8)
+    ({"height": "5,1e9"}, "height=: the maximum 1e.09 m is not a plausible height"),
+    ({"attic": "2,400"}, "attic=: the maximum 400 m is not a plausible height"),
+    ({"ground": "-1000"}, "ground= must be at least -450"),
 ])
 def test_bad_values_name_the_option(change, message):
     with pytest.raises(InputError, match=message):
