@@ -17,7 +17,7 @@ parent any local user may enter; a second local user (``nobody``, through
 Needs root (CI runs as root) for ``runuser``.
 """
 
-import base64
+import importlib.util
 import json
 import os
 import pickle
@@ -26,14 +26,16 @@ import stat
 import subprocess
 import tempfile
 import time
-import urllib.error
-import urllib.request
 
 import pytest
 
 import series_service
 
 pytestmark = pytest.mark.grass
+_SPEC = importlib.util.spec_from_file_location("histo_series", os.path.join(
+    series_service.ROOT, "tools", "histo_series.py"))
+DRIVER = importlib.util.module_from_spec(_SPEC)
+_SPEC.loader.exec_module(DRIVER)
 ATTACKER = "nobody"
 SECRET = "TOPSECRET-{}".format(os.getpid())
 
@@ -74,18 +76,9 @@ def histo_login(service):
 
 
 def call(url, user, password, data=None):
-    """(HTTP status, answer text) of one call of actinia's API."""
-    token = base64.b64encode("{}:{}".format(user, password).encode()).decode()
-    headers = {"Authorization": "Basic " + token}
-    if data is not None:
-        headers["Content-Type"] = "application/json"
-        data = json.dumps(data).encode()
-    request = urllib.request.Request(url, data=data, headers=headers)
-    try:
-        with urllib.request.urlopen(request, timeout=60) as r:
-            return r.status, r.read().decode("utf-8", "replace")
-    except urllib.error.HTTPError as e:
-        return e.code, e.read().decode("utf-8", "replace")
+    """(HTTP status, answer text) of one call of actinia's API (the driver's client)."""
+    status, body = DRIVER.Actinia(url, user, password, "histo").answer(url, data)
+    return status, body.decode("utf-8", "replace")
 
 
 def run_chain(service, chain, user, password):

@@ -102,7 +102,7 @@ def test_the_owner_query_names_the_sheet():
 def test_the_chain_is_filled_in_for_each_sheet_with_its_neighbours(tmp_path):
     series = three(tmp_path, options={"min_area": "40"})
     template = chain.read_template(TEMPLATE)
-    pc = chain.process_chain(template, series, series.sheets[0], "/g.geojson")
+    pc = chain.process_chain(template, series, series.sheets[0])
     text = json.dumps(pc.document)
     assert "{{" not in text
     steps = pc.steps()
@@ -120,7 +120,7 @@ def test_an_unknown_option_is_refused(tmp_path):
     series = three(tmp_path, options={"colour": "red"})
     template = chain.read_template(TEMPLATE)
     with pytest.raises(InputError, match="unknown option <colour>"):
-        chain.process_chain(template, series, series.sheets[0], "g")
+        chain.process_chain(template, series, series.sheets[0])
     with pytest.raises(InputError, match="unknown option <colour>"):
         chain.shell_settings(template["defaults"], series, series.sheets[0], "g")
 
@@ -177,7 +177,7 @@ def test_a_changed_chain_has_another_fingerprint():
     assert progress.fingerprint({"a": 1}) != progress.fingerprint({"a": 2})
 
 
-def _box_model(path, boxes):
+def box_model(path, boxes):
     """A CityJSON file with one box building per (id, x0, y0, x1, y1)."""
     vertices, objects = [], {}
     for oid, x0, y0, x1, y1 in boxes:
@@ -204,9 +204,9 @@ def test_the_merge_keeps_every_building_once_and_the_owner_of_an_overlap(tmp_pat
     series = manifest.read_manifest(write_manifest(tmp_path, {"sheets": [
         sheet("a", 0, 0), sheet("b", 1, 0)]}))
     # both sheets built the plot over their edge x = 200 m, most of it on b
-    a = _box_model(str(tmp_path / "a.json"), [("building_1", 10000, 10000, 20000, 20000),
+    a = box_model(str(tmp_path / "a.json"), [("building_1", 10000, 10000, 20000, 20000),
                                               ("building_2", 190000, 10000, 230000, 20000)])
-    b = _box_model(str(tmp_path / "b.json"), [("building_1", 191000, 10000, 231000, 20000),
+    b = box_model(str(tmp_path / "b.json"), [("building_1", 191000, 10000, 231000, 20000),
                                               ("building_9", 300000, 10000, 310000, 20000)])
     out = io.BytesIO()
     report = merge.merge_sheets([("b", b), ("a", a)], series, out)
