@@ -216,3 +216,36 @@ def test_the_merge_keeps_every_building_once_and_the_owner_of_an_overlap(tmp_pat
     assert sorted(ids) == ["a/building_1", "b/building_1", "building_9"]
     assert report.dropped == [("a", "building_2", "b")]
     assert report.built == {"a": 2, "b": 2} and report.kept == {"a": 1, "b": 2}
+
+
+@pytest.mark.parametrize("sheets, margin", [(["a"], 80), (["a", "b", "c"], 0)])
+def test_a_sheet_without_neighbours_gets_its_map_through_r_resample(tmp_path, sheets, margin):
+    """r.patch needs two maps: a one-sheet series or "margin": 0 (issue 49, item 11)."""
+    places = {"a": (0, 0), "b": (1, 0), "c": (0, 1)}
+    series = manifest.read_manifest(write_manifest(tmp_path, {"margin": margin, "sheets": [
+        sheet(n, *places[n]) for n in sheets]}))
+    template = chain.read_template(TEMPLATE)
+    for s in series.sheets:
+        steps = chain.process_chain(template, series, s).steps()
+        patches = [dict(step.params)["input"] for step in steps if step.id.startswith("patch_")]
+        assert [step.module for step in steps if step.id.startswith("patch_")] == \
+            ["r.resample"] * 3
+        assert patches == ["sheet.1", "sheet.2", "sheet.3"]
+        settings = dict(chain.shell_settings(template["defaults"], series, s, "/g.geojson"))
+        assert settings["SHEET_PATCH"] == "r.resample" and settings["SHEET_NEIGHBOURS"] == ()
+    two = manifest.read_manifest(write_manifest(tmp_path, {"sheets": [sheet("a", 0, 0),
+                                                                      sheet("b", 1, 0)]}))
+    steps = chain.process_chain(template, two, two.sheets[0]).steps()
+    assert {step.module for step in steps if step.id.startswith("patch_")} == {"r.patch"}
+
+
+def test_the_chain_carries_the_grid_of_the_sheet_and_its_neighbours(tmp_path):
+    """No file of the driver's in a job (issue 49: paths limited to the work folder)."""
+    doc = {"margin": 30, "sheets": [sheet("a", 0, 0), sheet("b", 1, 0), sheet("c", 0, 1),
+                                    sheet("d", 5, 5)]}
+    series = manifest.read_manifest(write_manifest(tmp_path, doc))
+    step = next(s for s in chain.process_chain(chain.read_template(TEMPLATE), series,
+                                               series.sheets[1]).steps() if s.id == "import_grid")
+    grid = json.loads(dict(step.params)["input"])
+    assert [(f["properties"]["name"], f["properties"]["sheet"]) for f in grid["features"]] == \
+        [("a", 1), ("b", 2), ("c", 3)]
