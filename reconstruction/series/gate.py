@@ -19,8 +19,13 @@ lets through only what a series needs, each request checked by
   it must be an absolute, normalised path whose real path (symbolic links
   resolved) lies in the series' work folder, not a GDAL ``/vsi`` path; a
   ``$`` only in actinia's ``$file::name`` (a file of the job) and GRASS's
-  default SQLite database of ``db.connect``. A value without ``/`` is no
-  path outside: relative names resolve in the job's empty working folder.
+  default SQLite database of ``db.connect``; no part that names a GDAL/OGR
+  data source by its driver (``PG:dbname=...``). A value without ``/`` is
+  no path outside: relative names resolve in the job's empty working folder.
+
+What the gate cannot see is inside the files of the work folder (a GDAL
+VRT there may name any file): the service should run as an unprivileged
+user, and the work folder be writable by that user only.
 """
 
 import os
@@ -49,6 +54,9 @@ EXPORT_KEYS = {"format", "type"}
 _NAME = re.compile(r"[A-Za-z0-9_.]+")
 #: actinia's placeholder of a job's own file
 _JOB_FILE = re.compile(r"\$file::[A-Za-z0-9_]+")
+#: a GDAL/OGR data source named by its driver (``PG:dbname=...``, ``WFS:``,
+#: ``CSV:file``): a database, a service or a file by another name
+_SOURCE_PREFIX = re.compile(r"\s*[A-Za-z][A-Za-z0-9_]*:")
 #: GRASS's default database of a mapset, which ``db.connect`` expands itself
 DEFAULT_SQLITE = "$GISDBASE/$LOCATION_NAME/$MAPSET/sqlite/sqlite.db"
 WHAT = "process chain"
@@ -141,6 +149,9 @@ def check_parameter(entry, kind, module, where, policy):
     if value == DEFAULT_SQLITE:
         return
     for part in value.split(","):
+        if _SOURCE_PREFIX.match(part):
+            raise InputError("{}: a GDAL/OGR data source prefix ('{}') is not allowed".format(
+                where, part[:40]))
         if "/" in part or "\\" in part:
             check_path(part, where, policy)
 

@@ -76,7 +76,7 @@ def test_the_series_own_chains_pass(work, policy, sheets, margin):
     "{work}//a.csv", "/vsizip/{work}/a.zip", "/vsicurl/http://example.org/a.tif",
     "CSV:/etc/passwd", "GPKG:/root/a.gpkg:layer", "{work}/a.csv,/etc/passwd", "sub/a.csv",
     "{work}/link/passwd", "$HOME/.bashrc", "$GISDBASE/../../x", "\\\\server\\share",
-    " /etc/shadow"])
+    " /etc/shadow", "PG:dbname=postgres", "CSV:credentials", "a.csv, WFS:x"])
 def test_a_path_outside_the_work_folder_is_refused(work, policy, value):
     (work / "link").symlink_to("/etc")
     value = value.replace("{work}", str(work))
