@@ -115,9 +115,9 @@ def test_the_former_fixed_credentials_are_refused(service):
 
 def test_the_histo_user_has_the_user_role_not_admin(service):
     password = open(os.path.join(service.folder, "redis.password")).read().strip()
-    role = subprocess.run(["redis-cli", "-p", str(service.redis_port), "--no-auth-warning",
-                           "-a", password, "HGET", "USER-ID-HASH-PREFIX::histo", "user_role"],
-                          capture_output=True, text=True).stdout.strip()
+    role = subprocess.run(["redis-cli", "-p", str(service.redis_port), "HGET",
+                           "USER-ID-HASH-PREFIX::histo", "user_role"], capture_output=True,
+                          text=True, env=dict(os.environ, REDISCLI_AUTH=password)).stdout.strip()
     assert role == "user"
 
 
