@@ -91,7 +91,8 @@ else
     band=0
     for colour in red green blue; do  # one band of the sheet and its neighbours in one map
         band=$((band + 1))
-        r.patch input="$(IFS=,; echo "${bands[*]/%/.$band}")" output=$MAP.$colour
+        # r.patch, or r.resample for a sheet without neighbours (r.patch needs two maps)
+        $SHEET_PATCH input="$(IFS=,; echo "${bands[*]/%/.$band}")" output=$MAP.$colour
     done
     v.in.ogr -o input="$SHEET_TRAINING" output=${MAP}_training
     v.in.ogr -o input="$SHEET_FOOTPRINTS" output=${MAP}_current

@@ -1,9 +1,11 @@
 """A map series through actinia and through the local fallback (issue 30).
 
 Starts Redis and actinia on 127.0.0.1 on free ports (tools/actinia/service.sh,
-stopped again whatever happens), writes four adjacent sheets of one
-synthetic town (testsuite/synthetic_sheets.py; the fourth has no training
-map) and runs them with tools/histo_series.py: as jobs on actinia, and
+stopped again whatever happens: testsuite/series_service.py), writes four
+adjacent sheets of one synthetic town (testsuite/synthetic_sheets.py; the
+fourth has no training map) into the service's work folder and runs them
+with tools/histo_series.py (the credentials of the service's folder): as
+jobs on actinia, and
 locally, where the driver is killed after its first sheet and run again;
 and runs each good sheet through demo/chain.sh (``chain.sh OUT
 MANIFEST:SHEET``) in a temporary GRASS location.
@@ -13,29 +15,27 @@ descriptions of one chain: a drift between the template and chain.sh
 changes the bytes) and to the local fallback's (the same process chain run
 in a local GRASS session); the bad sheet fails alone with its module's
 ERROR: line; the rerun runs only the sheets that had not finished; the
-merged series builds every plot once and no two of its buildings overlap.
+merged series builds every plot once and no two of its buildings overlap;
+the killed run's mapset is gone after the rerun; a series of one sheet with
+no margin (no neighbour) runs alike on actinia, locally and in chain.sh.
 """
 
 import concurrent.futures
 import json
 import os
-import shutil
 import signal
-import socket
 import subprocess
 import sys
 import time
 
 import pytest
 
+import series_service
 import synthetic_map
 import synthetic_sheets
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-DIST = os.environ.get("HISTO_DIST", os.path.join(ROOT, "dist"))
-ACTINIA_VENV = os.environ.get("ACTINIA_VENV", os.path.expanduser(
-    "~/.local/share/histo/actinia-venv"))
-SERVICE = os.path.join(ROOT, "tools", "actinia", "service.sh")
+DIST = series_service.DIST
 DRIVER = os.path.join(ROOT, "tools", "histo_series.py")
 CHAIN = os.path.join(ROOT, "demo", "chain.sh")
 GOOD = ("sheet_0_0", "sheet_1_0", "sheet_0_1")
@@ -43,37 +43,19 @@ GOOD = ("sheet_0_0", "sheet_1_0", "sheet_0_1")
 pytestmark = pytest.mark.grass
 
 
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 @pytest.fixture(scope="module")
 def actinia(tmp_path_factory):
-    missing = [what for what, ok in (
-        ("actinia-core (make actinia)", os.path.exists(os.path.join(ACTINIA_VENV, "bin",
-                                                                    "gunicorn"))),
-        ("redis-server (Debian redis-server)", shutil.which("redis-server")),
-        ("the staged suite (make build)", os.path.exists(os.path.join(DIST, "scripts",
-                                                                      "v.histo.lod2"))),
-        ("GRASS", shutil.which("grass"))) if not ok]
+    missing = series_service.missing()
     if missing:
         pytest.skip("not installed: " + ", ".join(missing))
-    folder = str(tmp_path_factory.mktemp("actinia"))
-    port, redis_port = free_port(), free_port()
-    env = dict(os.environ, DIST=DIST, ACTINIA_VENV=ACTINIA_VENV)
-    try:
-        subprocess.run(["bash", SERVICE, "start", folder, str(port), str(redis_port)],
-                       check=True, env=env, capture_output=True, text=True, timeout=180)
-        yield "http://127.0.0.1:{}".format(port)
-    finally:
-        subprocess.run(["bash", SERVICE, "stop", folder], env=env, capture_output=True)
+    with series_service.started(str(tmp_path_factory.mktemp("actinia"))) as service:
+        yield service
 
 
 @pytest.fixture(scope="module")
-def sheets(tmp_path_factory):
-    out = str(tmp_path_factory.mktemp("sheets"))
+def sheets(actinia):
+    """The sheets in the service's work folder (the only place its chains may read)."""
+    out = os.path.join(actinia.work, "sheets")
     smap = synthetic_map.generate(seed=1, size=400)
     path = synthetic_sheets.write(out, smap, [(0, 0), (1, 0), (0, 1), (1, 1)], 200.0)
     os.remove(os.path.join(out, "sheet_1_1.training.geojson"))
@@ -96,7 +78,8 @@ def attempts(out):
 @pytest.fixture(scope="module")
 def on_actinia(actinia, sheets, tmp_path_factory):
     out = str(tmp_path_factory.mktemp("on_actinia"))
-    proc = drive(sheets, out, "--server", actinia, "--jobs", "2")
+    proc = drive(sheets, out, "--server", actinia.url, "--credentials", actinia.credentials,
+                 "--jobs", "2")
     return out, proc
 
 
@@ -121,16 +104,14 @@ def local_resumed(sheets, tmp_path_factory):
     return out, before, second
 
 
-@pytest.fixture(scope="module")
-def on_chain_sh(sheets, tmp_path_factory):
-    """demo/chain.sh run on each good sheet, each in a mapset of its own of a
-    temporary location in the series' EPSG code, two at a time: its output
-    folder per sheet."""
+def chain_sh(manifest_path, names, out):
+    """demo/chain.sh run on each sheet of ``names``, each in a mapset of its
+    own of a temporary location in the series' EPSG code, two at a time:
+    their output folders (``out``/sheet) asserted to have finished."""
     from reconstruction.series import manifest
 
-    out = str(tmp_path_factory.mktemp("chain_sh"))
     location = os.path.join(out, "grassdb", "series")
-    subprocess.run(["grass", "-c", "EPSG:{}".format(manifest.read_manifest(sheets).epsg),
+    subprocess.run(["grass", "-c", "EPSG:{}".format(manifest.read_manifest(manifest_path).epsg),
                     location, "-e"], check=True, capture_output=True)
     env = dict(os.environ, GRASS_ADDON_BASE=DIST, PATH=os.pathsep.join(
         [os.path.join(DIST, "scripts"), os.path.join(DIST, "bin"), os.environ["PATH"]]))
@@ -139,14 +120,46 @@ def on_chain_sh(sheets, tmp_path_factory):
 
     def one(name):
         return subprocess.run(["grass", "-c", os.path.join(location, name), "--exec", "bash",
-                               CHAIN, os.path.join(out, name), "{}:{}".format(sheets, name)],
+                               CHAIN, os.path.join(out, name),
+                               "{}:{}".format(manifest_path, name)],
                               capture_output=True, text=True, env=env, timeout=600)
 
     with concurrent.futures.ThreadPoolExecutor(max_workers=2) as pool:
-        runs = dict(zip(GOOD, pool.map(one, GOOD)))
+        runs = dict(zip(names, pool.map(one, names)))
     for name, proc in runs.items():
         assert proc.returncode == 0, (name, proc.stdout[-2000:] + proc.stderr[-3000:])
     return out
+
+
+@pytest.fixture(scope="module")
+def on_chain_sh(sheets, tmp_path_factory):
+    """demo/chain.sh run on each good sheet: its output folder per sheet."""
+    return chain_sh(sheets, GOOD, str(tmp_path_factory.mktemp("chain_sh")))
+
+
+@pytest.fixture(scope="module")
+def single(sheets, actinia, tmp_path_factory):
+    """A series of one sheet with "margin": 0 (no neighbour: r.patch, which
+    needs two maps, cannot make its map; issue 49, item 11), run on
+    actinia, locally and through demo/chain.sh: the three output folders."""
+    with open(sheets) as f:
+        doc = json.load(f)
+    doc.update(margin=0, sheets=[s for s in doc["sheets"] if s["name"] == "sheet_0_0"])
+    path = os.path.join(os.path.dirname(sheets), "single.json")
+    with open(path, "w") as f:
+        json.dump(doc, f)
+    runs = {"actinia": str(tmp_path_factory.mktemp("single_actinia")),
+            "local": str(tmp_path_factory.mktemp("single_local"))}
+    procs = {"actinia": drive(path, runs["actinia"], "--server", actinia.url, "--credentials",
+                              actinia.credentials),
+             "local": drive(path, runs["local"])}
+    for how, proc in procs.items():
+        assert proc.returncode == 0, (how, proc.stdout[-2000:] + proc.stderr[-3000:])
+    runs["chain.sh"] = os.path.join(chain_sh(path, ["sheet_0_0"], str(
+        tmp_path_factory.mktemp("single_chain_sh"))), "sheet_0_0")
+    runs["actinia"] = os.path.join(runs["actinia"], "sheet_0_0")
+    runs["local"] = os.path.join(runs["local"], "sheet_0_0")
+    return runs
 
 
 def test_actinia_runs_the_good_sheets_and_the_bad_one_fails_alone(on_actinia):
@@ -171,6 +184,24 @@ def test_a_rerun_after_a_kill_runs_only_the_missing_sheets(local_resumed):
     after = attempts(out)[len(before):]
     assert not done_before & {a["sheet"] for a in after}
     assert {a["sheet"] for a in after if a["status"] == "done"} == set(GOOD) - done_before
+    # the mapset of the sheet the kill cut short is gone (issue 49, item 12), and no .part
+    assert os.listdir(os.path.join(out, "grassdb", "series")) == ["PERMANENT"]
+    assert not [n for _, _, files in os.walk(out) for n in files if n.endswith(".part")]
+
+
+def test_a_sheet_without_neighbours_runs_the_same_on_actinia_locally_and_in_chain_sh(single):
+    with open(os.path.join(single["actinia"], "chain.json")) as f:
+        modules = [step["module"] for step in json.load(f)["list"]]
+    assert "r.patch" not in modules and modules.count("r.resample") == 3
+    models = {}
+    for how, folder in single.items():
+        with open(os.path.join(folder, "model.city.json"), "rb") as f:
+            models[how] = f.read()
+    assert len(models["actinia"]) > 1000
+    assert models["actinia"] == models["local"], first_difference(
+        "sheet_0_0", models["actinia"], models["local"])
+    assert models["actinia"] == models["chain.sh"], first_difference(
+        "sheet_0_0", models["actinia"], models["chain.sh"])
 
 
 def test_each_sheet_from_actinia_is_byte_identical_to_chain_sh_on_that_sheet(on_actinia,

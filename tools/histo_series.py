@@ -1,47 +1,56 @@
 #!/usr/bin/env python3
 """Run a map series: one process chain per sheet, on actinia or locally (issue 30).
 
-    python3 tools/histo_series.py MANIFEST OUT [--server URL ...] [--jobs N]
+    python3 tools/histo_series.py MANIFEST OUT [--server URL ... --credentials FILE] [--jobs N]
 
 Each sheet of the manifest (reconstruction.series.manifest) gets the
 process chain of the template (demo/series/sheet_chain.json) filled in
 with its files and options. With ``--server`` every chain is sent to that
-actinia (``processing_async_export`` in ``--location``, user and password
-``--user``/``--password``; several ``--server``: to each in turn, e.g. the
-REST servers of several machines sharing Redis and the GRASS database), at
-most ``--jobs`` at a time; without it the
-same chains run here, ``--jobs`` at a time, each in a GRASS session of its
-own in a fresh mapset (the local fallback: the same modules with the same
-parameters, the same exports). A failed sheet is tried once more; a sheet
-that fails twice is reported with its module's ``ERROR:`` line and the
-others go on. What finished is recorded in OUT/progress.jsonl, so a rerun
-runs only the sheets that did not finish. Then the sheets' models are
-merged into OUT/series.city.jsonl (reconstruction.series.merge).
+actinia (``processing_async_export`` in ``--location``, as the user of the
+``--credentials`` file that ``tools/actinia/service.sh start DIR`` wrote,
+DIR/credentials, readable by its owner only; several ``--server``: to each
+in turn, e.g. the REST servers of several machines sharing Redis and the
+GRASS database), at most ``--jobs`` at a time; the files the chains read
+must lie in the service's work folder (README, "A map series on
+actinia"). Without it the same chains run here, ``--jobs`` at a time, each
+in a GRASS session of its own in a fresh mapset (the local fallback: the
+same modules with the same parameters, the same exports; a mapset left by
+a killed run is removed by the next). A failed sheet is tried once more; a
+sheet that fails twice is reported with its module's ``ERROR:`` line and
+the others go on. What finished is recorded in OUT/progress.jsonl, so a
+rerun runs only the sheets that did not finish. Then the sheets' models
+are merged into OUT/series.city.jsonl (reconstruction.series.merge).
 
 Output: OUT/<sheet>/model.city.json, plots.geojson, footprints.geojson,
 chain.json (the chain as sent); OUT/grid.geojson (the sheets' own areas);
 OUT/series.city.jsonl and OUT/report.json. Exit status 0 when every sheet
 finished, 1 when some failed (their report says why), 2 on bad input.
 The suite is found as GRASS finds addons: ``--dist`` (default: $HISTO_DIST
-or ./dist), whose scripts/ go on the PATH of the local runs.
+or ./dist), whose scripts/ go on the PATH of the local runs. The driver
+needs the suite's Python packages: started by a python3 without them
+(Debian's), it runs itself again with the suite's venv ($HISTO_VENV, by
+default ~/.local/share/histo/venv, made by ``make venv``), or says so.
 
 Also: ``histo_series.py --run-steps CHAIN DIR``, inside a GRASS session,
 runs one filled-in chain's steps and exports into DIR (what the local
 fallback starts for each sheet); ``histo_series.py --sheet-settings
-MANIFEST:SHEET GRID`` writes the grid of the series' sheets to the file
-GRID and prints what ``demo/chain.sh OUT MANIFEST:SHEET`` needs to run that
-sheet as its own chain, as shell assignments (chain.sh evaluates them).
+MANIFEST:SHEET GRID`` writes the grid of the sheet and its neighbours to
+the file GRID and prints what ``demo/chain.sh OUT MANIFEST:SHEET`` needs to
+run that sheet as its own chain, as shell assignments (chain.sh evaluates
+them).
 """
 
 import argparse
 import base64
 import concurrent.futures
+import fcntl
 import io
 import itertools
 import json
 import os
 import shlex
 import shutil
+import stat
 import subprocess
 import sys
 import threading
@@ -53,10 +62,41 @@ import zipfile
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 if ROOT not in sys.path:
     sys.path.insert(0, ROOT)
+#: the suite's venv (Makefile: HISTO_VENV)
+SUITE_VENV = os.environ.get("HISTO_VENV", os.path.expanduser("~/.local/share/histo/venv"))
 
+
+def suite_python():
+    """Run again with the suite's venv when this python3 lacks the suite's
+    packages (Debian's python3: no orjson, or one without orjson.Fragment,
+    which the merge writes with); None when this one has them."""
+    try:
+        import orjson
+
+        from reconstruction.series import merge  # noqa: F401  (numpy, shapely, the writers)
+        orjson.Fragment  # noqa: B018
+        return None
+    except (ImportError, AttributeError) as error:
+        problem = "{}: {}".format(type(error).__name__, error)
+    python = os.path.join(SUITE_VENV, "bin", "python3")
+    if (os.path.exists(python) and not os.environ.get("HISTO_SERIES_RERUN")
+            and os.path.realpath(sys.prefix) != os.path.realpath(SUITE_VENV)):
+        os.environ["HISTO_SERIES_RERUN"] = "1"
+        os.execv(python, [python, os.path.abspath(__file__)] + sys.argv[1:])
+    return ("ERROR: {} lacks the suite's packages ({}): run the driver with the suite's venv, "
+            "{} (make venv)".format(sys.executable, problem, python))
+
+
+if __name__ == "__main__":
+    _PROBLEM = suite_python()
+    if _PROBLEM:
+        print(_PROBLEM, file=sys.stderr)
+        sys.exit(2)
+
+from reconstruction.core import jsontext  # noqa: E402
 from reconstruction.core.errors import InputError  # noqa: E402
 from reconstruction.series import chain as series_chain  # noqa: E402
-from reconstruction.series import edges, manifest, merge, progress  # noqa: E402
+from reconstruction.series import edges, manifest, progress  # noqa: E402
 
 TEMPLATE = os.path.join(ROOT, "demo", "series", "sheet_chain.json")
 MODEL = "model.city.json"
@@ -97,8 +137,10 @@ def sheet_settings(spec, grid, template=TEMPLATE):
     series = manifest.read_manifest(path)
     known = series_chain.read_template(template).get("defaults", {})
     grid = os.path.abspath(grid)
-    write_grid(series, grid)
-    for key, value in series_chain.shell_settings(known, series, series.sheet(name), grid):
+    sheet = series.sheet(name)
+    with open(grid, "w", encoding="utf-8") as f:
+        f.write(series_chain.sheet_grid(series, sheet))
+    for key, value in series_chain.shell_settings(known, series, sheet, grid):
         if isinstance(value, tuple):
             print("{}=({})".format(key, " ".join(shlex.quote(v) for v in value)))
         else:
@@ -136,6 +178,17 @@ def run_steps(chain_path, out):
     return 0
 
 
+def remove_left_mapsets(location):
+    """Remove the sheets' mapsets a killed run left in ``location`` (every
+    mapset but PERMANENT: the caller holds the output folder's lock, so no
+    other run is using them). Returns their names."""
+    left = sorted(n for n in os.listdir(location) if n != "PERMANENT"
+                  and os.path.isdir(os.path.join(location, n)))
+    for name in left:
+        shutil.rmtree(os.path.join(location, name), ignore_errors=True)
+    return left
+
+
 def run_local(pc, sheet_dir, location, dist):
     """Run one chain in a fresh mapset of ``location`` (removed afterwards)."""
     chain_path = os.path.join(sheet_dir, "chain.json")
@@ -166,6 +219,29 @@ def run_local(pc, sheet_dir, location, dist):
 # actinia
 # ---------------------------------------------------------------------------
 
+def read_credentials(path):
+    """(user, password) of the credentials file ``path`` (or of the service
+    folder ``path``: its ``credentials``) that ``tools/actinia/service.sh
+    start`` wrote: JSON {"user": ..., "password": ...}, readable by its
+    owner only (a file others can read is refused: its password is the
+    service's)."""
+    if os.path.isdir(path):
+        path = os.path.join(path, "credentials")
+    try:
+        mode = os.stat(path).st_mode
+    except OSError as e:
+        raise InputError("Cannot read the credentials '{}': {}".format(path, e.strerror)) \
+            from None
+    if mode & (stat.S_IRWXG | stat.S_IRWXO):
+        raise InputError("The credentials '{}' can be read by other users (mode {:04o}): "
+                         "chmod 600 it".format(path, stat.S_IMODE(mode)))
+    doc = jsontext.load(path, "credentials")
+    if not isinstance(doc, dict) or not all(isinstance(doc.get(k), str) and doc[k]
+                                            for k in ("user", "password")):
+        raise InputError("The credentials '{}' hold no user and password".format(path))
+    return doc["user"], doc["password"]
+
+
 class Actinia:
     """A few calls of actinia's REST API (version 3), with basic authentication."""
 
@@ -174,7 +250,8 @@ class Actinia:
         token = base64.b64encode("{}:{}".format(user, password).encode()).decode()
         self.headers = {"Authorization": "Basic " + token}
 
-    def call(self, url, data=None):
+    def answer(self, url, data=None):
+        """(HTTP status, body bytes) of a GET, or of a POST of the JSON of ``data``."""
         headers = dict(self.headers)
         if data is not None:
             headers["Content-Type"] = "application/json"
@@ -182,9 +259,12 @@ class Actinia:
         request = urllib.request.Request(url, data=data, headers=headers)
         try:
             with urllib.request.urlopen(request, timeout=120) as r:
-                return r.read()
+                return r.status, r.read()
         except urllib.error.HTTPError as e:
-            return e.read()
+            return e.code, e.read()
+
+    def call(self, url, data=None):
+        return self.answer(url, data)[1]
 
     def run(self, pc, sheet_dir, poll=1.0):
         answer = json.loads(self.call("{}/api/v3/locations/{}/processing_async_export".format(
@@ -239,8 +319,53 @@ class Actinia:
 
 def make_location(path, epsg):
     if not os.path.isdir(os.path.join(path, "PERMANENT")):
-        subprocess.run(["grass", "-c", "EPSG:{}".format(epsg), path, "-e"], check=True,
-                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        proc = subprocess.run(["grass", "-c", "EPSG:{}".format(epsg), path, "-e"],
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        if proc.returncode:
+            shutil.rmtree(path, ignore_errors=True)
+            raise InputError("GRASS cannot make a location in EPSG:{}: {}".format(
+                epsg, error_line(proc.stdout, proc.stdout.strip()[-300:])))
+
+
+def lock_folder(out):
+    """An exclusive lock of the output folder ``out`` (held until the
+    driver ends): one run at a time, so what a run finds of another's
+    (mapsets, .part files) was left by a killed one."""
+    f = open(os.path.join(out, ".lock"), "w")
+    try:
+        fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        f.close()
+        raise InputError("Another run of the series is writing into '{}'".format(out)) from None
+    return f
+
+
+def merged(series, models, target):
+    """Merge ``models`` into ``target`` through ``target``.part, removed
+    whatever happens (no .part is left behind)."""
+    from reconstruction.series import merge
+
+    part = target + ".part"
+    try:
+        with open(part, "wb") as f:
+            report = merge.merge_sheets(models, series, f)
+        os.replace(part, target)
+    finally:
+        if os.path.exists(part):
+            os.remove(part)
+    return report
+
+
+def remove_parts(out, series):
+    """Remove the .part files a killed run left in the driver's own places
+    of ``out`` (the merged series, the sheets' folders)."""
+    folders = [out] + [os.path.join(out, s.name, sub) for s in series.sheets
+                       for sub in ("", "local")]
+    for folder in folders:
+        if os.path.isdir(folder):
+            for name in os.listdir(folder):
+                if name.endswith(".part") and os.path.isfile(os.path.join(folder, name)):
+                    os.remove(os.path.join(folder, name))
 
 
 def run_series(args):
@@ -248,10 +373,10 @@ def run_series(args):
     template = series_chain.read_template(args.template)
     out = os.path.abspath(args.out)
     os.makedirs(out, exist_ok=True)
-    grid = os.path.join(out, "grid.geojson")
-    write_grid(series, grid)
-    chains = {s.name: series_chain.process_chain(template, series, s, grid)
-              for s in series.sheets}
+    held = lock_folder(out)      # noqa: F841  (released when the driver ends)
+    remove_parts(out, series)
+    write_grid(series, os.path.join(out, "grid.geojson"))
+    chains = {s.name: series_chain.process_chain(template, series, s) for s in series.sheets}
     done = progress.Progress(os.path.join(out, "progress.jsonl"))
     todo = [s for s in series.sheets
             if not (done.done(s.name, progress.fingerprint(chains[s.name].document))
@@ -261,7 +386,11 @@ def run_series(args):
         print("{} of {} sheets finished before: running the other {}".format(
             skipped, len(series.sheets), len(todo)), flush=True)
     if args.server:
-        servers = [Actinia(url, args.user, args.password, args.location) for url in args.server]
+        if not args.credentials:
+            raise InputError("--server needs --credentials FILE: the service folder's "
+                             "credentials, which tools/actinia/service.sh start wrote")
+        user, password = read_credentials(args.credentials)
+        servers = [Actinia(url, user, password, args.location) for url in args.server]
         turns = itertools.count()
 
         def runner(pc, sheet_dir):
@@ -269,6 +398,10 @@ def run_series(args):
     else:
         location = os.path.join(out, "grassdb", "series")
         make_location(location, series.epsg)
+        left = remove_left_mapsets(location)
+        if left:
+            print("removed {} mapset(s) a killed run left: {}".format(len(left), ", ".join(left)),
+                  flush=True)
         dist = os.path.abspath(args.dist)
 
         def runner(pc, sheet_dir):
@@ -320,15 +453,14 @@ def run_series(args):
     report = {"sheets": len(series.sheets), "finished": len(models), "failed": failures}
     if models:
         target = os.path.join(out, "series.city.jsonl")
-        with open(target + ".part", "wb") as f:
-            merged = merge.merge_sheets(models, series, f)
-        os.replace(target + ".part", target)
-        report.update(buildings=merged.buildings, built=merged.built, kept=merged.kept,
-                      dropped=merged.dropped, renamed=merged.renamed)
+        done_merge = merged(series, models, target)
+        report.update(buildings=done_merge.buildings, built=done_merge.built,
+                      kept=done_merge.kept, dropped=done_merge.dropped,
+                      renamed=done_merge.renamed)
         print("{} buildings of {} sheets merged into '{}'{}".format(
-            merged.buildings, len(models), target,
-            "; {} left out, overlapping a neighbour's".format(len(merged.dropped))
-            if merged.dropped else ""), flush=True)
+            done_merge.buildings, len(models), target,
+            "; {} left out, overlapping a neighbour's".format(len(done_merge.dropped))
+            if done_merge.dropped else ""), flush=True)
     with open(os.path.join(out, "report.json"), "w", encoding="utf-8") as f:
         json.dump(report, f, indent=1)
     for name, message in sorted(failures.items()):
@@ -352,8 +484,9 @@ def main(argv=None):
     parser.add_argument("--server", action="append",
                         help="actinia's URL, or several, one --server each, used in turn "
                              "(default: run the chains here)")
-    parser.add_argument("--user", default="histo")
-    parser.add_argument("--password", default="histo")
+    parser.add_argument("--credentials", metavar="FILE",
+                        help="with --server: the service's credentials file (DIR/credentials "
+                             "of tools/actinia/service.sh start DIR, or DIR itself)")
     parser.add_argument("--location", default="histo", help="actinia's location for the jobs")
     parser.add_argument("--jobs", type=int, default=2, help="sheets running at a time")
     parser.add_argument("--template", default=TEMPLATE, help="process chain template")

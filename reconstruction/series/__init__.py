@@ -10,16 +10,32 @@
   that holds its larger part) and the grid of sheets the chain needs for it;
 - ``merge``: the sheets' models merged into one CityJSONSeq of the series,
   every building once, none overlapping another sheet's;
-- ``progress``: what finished, so that a rerun goes on where it stopped.
+- ``progress``: what finished, so that a rerun goes on where it stopped;
+- ``gate``: what the series service lets through to actinia (routes, process
+  chains, file paths in the series' work folder).
+
+``merge`` (and with it the CityJSON writers, orjson, shapely) is imported
+when first used (``reconstruction.series.merge``, ``merge_sheets`` and
+``MergeReport`` are there all the same, outside ``__all__``): the gate runs
+in actinia's own venv, which has not all of them.
 """
 
-from . import chain, edges, manifest, merge, progress
+import importlib
+
+from . import chain, edges, gate, manifest, progress
 from .chain import ProcessChain, Step, process_chain, read_template
 from .edges import owner_sheet
 from .manifest import Series, Sheet, read_manifest
-from .merge import MergeReport, merge_sheets
 from .progress import Progress
 
-__all__ = ["MergeReport", "ProcessChain", "Progress", "Series", "Sheet", "Step", "chain", "edges",
-           "manifest", "merge", "merge_sheets", "owner_sheet", "process_chain", "progress",
-           "read_manifest", "read_template"]
+
+def __getattr__(name):
+    if name == "merge":
+        return importlib.import_module(".merge", __name__)
+    if name in ("MergeReport", "merge_sheets"):
+        return getattr(importlib.import_module(".merge", __name__), name)
+    raise AttributeError("module {!r} has no attribute {!r}".format(__name__, name))
+
+__all__ = ["ProcessChain", "Progress", "Series", "Sheet", "Step", "chain", "edges", "gate",
+           "manifest", "owner_sheet", "process_chain", "progress", "read_manifest",
+           "read_template"]

@@ -105,16 +105,32 @@ def read_template(path):
     return doc
 
 
-def values(series, sheet, grid_file):
+def sheet_grid(series, sheet):
+    """The grid a sheet's chain reads (:func:`.edges.grid_geojson` of the
+    sheet and its neighbours) as compact GeoJSON text: the chain carries it
+    itself (``v.in.ogr`` reads GeoJSON text as a data source), so a job
+    needs no file of the driver's, and its size grows with the neighbours,
+    not with the series."""
+    near = (sheet,) + series.neighbours(sheet)
+    return json.dumps(edges.grid_geojson(series, near), separators=(",", ":"))
+
+
+def values(series, sheet):
     """The placeholders' values of one sheet: the template's defaults are
-    filled in by :func:`process_chain`, these come from the manifest."""
+    filled in by :func:`process_chain`, these come from the manifest.
+    ``patch`` is the module that puts each band of the sheet's map and its
+    neighbours' into one map of the chain's region: ``r.patch``, or with no
+    neighbour (one sheet, ``"margin": 0``) ``r.resample``, as r.patch needs
+    two maps."""
     west, south, east, north = edges.chain_region(series, sheet)
     out = {"name": sheet.name, "map": sheet.map, "training": sheet.training,
            "footprints": sheet.footprints, "year": str(sheet.year), "seed": str(series.seed),
-           "grid": grid_file, "owner_query": edges.owner_query(edges.sheet_index(series, sheet)),
+           "grid": sheet_grid(series, sheet),
+           "owner_query": edges.owner_query(edges.sheet_index(series, sheet)),
            "west": _text(west), "south": _text(south), "east": _text(east),
            "north": _text(north)}
     bands = ["sheet"] + ["n{}".format(k) for k in range(len(series.neighbours(sheet)))]
+    out["patch"] = "r.patch" if len(bands) > 1 else "r.resample"
     for b in (1, 2, 3):
         out["patch_{}".format(b)] = ",".join("{}.{}".format(m, b) for m in bands)
     return out
@@ -160,19 +176,20 @@ def shell_settings(known, series, sheet, grid_file):
     owns, its year and seed, and each option the manifest sets, as the
     upper-case variable of chain.sh's own parameter (``min_area`` ->
     ``MIN_AREA``); the options it does not set keep chain.sh's values."""
-    v = values(series, sheet, grid_file)
+    v = values(series, sheet)
     out = [("SHEET_NAME", sheet.name), ("SHEET_MAP", v["map"]),
            ("SHEET_NEIGHBOURS", tuple(s.map for s in series.neighbours(sheet))),
+           ("SHEET_PATCH", v["patch"]),
            ("SHEET_REGION", tuple(v[k] for k in ("west", "south", "east", "north"))),
            ("SHEET_TRAINING", v["training"]), ("SHEET_FOOTPRINTS", v["footprints"]),
-           ("SHEET_GRID", v["grid"]), ("SHEET_OWNER", v["owner_query"]),
+           ("SHEET_GRID", grid_file), ("SHEET_OWNER", v["owner_query"]),
            ("YEAR", v["year"]), ("SEED", v["seed"])]
     out += [(k.upper(), value) for k, value in sorted(sheet_options(known, series,
                                                                     sheet).items())]
     return out
 
 
-def process_chain(template, series, sheet, grid_file):
+def process_chain(template, series, sheet):
     """The :class:`ProcessChain` of ``sheet``: ``template`` (a dict, as
     :func:`read_template` gives it) filled in with the sheet's values, the
     template's defaults, the series' options and the sheet's own (the last
@@ -181,7 +198,7 @@ def process_chain(template, series, sheet, grid_file):
     defaults = {k: str(v) for k, v in template.get("defaults", {}).items()}
     known = dict(defaults)
     known.update(sheet_options(defaults, series, sheet))
-    known.update(values(series, sheet, grid_file))
+    known.update(values(series, sheet))
     steps = []
     for entry in template["list"]:
         if entry.get("for_each") == "neighbour":

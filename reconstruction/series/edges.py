@@ -38,11 +38,16 @@ def chain_region(series, sheet):
             min(grown[2], reach[2]), min(grown[3], reach[3]))
 
 
-def grid_geojson(series):
+def grid_geojson(series, near=None):
     """The sheets' own areas as GeoJSON polygons with their number ``sheet``
-    (what the chains read to apply the rule)."""
+    (what the chains read to apply the rule): of every sheet, or of those
+    of ``near`` (sheets of the series: a sheet and its neighbours, all a
+    sheet's chain can see), still numbered in the series."""
     features = []
+    names = None if near is None else {s.name for s in near}
     for k, s in enumerate(series.sheets):
+        if names is not None and s.name not in names:
+            continue
         w, so, e, n = s.extent
         ring = [[w, so], [e, so], [e, n], [w, n], [w, so]]
         features.append({"type": "Feature", "properties": {"sheet": k + 1, "name": s.name},

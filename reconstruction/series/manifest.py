@@ -19,15 +19,21 @@ sheets of a series share edges and never overlap.
 """
 
 import csv
+import io
 import json
+import math
 import os
 import re
 from dataclasses import dataclass
 
+from ..core import crs, jsontext
 from ..core.errors import InputError
 
-#: a sheet's name becomes part of GRASS map names and file names
-_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+#: a sheet's name becomes part of GRASS map names and file names (matched
+#: whole: ``$`` would let a name end in a newline)
+_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+#: what a manifest is, for the errors of :mod:`reconstruction.core.jsontext`
+WHAT = "manifest"
 #: the columns of a CSV manifest
 CSV_COLUMNS = ("name", "map", "training", "footprints", "west", "south", "east", "north", "year")
 
@@ -96,14 +102,25 @@ def _where(path, sheet=None):
 
 
 def _number(value, what, where, kind=float):
+    """``value`` (a JSON number or a text) as a finite float, or as an int
+    when ``kind`` is int (a whole number: 1900 or "1900", not 1900.5)."""
+    if isinstance(value, bool):
+        value = None                # true is no number (float(True) would be 1.0)
     try:
-        out = kind(value)
-    except (TypeError, ValueError):
+        out = float(value)
+    except (TypeError, ValueError, OverflowError):
         raise InputError("{}: {} must be a number, not {}".format(
-            where, what, json.dumps(value))) from None
-    if kind is float and out != out:
-        raise InputError("{}: {} must be a number, not NaN".format(where, what))
-    return out
+            where, what, json.dumps(value)[:60])) from None
+    if not math.isfinite(out):
+        raise InputError("{}: {} must be a finite number, not {}".format(where, what, out))
+    if kind is float:
+        return out
+    if isinstance(value, int):
+        return value
+    if out != int(out) or abs(out) >= 2 ** 53:
+        raise InputError("{}: {} must be a whole number, not {}".format(
+            where, what, json.dumps(value)[:60]))
+    return int(out)
 
 
 def _options(value, where):
@@ -115,7 +132,7 @@ def _options(value, where):
             raise InputError("{}: options must be key=value pairs separated by ';', not '{}'"
                              .format(where, value))
         value = dict(p.split("=", 1) for p in pairs)
-    if not isinstance(value, dict):
+    if not isinstance(value, dict) or any(isinstance(v, (dict, list)) for v in value.values()):
         raise InputError("{}: options must be an object of key: value".format(where))
     return tuple(sorted((str(k).strip(), str(v).strip()) for k, v in value.items()))
 
@@ -129,9 +146,9 @@ def _file(folder, value, what, where):
 def sheet_of(entry, folder, where):
     """A :class:`Sheet` of one manifest entry (a dict of its fields)."""
     name = entry.get("name")
-    if not isinstance(name, str) or not _NAME.match(name):
+    if not isinstance(name, str) or not _NAME.fullmatch(name):
         raise InputError("{}: a sheet's name must start with a letter and hold only letters, "
-                         "digits and '_', not {}".format(where, json.dumps(name)))
+                         "digits and '_', not {}".format(where, json.dumps(name)[:60]))
     where = "{}, sheet <{}>".format(where, name)
     extent = entry.get("extent")
     if extent is None:
@@ -175,26 +192,40 @@ def series_of(doc, path):
     margin = _number(doc.get("margin", MARGIN), "margin", where)
     if margin < 0:
         raise InputError("{}: margin must be 0 or more metres".format(where))
-    return Series(sheets=tuple(sheets), epsg=_number(doc.get("epsg", 28992), "epsg", where, int),
-                  margin=margin, seed=_number(doc.get("seed", 1), "seed", where, int),
+    epsg = _number(doc.get("epsg", 28992), "epsg", where, int)
+    if not 0 < epsg < 2 ** 31 or not crs.known(epsg):
+        raise InputError("{}: EPSG:{} is not a reference system PROJ knows".format(where, epsg))
+    if crs.geographic(epsg):
+        raise InputError("{}: EPSG:{} is geographic (degrees): a series' sheets are in "
+                         "metres".format(where, epsg))
+    seed = _number(doc.get("seed", 1), "seed", where, int)
+    if not 0 <= seed < 2 ** 31:
+        raise InputError("{}: seed must be a whole number from 0 to 2147483647".format(where))
+    return Series(sheets=tuple(sheets), epsg=epsg, margin=margin, seed=seed,
                   options=_options(doc.get("options"), where), path=os.path.abspath(path))
 
 
 def read_manifest(path):
-    """The :class:`Series` of a manifest file (``.json`` or ``.csv``)."""
-    try:
-        with open(path, encoding="utf-8", newline="") as f:
-            text = f.read()
-    except OSError as e:
-        raise InputError("Cannot read the manifest '{}': {}".format(path, e.strerror)) from None
+    """The :class:`Series` of a manifest file (``.json`` or ``.csv``, UTF-8)."""
+    text = jsontext.read_text(path, WHAT)
     if path.lower().endswith(".csv"):
-        rows = list(csv.DictReader(text.splitlines()))
-        missing = [c for c in CSV_COLUMNS if rows and c not in rows[0]] if rows else []
-        if missing:
-            raise InputError("{}: no column {}".format(_where(path), ", ".join(missing)))
-        return series_of({"sheets": rows}, path)
+        return series_of({"sheets": csv_rows(text, path)}, path)
+    return series_of(jsontext.loads(text, WHAT, path), path)
+
+
+def csv_rows(text, path):
+    """The rows of a CSV manifest as dicts of its columns, or one InputError."""
+    reader = csv.DictReader(io.StringIO(text, newline=""))
+    rows = []
     try:
-        doc = json.loads(text)
-    except ValueError as e:
-        raise InputError("{}: not JSON ({})".format(_where(path), e)) from None
-    return series_of(doc, path)
+        for row in reader:
+            if None in row or None in row.values():
+                raise InputError("{}: line {} has not as many fields as the header".format(
+                    _where(path), reader.line_num))
+            rows.append(row)
+    except csv.Error as e:
+        raise InputError("{}: not CSV ({})".format(_where(path), e)) from None
+    missing = [c for c in CSV_COLUMNS if c not in (reader.fieldnames or ())]
+    if rows and missing:
+        raise InputError("{}: no column {}".format(_where(path), ", ".join(missing)))
+    return rows

@@ -113,23 +113,26 @@ def main():
                                            "--dist", DIST], set())
         rows.append(("local, sequential", seconds, peak))
         port = free_port()
-        service("start", services[0], str(port), str(free_port()))
+        sheets = os.path.dirname(manifest)     # the services' work folder (WORK)
+        service("start", services[0], str(port), str(free_port()), WORK=sheets)
         sids = service_sids(services[0])
         for jobs in (1, 2):
             seconds, peak = measured(driver + [os.path.join(work, "actinia_{}".format(jobs)),
                                                "--server", "http://127.0.0.1:{}".format(port),
+                                               "--credentials", services[0],
                                                "--jobs", str(jobs)], sids)
             rows.append(("actinia, {} worker{}".format(jobs, "s" if jobs > 1 else ""),
                          seconds, peak))
         service("stop", services[0])
         ports = [free_port(), free_port()]
-        service("start", services[1], str(ports[0]), str(free_port()), QUEUES="2")
+        service("start", services[1], str(ports[0]), str(free_port()), QUEUES="2", WORK=sheets)
         service("server", services[1], str(ports[1]))
         for name in ("a", "b"):
             service("worker", services[1], name)
         servers = [a for p in ports for a in ("--server", "http://127.0.0.1:{}".format(p))]
         seconds, peak = measured(driver + [os.path.join(work, "actinia_redis")] + servers +
-                                 ["--jobs", "2"], service_sids(services[1]))
+                                 ["--credentials", services[1], "--jobs", "2"],
+                                 service_sids(services[1]))
         rows.append(("redis queue, 2 servers, 2 workers", seconds, peak))
         print("{} sheets of 200 m x 200 m (synthetic, seed 1)".format(len(SHEETS)))
         print("{:<34} {:>8} {:>13} {:>14}".format("run", "wall s", "sheets/hour", "peak RSS MB"))

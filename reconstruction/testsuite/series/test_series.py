@@ -102,7 +102,7 @@ def test_the_owner_query_names_the_sheet():
 def test_the_chain_is_filled_in_for_each_sheet_with_its_neighbours(tmp_path):
     series = three(tmp_path, options={"min_area": "40"})
     template = chain.read_template(TEMPLATE)
-    pc = chain.process_chain(template, series, series.sheets[0], "/g.geojson")
+    pc = chain.process_chain(template, series, series.sheets[0])
     text = json.dumps(pc.document)
     assert "{{" not in text
     steps = pc.steps()
@@ -120,7 +120,7 @@ def test_an_unknown_option_is_refused(tmp_path):
     series = three(tmp_path, options={"colour": "red"})
     template = chain.read_template(TEMPLATE)
     with pytest.raises(InputError, match="unknown option <colour>"):
-        chain.process_chain(template, series, series.sheets[0], "g")
+        chain.process_chain(template, series, series.sheets[0])
     with pytest.raises(InputError, match="unknown option <colour>"):
         chain.shell_settings(template["defaults"], series, series.sheets[0], "g")
 
@@ -177,7 +177,7 @@ def test_a_changed_chain_has_another_fingerprint():
     assert progress.fingerprint({"a": 1}) != progress.fingerprint({"a": 2})
 
 
-def _box_model(path, boxes):
+def box_model(path, boxes):
     """A CityJSON file with one box building per (id, x0, y0, x1, y1)."""
     vertices, objects = [], {}
     for oid, x0, y0, x1, y1 in boxes:
@@ -204,9 +204,9 @@ def test_the_merge_keeps_every_building_once_and_the_owner_of_an_overlap(tmp_pat
     series = manifest.read_manifest(write_manifest(tmp_path, {"sheets": [
         sheet("a", 0, 0), sheet("b", 1, 0)]}))
     # both sheets built the plot over their edge x = 200 m, most of it on b
-    a = _box_model(str(tmp_path / "a.json"), [("building_1", 10000, 10000, 20000, 20000),
+    a = box_model(str(tmp_path / "a.json"), [("building_1", 10000, 10000, 20000, 20000),
                                               ("building_2", 190000, 10000, 230000, 20000)])
-    b = _box_model(str(tmp_path / "b.json"), [("building_1", 191000, 10000, 231000, 20000),
+    b = box_model(str(tmp_path / "b.json"), [("building_1", 191000, 10000, 231000, 20000),
                                               ("building_9", 300000, 10000, 310000, 20000)])
     out = io.BytesIO()
     report = merge.merge_sheets([("b", b), ("a", a)], series, out)
@@ -216,3 +216,36 @@ def test_the_merge_keeps_every_building_once_and_the_owner_of_an_overlap(tmp_pat
     assert sorted(ids) == ["a/building_1", "b/building_1", "building_9"]
     assert report.dropped == [("a", "building_2", "b")]
     assert report.built == {"a": 2, "b": 2} and report.kept == {"a": 1, "b": 2}
+
+
+@pytest.mark.parametrize("sheets, margin", [(["a"], 80), (["a", "b", "c"], 0)])
+def test_a_sheet_without_neighbours_gets_its_map_through_r_resample(tmp_path, sheets, margin):
+    """r.patch needs two maps: a one-sheet series or "margin": 0 (issue 49, item 11)."""
+    places = {"a": (0, 0), "b": (1, 0), "c": (0, 1)}
+    series = manifest.read_manifest(write_manifest(tmp_path, {"margin": margin, "sheets": [
+        sheet(n, *places[n]) for n in sheets]}))
+    template = chain.read_template(TEMPLATE)
+    for s in series.sheets:
+        steps = chain.process_chain(template, series, s).steps()
+        patches = [dict(step.params)["input"] for step in steps if step.id.startswith("patch_")]
+        assert [step.module for step in steps if step.id.startswith("patch_")] == \
+            ["r.resample"] * 3
+        assert patches == ["sheet.1", "sheet.2", "sheet.3"]
+        settings = dict(chain.shell_settings(template["defaults"], series, s, "/g.geojson"))
+        assert settings["SHEET_PATCH"] == "r.resample" and settings["SHEET_NEIGHBOURS"] == ()
+    two = manifest.read_manifest(write_manifest(tmp_path, {"sheets": [sheet("a", 0, 0),
+                                                                      sheet("b", 1, 0)]}))
+    steps = chain.process_chain(template, two, two.sheets[0]).steps()
+    assert {step.module for step in steps if step.id.startswith("patch_")} == {"r.patch"}
+
+
+def test_the_chain_carries_the_grid_of_the_sheet_and_its_neighbours(tmp_path):
+    """No file of the driver's in a job (issue 49: paths limited to the work folder)."""
+    doc = {"margin": 30, "sheets": [sheet("a", 0, 0), sheet("b", 1, 0), sheet("c", 0, 1),
+                                    sheet("d", 5, 5)]}
+    series = manifest.read_manifest(write_manifest(tmp_path, doc))
+    step = next(s for s in chain.process_chain(chain.read_template(TEMPLATE), series,
+                                               series.sheets[1]).steps() if s.id == "import_grid")
+    grid = json.loads(dict(step.params)["input"])
+    assert [(f["properties"]["name"], f["properties"]["sheet"]) for f in grid["features"]] == \
+        [("a", 1), ("b", 2), ("c", 3)]
