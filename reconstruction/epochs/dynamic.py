@@ -36,15 +36,26 @@ from dataclasses import dataclass, field
 from typing import Optional
 
 import numpy as np
+import shapely
 
 from ..cityjson import geometry as citygeometry
 from ..cityjson.seq import object_tree
 from ..cityjson.existing import id_key
+from ..core import crs
 from ..core.errors import InputError
 from .lifespans import lifespan
+from .plots import LINK_SHARE
 
 #: the output grid (m): the chain's models are written in millimetres
 SCALE = 0.001
+#: projected reference systems whose unit is not the metre on the ground: Web
+#: Mercator's (EPSG:3857 and its older codes) is 1/cos(latitude) m, 1.6 m at Delft,
+#: so footprints would stand 1.6 times too large under heights in metres and every
+#: tolerance of the chain (the millimetre grid, the outlines) would be off
+NOT_METRIC = frozenset({3857, 3785, 900913, 102100, 102113})
+#: what joins an object id to the year of the epoch where an unrelated building of
+#: the same id first stands (:func:`merge_epochs`)
+APART = "@"
 #: attributes the merge adds to each object (not an epoch's)
 DYNAMIC = ("epochs", "geometry_epochs", "epoch_attributes", "dateOfConstruction",
            "dateOfConstructionEarliest", "dateOfConstructionLatest", "dateOfDemolitionEarliest",
@@ -65,13 +76,17 @@ class Epoch:
 class MergeReport:
     """What :func:`merge_epochs` found: ``buildings`` (distinct identities), per
     epoch year its building count (``per_epoch``), the geometry ``versions``
-    stored, the buildings still ``standing`` and the ``conflicts`` ({id: what})."""
+    stored, the buildings still ``standing``, the ``conflicts`` ({id: what}) and the
+    ids kept ``apart``."""
 
     buildings: int
     per_epoch: dict
     versions: int
     standing: int
     conflicts: dict = field(default_factory=dict)
+    #: {id given: the ids it became} of the ids that name buildings in different
+    #: places on different maps (footprints apart), each kept as a building of its own
+    apart: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -107,7 +122,161 @@ def _check_years(epochs):
             ", ".join(map(str, years))))
     if not epochs:
         raise InputError("No epochs to merge")
-    return sorted(epochs, key=lambda e: e.year)
+    epochs = sorted(epochs, key=lambda e: e.year)
+    for k, e in enumerate(epochs):
+        check_one_epoch(e.document, e.path, e.year)
+        for other in epochs[:k]:
+            if other.document == e.document:
+                raise InputError("The models of {} '{}' and of {} '{}' are one and the same: "
+                                 "one model per map".format(other.year, other.path, e.year,
+                                                            e.path))
+    return epochs
+
+
+def _top_attributes(document):
+    """The attributes (dicts) of the top-level objects of a document."""
+    return [obj.get("attributes") or {} for obj in document.get("CityObjects", {}).values()
+            if isinstance(obj, dict) and not obj.get("parents")]
+
+
+def map_years(document):
+    """The map years (``map_year``, v.histo.lod2 year=) its buildings give, sorted."""
+    return sorted({a["map_year"] for a in _top_attributes(document) if isinstance(
+        a.get("map_year"), int) and not isinstance(a.get("map_year"), bool)})
+
+
+def check_one_epoch(document, path, year=None, what="model"):
+    """InputError unless ``document`` (read from ``path``, a ``what``) is the model of
+    one epoch: not a model over time (:func:`merge_epochs`' output), its buildings of
+    one map year, that year ``year`` where given, and (with ``year``) not empty: an
+    epoch without buildings would date the demolition of every building before it."""
+    attributes = _top_attributes(document)
+    if any(name in a for a in attributes for name in ("epochs", "geometry_epochs")):
+        raise InputError("The {} '{}' is a model over several epochs (v.histo.timeline's), "
+                         "not the model of one map: take the epoch wanted from it with "
+                         "v.histo.timeline input= snapshot=".format(what, path))
+    found = map_years(document)
+    if len(found) > 1:
+        raise InputError("The {} '{}' holds buildings of several maps (map_year {}): not the "
+                         "model of one map".format(what, path, ", ".join(map(str, found))))
+    if year is None:
+        return
+    if found and found[0] != year:
+        raise InputError("The {} '{}' is of the map of {} (its buildings' map_year), not of {} "
+                         "as years= says".format(what, path, found[0], year))
+    if not attributes:
+        raise InputError("The {} of {} '{}' has no buildings: a map of the town shows some, "
+                         "and an empty epoch would date the demolition of every building "
+                         "before it".format(what, year, path))
+
+
+def epochs_reference_system(epochs):
+    """The ``referenceSystem`` of the epochs' models (the first one given), None when
+    none gives one; InputError for two that locate points differently (e.g. EPSG:31370
+    and EPSG:28992), and for one in degrees (EPSG:4326) or in Web Mercator's
+    units (:data:`NOT_METRIC`), which are not metres on the ground."""
+    first = None
+    for e in epochs:
+        text = (e.document.get("metadata") or {}).get("referenceSystem")
+        code = crs.epsg_code(text)
+        if code is None:
+            continue
+        if code in NOT_METRIC or crs.geographic(code):
+            raise InputError(
+                "The model of {} '{}' is in EPSG:{}, whose units are not metres on the "
+                "ground ({}): reproject it to the town's projected system first (e.g. with "
+                "cjio's crs_reproject)".format(e.year, e.path, code, "degrees of longitude and "
+                                               "latitude" if crs.geographic(code)
+                                               else "Web Mercator"))
+        if first is None:
+            first = (e, code, text)
+        elif not crs.same_place(first[1], code):
+            raise InputError("The models of {} '{}' (EPSG:{}) and of {} '{}' (EPSG:{}) are in "
+                             "different reference systems: reproject them to one first".format(
+                                 first[0].year, first[0].path, first[1], e.year, e.path, code))
+    return None if first is None else first[2]
+
+
+def _hulls(document, trees, grid):
+    """{top-level id: the convex hull (x, y, mm) of the vertices of its tree} of the
+    ``trees`` of a document whose vertices are ``grid`` (:func:`_millimetres`)."""
+    objects = document["CityObjects"]
+    ids, owner, flat = list(trees), [], []
+    for n, oid in enumerate(ids):
+        geoms = [g for m in trees[oid] for g in objects[m].get("geometry", ())]
+        got = citygeometry.indices(geoms) if geoms else np.zeros(0, np.int64)
+        flat.append(got)
+        owner.append(np.full(len(got), n))
+    flat = np.concatenate(flat) if flat else np.zeros(0, np.int64)
+    owner = np.concatenate(owner) if owner else np.zeros(0, np.int64)
+    hulls = np.array([shapely.Polygon()] * len(ids), dtype=object)
+    if len(flat):
+        points = shapely.multipoints(grid[flat, :2].astype(float), indices=owner)
+        hulls[np.unique(owner)] = shapely.convex_hull(points)
+    return dict(zip(ids, hulls))
+
+
+def _same_place(a, b):
+    """Whether two footprints (hulls) are one building's: they share at least
+    :data:`~reconstruction.epochs.plots.LINK_SHARE` of the smaller one's area (or
+    touch, for a hull without area)."""
+    smaller = min(shapely.area(a), shapely.area(b))
+    if smaller <= 0:
+        return bool(shapely.intersects(a, b))
+    return shapely.area(shapely.intersection(a, b)) >= LINK_SHARE * smaller
+
+
+def _renamed(document, names):
+    """A copy of ``document`` whose objects are renamed by ``names`` ({old id: new id}),
+    their links too."""
+    objects = {}
+    for oid, obj in document["CityObjects"].items():
+        if oid in names:
+            obj = dict(obj)
+            for link in ("children", "parents"):
+                if obj.get(link):
+                    obj[link] = [names.get(x, x) for x in obj[link]]
+        objects[names.get(oid, oid)] = obj
+    return {**document, "CityObjects": objects}
+
+
+def _apart(epochs, grids):
+    """The epochs with the buildings that share an id but not a place kept apart.
+
+    An id is one building across the epochs while each map's footprint of it
+    overlaps the one before (:func:`_same_place`): the chain keeps a building's
+    footprint as it was, or redraws it where it stands. Where an id's footprint
+    lies elsewhere than on the map before (two runs that each numbered their
+    buildings from 1), it names another building from there on: its tree is
+    renamed ``<id>@<year>`` (:data:`APART`). Returns (epochs, {id: [new ids]})."""
+    trees = [_trees(e.document) for e in epochs]
+    seen = {}
+    for k, t in enumerate(trees):
+        for oid in t:
+            seen.setdefault(oid, []).append(k)
+    shared = {oid for oid, ks in seen.items() if len(ks) > 1}
+    if not shared:
+        return epochs, {}
+    hulls = [_hulls(e.document, {o: t[o] for o in t if o in shared}, g)
+             for e, t, g in zip(epochs, trees, grids)]
+    taken = {m for e in epochs for m in e.document.get("CityObjects", {})}
+    renames = [dict() for _ in epochs]
+    apart = {}
+    for oid in sorted(shared):
+        ks, name = seen[oid], None
+        for before, k in zip(ks, ks[1:]):
+            if not _same_place(hulls[before][oid], hulls[k][oid]):
+                name = oid + APART + str(epochs[k].year)
+                while name in taken:
+                    name += APART
+                taken.add(name)
+                apart.setdefault(oid, []).append(name)
+            if name is not None:
+                suffix = name[len(oid):]
+                renames[k].update({m: (name if m == oid else m + suffix) for m in trees[k][oid]})
+    out = [Epoch(e.year, _renamed(e.document, names), e.path) if names else e
+           for e, names in zip(epochs, renames)]
+    return out, apart
 
 
 def merge_epochs(epochs, register=None, reference_system=None, title=None):
@@ -121,8 +290,12 @@ def merge_epochs(epochs, register=None, reference_system=None, title=None):
     another.
     """
     epochs = _check_years(epochs)
+    given = epochs_reference_system(epochs)
+    if reference_system is None:
+        reference_system = given
     years = [e.year for e in epochs]
     grids = [_millimetres(e.document) for e in epochs]
+    epochs, apart = _apart(epochs, grids)
     rows = np.concatenate(grids) if grids else np.zeros((0, 3), np.int64)
     unique, inverse = np.unique(rows, axis=0, return_inverse=True)
     inverse = inverse.reshape(-1)
@@ -191,7 +364,7 @@ def merge_epochs(epochs, register=None, reference_system=None, title=None):
     document = _document(objects, unique, used, epochs, reference_system, title)
     report = MergeReport(len(present), {years[k]: sum(k in t for t in present.values())
                                         for k in range(len(years))}, versions, standing,
-                         conflicts)
+                         conflicts, apart)
     return DynamicModel(document, report)
 
 
@@ -249,6 +422,58 @@ def epoch_years(document):
                    for y in (obj.get("attributes") or {}).get("epochs", ())})
 
 
+def _integers(value):
+    return isinstance(value, list) and all(
+        isinstance(v, int) and not isinstance(v, bool) for v in value)
+
+
+def _merged_problem(obj, top):
+    """What of a city object (a dict; ``top``: top-level) a model over time cannot hold
+    (None: nothing): see :func:`check_merged`."""
+    a = obj.get("attributes") or {}
+    if not isinstance(a, dict):
+        return "has attributes that are not an object"
+    if ("epochs" in a or top) and not (_integers(a.get("epochs")) and (a["epochs"] or not top)):
+        return "has no list of epochs (years)"
+    geometry = obj.get("geometry") or []
+    stamps = a.get("geometry_epochs", [] if not geometry else None)
+    if not (isinstance(stamps, list) and len(stamps) == len(geometry) and all(
+            _integers(e) for e in stamps)):
+        return "has no list of the epochs of each of its {} geometries".format(len(geometry))
+    extra = a.get("epoch_attributes") or {}
+    if not (isinstance(extra, dict) and all(isinstance(v, dict) for v in extra.values())):
+        return "has epoch_attributes that are not {year: {name: value}}"
+    for link in ("children", "parents"):
+        if not isinstance(obj.get(link) or [], list):
+            return "has {} that are not a list".format(link)
+    return None
+
+
+def check_merged(document, path):
+    """InputError unless ``document`` (read from ``path`` by
+    :func:`~reconstruction.cityjson.existing.read_document`) is a model over time as
+    :func:`merge_epochs` writes it: each top-level object with its ``epochs`` (years),
+    each object with geometry with the epochs of each geometry (``geometry_epochs``),
+    a geometry in its tree for each of its epochs, ``epoch_attributes`` {year: {name:
+    value}} where given."""
+    objects = document["CityObjects"]
+    for oid, obj in objects.items():
+        problem = _merged_problem(obj, not obj.get("parents"))
+        if problem is None and not obj.get("parents"):
+            drawn = {y for m in object_tree(objects, oid)
+                     for e in (objects[m].get("attributes") or {}).get("geometry_epochs", ())
+                     for y in e}
+            lacking = sorted(set(obj["attributes"]["epochs"]) - drawn)
+            if lacking:
+                problem = "has no geometry of its epoch {}".format(lacking[0])
+        if problem is not None:
+            raise InputError("'{}' is not a model over time of v.histo.timeline: its city "
+                             "object <{}> {}".format(path, oid, problem))
+    if not epoch_years(document):
+        raise InputError("'{}' is not a model over time of v.histo.timeline: it has no "
+                         "epochs".format(path))
+
+
 def standing_versions(document, year):
     """{top-level object id: the epoch whose geometry and attributes it has} of the
     buildings standing in ``year`` in a merged model (the snapshot's rule, see the
@@ -303,10 +528,7 @@ def snapshot(document, year):
                 obj[name] = [x for x in obj[name] if x in out]
                 if not obj[name]:
                     del obj[name]
-    vertices = np.asarray(document.get("vertices") or np.zeros((0, 3)), dtype=np.int64)
-    t = document["transform"]
-    unique = vertices.reshape(-1, 3) + np.rint(np.asarray(t["translate"]) / SCALE).astype(
-        np.int64)
+    unique = _millimetres(document)
     metadata = {k: v for k, v in (document.get("metadata") or {}).items()
                 if k != "geographicalExtent"}
     doc = _document(out, unique, used, [Epoch(year, {"metadata": metadata})], None, None)

@@ -431,7 +431,8 @@ def test_copied_attributes_that_json_dumps_and_orjson_write_differently(sample):
     """The copied objects are written by orjson: non-ASCII text stays text,
     NaN becomes null (valid JSON), numpy numbers are numbers; a model with a string
     orjson refuses (a lone surrogate) is written by json.dumps instead (NaN
-    then as NaN), in both the single file and the sequence."""
+    then as NaN), in both the single file and the sequence (which the reader then
+    refuses: core.jsontext)."""
     model = existing.read_model(os.path.join(sample, FORMS[0]))
     gen = generated(BOXES)
     extra = {"straat": ["Oude Delft éè", "字"], "gauge": [[float("nan"), 1.0], 2.5],
@@ -443,8 +444,12 @@ def test_copied_attributes_that_json_dumps_and_orjson_write_differently(sample):
         text = citymerge.merge(gen[4], copied)
         merged = json.loads(text)
         assert not odd or "\\ud800" in text
-        back = cityjsonseq.collect(sequence_of(gen, copied)[1])
-        for doc in (merged, back):
+        stream = sequence_of(gen, copied)[1]
+        if odd:     # written, but not read back: a lone surrogate is refused on reading
+            with pytest.raises(InputError, match="lone UTF-16 surrogate"):
+                cityjsonseq.collect(stream)
+        back = None if odd else cityjsonseq.collect(stream)
+        for doc in (merged, back) if back else (merged,):
             got = [doc["CityObjects"][model.buildings[b]]["attributes"] for b in (0, 1)]
             assert [a["straat"] for a in got] == expected
             assert [a["count"] for a in got] == [7, 8]
