@@ -12,6 +12,9 @@ makes one CityJSON 2.0 document of them that holds every building once:
   ``epoch_attributes``, what another epoch says otherwise ({year: {name:
   value}}: the map year, the plot number, a measured height); each object's
   ``geometry_epochs`` lists, per geometry, the epochs it is the geometry of;
+- its identity: its id, while each map's footprint of it overlaps the
+  one before (an id that two runs of the chain gave unrelated buildings
+  is kept apart, the later one as ``<id>@<year>``);
 - its lifespan (:mod:`~reconstruction.epochs.lifespans`): ``epochs``,
   ``dateOfConstruction`` (the register's year, where the maps agree),
   ``dateOfConstructionEarliest``/``Latest``, ``dateOfDemolitionEarliest``/
@@ -285,9 +288,14 @@ def merge_epochs(epochs, register=None, reference_system=None, title=None):
     ``register``: {building id: construction year or None} of today's
     register (the BAG): a building whose id (or, for an id with dots such as
     ``NL.IMBAG.Pand.0503100000012345``, the part after its last dot, leading
-    zeros aside) is in it still stands. Raises InputError for two epochs of
-    one year or an object id that is a building in one epoch and a part in
-    another.
+    zeros aside) is in it still stands; ``reference_system``: the output's
+    (None: the models'). Raises InputError for two epochs of one year, a
+    model that is not one epoch's (:func:`check_one_epoch`: another map
+    year than its epoch's, a merged model, no buildings), models in
+    different reference systems or one not in metres
+    (:func:`epochs_reference_system`), and an object id that is a building
+    in one epoch and a part in another. An id whose footprints lie apart on
+    two maps names two buildings (:func:`_apart`).
     """
     epochs = _check_years(epochs)
     given = epochs_reference_system(epochs)
