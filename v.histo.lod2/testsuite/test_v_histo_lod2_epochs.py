@@ -101,6 +101,6 @@ def test_previous_needs_the_building_column(town, tmp_path):
     gs.run_command("v.histo.subdivide", input="plots_1915", output="plain", quiet=True)
     out = str(tmp_path / "x.city.json")
     rc, _, err = run_module("v.histo.lod2", input="plain", output=out, previous=m1880,
-                            **HEIGHTS)
+                            year=1915, **HEIGHTS)
     assert rc != 0 and "building column" in " ".join(err.split())
     assert "Traceback" not in err and not os.path.exists(out)

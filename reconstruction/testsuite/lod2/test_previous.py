@@ -72,3 +72,56 @@ def test_a_footprint_without_an_earlier_building_is_built(identity):
     match = match_previous(model, [identity], [box(0, 0, 4, 4)], np.array([9.0]),
                            np.array([3.0]), [HEIGHTS_MEASURED])
     assert match.building[0] == -1 and match.report.new == (identity is not None)
+
+
+def written(tmp_path, doc, name="earlier.city.json"):
+    import json
+
+    path = str(tmp_path / name)
+    with open(path, "w") as f:
+        json.dump(doc, f)
+    return path
+
+
+def epoch_doc(map_year):
+    from reconstruction.testsuite.epochs.test_dynamic import model
+
+    return model(map_year, {"b1": (84000, 446000, 8, 1), "b2": (84020, 446000, 9, 2)})
+
+
+@pytest.mark.parametrize("earlier, message", [(1961, "is of the map of 1961"),
+                                              (1915, "is of the map of 1915")])
+def test_previous_of_a_later_or_the_same_map_is_refused(tmp_path, earlier, message):
+    """Issue 49, item 7: 235 buildings were "kept" from 1961 into 1915."""
+    from reconstruction.core.errors import InputError
+    from reconstruction.lod2.previous import read_previous
+
+    path = written(tmp_path, epoch_doc(earlier))
+    with pytest.raises(InputError, match=message + r", not of a map before this one's \(1915"):
+        read_previous(path, 1915)
+    assert read_previous(written(tmp_path, epoch_doc(1880), "ok.city.json"), 1915).buildings \
+        == ["b1", "b2"]
+
+
+def test_previous_a_merged_model_over_time_is_refused(tmp_path):
+    from reconstruction.core.errors import InputError
+    from reconstruction.epochs.dynamic import Epoch, merge_epochs
+    from reconstruction.lod2.previous import read_previous
+
+    merged = merge_epochs([Epoch(1880, epoch_doc(1880)), Epoch(1900, epoch_doc(1900))])
+    with pytest.raises(InputError, match="model over several epochs.*snapshot="):
+        read_previous(written(tmp_path, merged.document), 1915)
+
+
+def test_a_broken_building_of_previous_gives_the_warning_existing_gives(tmp_path):
+    from reconstruction.lod2.previous import read_previous
+    from reconstruction.lod2.report import existing_model_messages
+
+    doc = epoch_doc(1880)
+    doc["CityObjects"]["b2"]["geometry"][0]["boundaries"][0][0][0][0] = -1
+    model = read_previous(written(tmp_path, doc), 1915)
+    assert model.buildings == ["b1"]
+    said = existing_model_messages(model, "earlier epoch's model", "not kept")
+    assert len(said) == 1 and said[0].level == "warning"
+    assert "1 buildings of the earlier epoch's model" in said[0].text
+    assert "<b2>" in said[0].text and "vertex index -1 is negative" in said[0].text
