@@ -4,7 +4,6 @@ exception. Property tests over mutations of a small valid epoch model and of a m
 model, derandomized in CI (conftest.py's profile; more examples with
 ``--hypothesis-profile=explore``), and the cases of the issue by name."""
 
-import contextlib
 import copy
 import json
 import os
@@ -18,6 +17,7 @@ from reconstruction.cityjson import existing
 from reconstruction.core.errors import InputError
 from reconstruction.epochs.dynamic import check_merged, merge_epochs
 from reconstruction.testsuite.epochs.test_dynamic import model, town
+from reconstruction.testsuite.timeline.test_timeline import doing, options
 from reconstruction import timeline
 
 #: JSON values put in place of a part of a model
@@ -59,18 +59,6 @@ def mutated(data, doc):
         else:
             parent[key] = data.draw(VALUES)
     return doc
-
-
-def doing(_text):
-    return contextlib.nullcontext()
-
-
-def options(**kw):
-    out = {"models": "", "years": "", "input": "", "output": "", "register": "",
-           "id_column": "", "year_column": "", "format": "cityjson", "snapshot": "",
-           "report": "", "title": ""}
-    out.update(kw)
-    return out
 
 
 REGISTER = {"cat": [1], "identificatie": ["0503100000000007"], "bouwjaar": [1902]}
