@@ -51,6 +51,9 @@ from .plots import LINK_SHARE
 
 #: the output grid (m): the chain's models are written in millimetres
 SCALE = 0.001
+#: the farthest coordinate (m) from a reference system's origin a model may have
+#: (a projected system spans some thousands of km; millimetres stay well in 64 bits)
+FARTHEST = 1e8
 #: projected reference systems whose unit is not the metre on the ground: Web
 #: Mercator's (EPSG:3857 and its older codes) is 1/cos(latitude) m, 1.6 m at Delft,
 #: so footprints would stand 1.6 times too large under heights in metres and every
@@ -98,12 +101,17 @@ class DynamicModel:
     report: MergeReport
 
 
-def _millimetres(doc):
-    """The document's vertices as absolute integer millimetres (N, 3)."""
+def _millimetres(doc, path="<model>"):
+    """The document's vertices as absolute integer millimetres (N, 3); InputError for
+    a coordinate farther than :data:`FARTHEST` from the origin."""
     t = doc.get("transform") or {"scale": [1, 1, 1], "translate": [0, 0, 0]}
     v = np.asarray(doc.get("vertices") or np.zeros((0, 3)), dtype=float).reshape(-1, 3)
-    return np.rint((v * np.asarray(t["scale"]) + np.asarray(t["translate"])) / SCALE).astype(
-        np.int64)
+    with np.errstate(over="ignore", invalid="ignore"):
+        xyz = v * np.asarray(t["scale"]) + np.asarray(t["translate"])
+    if not np.all(np.abs(xyz) <= FARTHEST):
+        raise InputError("'{}' has a vertex more than {:g} km from its reference system's "
+                         "origin: not a town's model".format(path, FARTHEST / 1000))
+    return np.rint(xyz / SCALE).astype(np.int64)
 
 
 def _reindexed(geometries, mapping):
@@ -302,7 +310,7 @@ def merge_epochs(epochs, register=None, reference_system=None, title=None):
     if reference_system is None:
         reference_system = given
     years = [e.year for e in epochs]
-    grids = [_millimetres(e.document) for e in epochs]
+    grids = [_millimetres(e.document, e.path) for e in epochs]
     epochs, apart = _apart(epochs, grids)
     rows = np.concatenate(grids) if grids else np.zeros((0, 3), np.int64)
     unique, inverse = np.unique(rows, axis=0, return_inverse=True)

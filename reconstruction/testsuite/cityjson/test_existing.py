@@ -646,3 +646,20 @@ def test_ground_surfaces_by_their_semantic_type():
     assert citygeometry.surfaces_of_type(multi, "GroundSurface") == [ring[0], ring[3]]
     assert citygeometry.surfaces_of_type({"type": "Solid", "boundaries": [ring]},
                                          "GroundSurface") == []
+
+
+@pytest.mark.parametrize("text, message", [
+    ("[" * 100000 + "]" * 100000, "nested too deeply"),
+    ('{"type": "CityJSON", "version": "2.0", "CityObjects": {}, "vertices": [],\n'
+     '"metadata": {"title": "\\udc00"}}', "lone UTF-16 surrogate"),
+    ('{"type": "CityJSON", "version": "2.0", "CityObjects": {}, "vertices": []}\n'
+     '{"type": "CityJSONFeature", "CityObjects": {}, "vertices": ' + "[" * 5000 + "]" * 5000
+     + "}\n", "nested too deeply"),
+], ids=["deep", "surrogate", "deep CityJSONSeq line"])
+def test_an_existing_model_nested_too_deeply_or_with_a_lone_surrogate_is_one_input_error(
+        tmp_path, text, message):
+    """Issue 49, item 10: a RecursionError or a write failure later, before jsontext."""
+    path = tmp_path / "bad.city.json"
+    path.write_text(text)
+    with pytest.raises(InputError, match=message):
+        existing.read_model(str(path))

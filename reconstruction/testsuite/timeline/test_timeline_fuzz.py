@@ -85,7 +85,10 @@ def write(folder, name, doc):
     return path
 
 
-FUZZ = settings(max_examples=int(os.environ.get("FUZZ_EXAMPLES", 150)), deadline=None,
+#: examples per property: 150, the same ones on every run in CI (conftest.py's
+#: derandomized profile), ten times as many new ones with --hypothesis-profile=explore
+EXAMPLES = 150 if settings.default.derandomize else 1500
+FUZZ = settings(max_examples=EXAMPLES, deadline=None,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 
 
@@ -221,3 +224,13 @@ def test_deep_nesting_and_a_lone_surrogate_are_one_input_error(tmp_path, text, m
         "input": str(path), "snapshot": "1915"}
     got = outcome(str(tmp_path), "cityjson", **kw)
     assert isinstance(got, InputError) and message in str(got)
+
+
+def test_a_vertex_beyond_any_town_is_refused_not_wrapped_round(tmp_path):
+    doc = epoch_model()
+    doc["transform"]["translate"] = [1e300, 0.0, 0.0]
+    good = write(str(tmp_path), "m1880.city.json", town()[1].document)
+    bad = write(str(tmp_path), "m1915.city.json", doc)
+    got = outcome(str(tmp_path), "cityjson", models="{},{}".format(good, bad),
+                  years="1880,1915")
+    assert isinstance(got, InputError) and "more than 100000 km" in str(got)
