@@ -39,7 +39,6 @@ from dataclasses import dataclass, field
 from typing import Optional
 
 import numpy as np
-import shapely
 
 from ..cityjson import geometry as citygeometry
 from ..cityjson.seq import object_tree
@@ -208,33 +207,44 @@ def epochs_reference_system(epochs):
     return None if first is None else first[2]
 
 
-def _hulls(document, trees, grid):
-    """{top-level id: the convex hull (x, y, mm) of the vertices of its tree} of the
-    ``trees`` of a document whose vertices are ``grid`` (:func:`_millimetres`)."""
+def _boxes(document, trees, grid):
+    """{top-level id: its tree's box (x0, y0, x1, y1, mm): the extent of its vertices}
+    of the ``trees`` of a document whose vertices are ``grid`` (:func:`_millimetres`);
+    a tree without geometry has an empty box (x0 > x1)."""
     objects = document["CityObjects"]
-    ids, owner, flat = list(trees), [], []
+    ids, geometries, owner = list(trees), [], []
     for n, oid in enumerate(ids):
-        geoms = [g for m in trees[oid] for g in objects[m].get("geometry", ())]
-        got = citygeometry.indices(geoms) if geoms else np.zeros(0, np.int64)
-        flat.append(got)
-        owner.append(np.full(len(got), n))
-    flat = np.concatenate(flat) if flat else np.zeros(0, np.int64)
-    owner = np.concatenate(owner) if owner else np.zeros(0, np.int64)
-    hulls = np.array([shapely.Polygon()] * len(ids), dtype=object)
-    if len(flat):
-        points = shapely.multipoints(grid[flat, :2].astype(float), indices=owner)
-        hulls[np.unique(owner)] = shapely.convex_hull(points)
-    return dict(zip(ids, hulls))
+        for m in trees[oid]:
+            got = objects[m].get("geometry", ())
+            geometries.extend(got)
+            owner.extend([n] * len(got))
+    lo = np.full((len(ids), 2), np.iinfo(np.int64).max)
+    hi = np.full((len(ids), 2), np.iinfo(np.int64).min)
+    if geometries:
+        lay = citygeometry.layout(geometries)
+        points = np.asarray(owner, dtype=np.int64)[lay.entry_geometry]
+        if len(points):
+            order = np.argsort(points, kind="stable")
+            xy, points = grid[lay.flat[order], :2], points[order]
+            starts = np.flatnonzero(np.r_[True, points[1:] != points[:-1]])
+            lo[points[starts]] = np.minimum.reduceat(xy, starts)
+            hi[points[starts]] = np.maximum.reduceat(xy, starts)
+    return dict(zip(ids, np.hstack([lo, hi])))
 
 
-def _same_place(a, b):
-    """Whether two footprints (hulls) are one building's: they share at least
-    :data:`~reconstruction.epochs.plots.LINK_SHARE` of the smaller one's area (or
-    touch, for a hull without area)."""
-    smaller = min(shapely.area(a), shapely.area(b))
-    if smaller <= 0:
-        return bool(shapely.intersects(a, b))
-    return shapely.area(shapely.intersection(a, b)) >= LINK_SHARE * smaller
+def _same_places(a, b):
+    """Per pair of boxes (rows of ``a`` and ``b``: x0, y0, x1, y1), whether they are one
+    building's: they share at least :data:`~reconstruction.epochs.plots.LINK_SHARE` of
+    the smaller one's area (or touch, for a box without area; an empty box, of a
+    tree without geometry, is no evidence: the same)."""
+    a, b = np.asarray(a, dtype=float).reshape(-1, 4), np.asarray(b, dtype=float).reshape(-1, 4)
+    size = np.maximum(np.minimum(a[:, 2:], b[:, 2:]) - np.maximum(a[:, :2], b[:, :2]), -1.0)
+    area = [np.prod(np.maximum(x[:, 2:] - x[:, :2], 0), axis=1) for x in (a, b)]
+    smaller = np.minimum(*area)
+    shared = np.prod(np.maximum(size, 0), axis=1)
+    unknown = (a[:, 0] > a[:, 2]) | (b[:, 0] > b[:, 2])       # no geometry: no evidence
+    return unknown | np.where(smaller > 0, shared >= LINK_SHARE * smaller,
+                              (size >= 0).all(axis=1))
 
 
 def _renamed(document, names):
@@ -255,7 +265,7 @@ def _apart(epochs, grids):
     """The epochs with the buildings that share an id but not a place kept apart.
 
     An id is one building across the epochs while each map's footprint of it
-    overlaps the one before (:func:`_same_place`): the chain keeps a building's
+    (its extent) overlaps the one before (:func:`_same_places`): the chain keeps a building's
     footprint as it was, or redraws it where it stands. Where an id's footprint
     lies elsewhere than on the map before (two runs that each numbered their
     buildings from 1), it names another building from there on: its tree is
@@ -268,15 +278,19 @@ def _apart(epochs, grids):
     shared = {oid for oid, ks in seen.items() if len(ks) > 1}
     if not shared:
         return epochs, {}
-    hulls = [_hulls(e.document, {o: t[o] for o in t if o in shared}, g)
+    boxes = [_boxes(e.document, {o: t[o] for o in t if o in shared}, g)
              for e, t, g in zip(epochs, trees, grids)]
+    steps = [(oid, before, k) for oid in sorted(shared)
+             for before, k in zip(seen[oid], seen[oid][1:])]
+    same = dict(zip(steps, _same_places([boxes[before][oid] for oid, before, _ in steps],
+                                        [boxes[k][oid] for oid, _, k in steps]).tolist()))
     taken = {m for e in epochs for m in e.document.get("CityObjects", {})}
     renames = [dict() for _ in epochs]
     apart = {}
     for oid in sorted(shared):
         ks, name = seen[oid], None
         for before, k in zip(ks, ks[1:]):
-            if not _same_place(hulls[before][oid], hulls[k][oid]):
+            if not same[oid, before, k]:
                 name = oid + APART + str(epochs[k].year)
                 while name in taken:
                     name += APART
