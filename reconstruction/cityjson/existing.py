@@ -230,7 +230,7 @@ def model_of(doc, path="<model>", offsets=None, sequence=False, types=("Building
     wanted = None if types is None else set(types)
     buildings = [oid for oid, obj in objects.items()
                  if isinstance(obj, dict) and not obj.get("parents") and
-                 (wanted is None or obj.get("type") in wanted)]
+                 (wanted is None or isinstance(obj.get("type"), str) and obj["type"] in wanted)]
     if offsets is None:
         offset = np.zeros(len(buildings), dtype=np.int64)
         count = np.full(len(buildings), len(vertices), dtype=np.int64)

@@ -144,8 +144,10 @@ def _check_years(epochs):
 
 
 def _top_attributes(document):
-    """The attributes (dicts) of the top-level objects of a document."""
-    return [obj.get("attributes") or {} for obj in document.get("CityObjects", {}).values()
+    """The attributes of the top-level objects of a document (an object's that are not
+    a JSON object, of a broken building, as none)."""
+    return [obj.get("attributes") if isinstance(obj.get("attributes"), dict) else {}
+            for obj in document.get("CityObjects", {}).values()
             if isinstance(obj, dict) and not obj.get("parents")]
 
 
@@ -247,6 +249,18 @@ def _same_places(a, b):
                               (size >= 0).all(axis=1))
 
 
+def _covering(document, tree, grid, extents):
+    """Per epoch, whether its map covers the place of a building (its ``tree`` in
+    ``document``, whose vertices are ``grid``): the centre of the building's extent
+    lies in the extent of the epoch's model (``extents``: x0, y0, x1, y1 per epoch),
+    so that a map of part of the town says nothing of the buildings elsewhere."""
+    box = _boxes(document, {"b": tree}, grid)["b"]
+    if box[0] > box[2]:
+        return None
+    centre = (box[:2] + box[2:]) / 2.0
+    return [bool(np.all(e[:2] <= centre) and np.all(centre <= e[2:])) for e in extents]
+
+
 def _renamed(document, names):
     """A copy of ``document`` whose objects are renamed by ``names`` ({old id: new id}),
     their links too."""
@@ -326,6 +340,8 @@ def merge_epochs(epochs, register=None, reference_system=None, title=None):
     years = [e.year for e in epochs]
     grids = [_millimetres(e.document, e.path) for e in epochs]
     epochs, apart = _apart(epochs, grids)
+    extents = [np.r_[g[:, :2].min(axis=0), g[:, :2].max(axis=0)] if len(g) else
+               np.array([1, 1, 0, 0]) for g in grids]
     rows = np.concatenate(grids) if grids else np.zeros((0, 3), np.int64)
     unique, inverse = np.unique(rows, axis=0, return_inverse=True)
     inverse = inverse.reshape(-1)
@@ -383,8 +399,12 @@ def merge_epochs(epochs, register=None, reference_system=None, title=None):
                 used.append(citygeometry.indices(geometry))
             if member == oid:
                 built = _built(oid, keys)
+                covered = None
+                if built[0] and max(trees) < len(years) - 1:
+                    k = max(trees)
+                    covered = _covering(epochs[k].document, trees[k], grids[k], extents)
                 span = lifespan(years, [k in trees for k in range(len(years))],
-                                built=built[1], standing=built[0])
+                                built=built[1], standing=built[0], covered=covered)
                 attributes.update(span.attributes())
                 standing += span.standing
                 if span.conflict:

@@ -11,8 +11,8 @@ demolition, and its register year (``bouwjaar``) is its construction year
 when the maps agree. Where they do not (the register says it was built
 before a map that does not show it, or after one that does; a map
 between two that show it leaves it out; or it stands in the register but
-the maps after the last one that shows it do not) the :class:`Lifespan`
-says so in ``conflict``; the intervals are then the maps' evidence (a
+the maps after the last one that shows it, where they cover its place, do
+not) the :class:`Lifespan` says so in ``conflict``; the intervals are then the maps' evidence (a
 building in the register that the later maps leave out keeps ``standing``
 and gets the demolition interval those maps give).
 
@@ -67,10 +67,12 @@ class Lifespan:
         return out
 
 
-def lifespan(years, present, built=None, standing=False):
+def lifespan(years, present, built=None, standing=False, covered=None):
     """The :class:`Lifespan` of a building shown on the maps of ``years`` (ascending)
     where ``present`` (one bool per map); ``built``: its register construction year,
-    ``standing``: in today's register."""
+    ``standing``: in today's register; ``covered``: per map, whether it covers the
+    building's place (None: every map does), for the maps after its last one: a map
+    of another part of the town says nothing of it."""
     shown = [y for y, p in zip(years, present) if p]
     if not shown:
         raise ValueError("a building shown on no map")
@@ -90,13 +92,16 @@ def lifespan(years, present, built=None, standing=False):
             conflicts.append("built {} (register) but on the {} map".format(built, years[first]))
         else:
             construction = (built, built)
-    after = list(years[last + 1:])
+    covered = [True] * len(years) if covered is None else list(covered)
+    after = [y for y, c in zip(years[last + 1:], covered[last + 1:]) if c]
     if standing and after:
         # the register says it stands, the later maps that do not show it say it was gone
         conflicts.append("in today's register but not on the {} map{} after {}".format(
             ", ".join(map(str, after)), "s" if len(after) > 1 else "", years[last]))
     if standing and not after:
         demolition = None
+    elif standing:
+        demolition = (years[last] + 1, after[0])
     elif last == len(years) - 1:
         demolition = (years[last] + 1, None)
     else:
