@@ -311,7 +311,7 @@
 # % key: previous
 # % required: no
 # % label: Model of the earlier epoch (a dynamic chain: the v.histo.lod2 output of the earlier map)
-# % description: A footprint whose building column names one of its buildings, with the same outline, keeps that building (its solid, roof and heights) unless this epoch measures other heights
+# % description: Needs year=, later than its map year. A footprint whose building column names one of its buildings, with the same outline, keeps that building (its solid, roof and heights) unless this epoch measures other heights
 # % guisection: Epochs
 # %end
 

@@ -111,13 +111,17 @@ def _tree(objects, building):
 
 
 def _geometry_problem(oid, obj):
-    """The first problem of the geometry list of one object (None)."""
+    """The first problem of the geometry list (or the attributes) of one object (None)."""
+    if not isinstance(obj.get("attributes") or {}, dict):
+        return "<{}> has attributes that are not an object".format(oid)
     geometries = obj.get("geometry", [])
     if not isinstance(geometries, list):
         return "<{}> has a geometry that is not a list".format(oid)
     for k, g in enumerate(geometries):
         if not isinstance(g, dict):
             return "<{}>, geometry {}: not an object".format(oid, k)
+        if not isinstance(g.get("type"), str):
+            return "<{}>, geometry {}: its type is not a text".format(oid, k)
         if g.get("type") in citygeometry.DEPTH and not isinstance(g.get("boundaries"), list):
             return "<{}>, geometry {} ({}): no boundaries".format(oid, k, g.get("type"))
     return None

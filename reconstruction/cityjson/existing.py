@@ -165,12 +165,35 @@ def read_model(path, types=("Building",)):
 
 def read_document(path):
     """The CityJSON document (a dict, indices into one vertex list) of a CityJSON file
-    or CityJSONSeq, checked as :func:`read_model` checks a model (InputError)."""
+    or CityJSONSeq, checked as :func:`read_model` checks a model, every top-level
+    object of any type: where :func:`read_model` leaves a broken building out (and
+    says so), a whole document is refused (InputError naming the first broken
+    ones), as is a city object that is not a JSON object."""
     doc, offsets, counts, sequence = load(path, "model")
-    model_of(doc, path, offsets, sequence, counts=counts)
+    model = model_of(doc, path, offsets, sequence, types=None, counts=counts)
+    odd = [oid for oid, obj in doc["CityObjects"].items() if not isinstance(obj, dict)]
+    if odd:
+        raise InputError("'{}': the city object <{}> is not a JSON object".format(path, odd[0]))
+    if model.skipped:
+        raise InputError("'{}': {} of its buildings {} broken: {}".format(
+            path, len(model.skipped), "is" if len(model.skipped) == 1 else "are",
+            broken_named(model.skipped)))
     if sequence:
         doc = cityjsonseq.joined(doc, offsets)
     return doc
+
+
+#: broken buildings named in a message (:func:`broken_named`)
+BROKEN_NAMED = 3
+
+
+def broken_named(skipped):
+    """The first :data:`BROKEN_NAMED` broken buildings of ``skipped`` ({id: problem})
+    with their problem, and how many more, as text for a message."""
+    named = ["<{}>: {}".format(oid, problem) for oid, problem in
+             list(skipped.items())[:BROKEN_NAMED]]
+    more = len(skipped) - len(named)
+    return "; ".join(named) + ("; and {} more".format(more) if more else "")
 
 
 @citygeometry.gc_paused()
@@ -180,8 +203,9 @@ def model_of(doc, path="<model>", offsets=None, sequence=False, types=("Building
 
     ``offsets``: vertex offset per top-level object id (CityJSONSeq features
     keep their own indices), None for one document; ``counts``: with
-    ``offsets``, the number of vertices of each one's feature. A broken
-    transform or vertices raise InputError; broken buildings are left out
+    ``offsets``, the number of vertices of each one's feature; ``types``: the
+    types of the top-level objects to match (None: every type). A broken
+    transform, vertices or metadata raise InputError; broken buildings are left out
     of ``buildings`` and named in ``skipped``
     (:mod:`reconstruction.cityjson.checks`).
     """
@@ -191,6 +215,9 @@ def model_of(doc, path="<model>", offsets=None, sequence=False, types=("Building
     version = check_version(path, doc)
     if not isinstance(doc.get("CityObjects"), dict) or not isinstance(doc.get("vertices"), list):
         raise not_cityjson(path, "no CityObjects or vertices")
+    for member in ("metadata", "extensions"):
+        if not isinstance(doc.get(member) or {}, dict):
+            raise not_cityjson(path, "its {} is not an object".format(member))
     if version != VERSION:
         upgrade(doc)                   # 1.1
     transform = doc.get("transform")
@@ -200,9 +227,10 @@ def model_of(doc, path="<model>", offsets=None, sequence=False, types=("Building
     translate = np.asarray(transform.get("translate", [0.0, 0.0, 0.0]), dtype=float)
     objects = doc["CityObjects"]
     vertices = checks.vertices_array(path, doc["vertices"], bool(transform))
-    wanted = set(types)
+    wanted = None if types is None else set(types)
     buildings = [oid for oid, obj in objects.items()
-                 if isinstance(obj, dict) and not obj.get("parents") and obj.get("type") in wanted]
+                 if isinstance(obj, dict) and not obj.get("parents") and
+                 (wanted is None or isinstance(obj.get("type"), str) and obj["type"] in wanted)]
     if offsets is None:
         offset = np.zeros(len(buildings), dtype=np.int64)
         count = np.full(len(buildings), len(vertices), dtype=np.int64)

@@ -2,9 +2,9 @@
 the version checked, CityJSON 1.1 upgraded to 2.0 (see
 :mod:`reconstruction.cityjson.existing`, which checks and matches what is read)."""
 
-import json
 import os
 
+from ..core import jsontext
 from ..core.errors import InputError
 from . import geometry as citygeometry
 from . import seq as cityjsonseq
@@ -41,7 +41,7 @@ def upgrade(doc):
     generic = (doc.get("extensions") or {}).get("Generic")
     if isinstance(generic, dict) and "generic.ext.json" in str(generic.get("url", "")):
         for obj in doc["CityObjects"].values():
-            if obj.get("type") == "+GenericCityObject":
+            if isinstance(obj, dict) and obj.get("type") == "+GenericCityObject":
                 obj["type"] = "GenericCityObject"
         del doc["extensions"]["Generic"]
     return doc
@@ -51,7 +51,8 @@ def load(path, what="existing model"):
     """The parsed file: (document, offsets, counts, sequence) as
     :func:`~reconstruction.cityjson.existing.model_of` takes them (a CityJSONSeq's
     objects keep their feature's indices); ``what`` the file is, for the error of a
-    file that cannot be opened."""
+    file that cannot be opened. The JSON is read by :mod:`reconstruction.core.jsontext`:
+    text nested too deeply or holding a lone surrogate is an InputError too."""
     try:
         f = open(path, encoding="utf-8")
     except OSError as error:
@@ -62,9 +63,9 @@ def load(path, what="existing model"):
             # more lines after it; a one-line CityJSON file is parsed once
             first = f.readline()
             try:
-                doc = json.loads(first)
-            except json.JSONDecodeError:
-                doc = None
+                doc = jsontext.loads(first, what, path)
+            except InputError:
+                doc = None              # not a whole JSON text alone: read whole below
             rest = f.readline() if isinstance(doc, dict) else ""
             while rest != "" and not rest.strip():
                 rest = f.readline()
@@ -75,9 +76,7 @@ def load(path, what="existing model"):
                 sequence = True
             elif doc is None:
                 f.seek(0)
-                doc = json.load(f)
+                doc = jsontext.loads(f.read(), what, path)
         except UnicodeDecodeError:
             raise not_cityjson(path, "not a text file") from None
-        except json.JSONDecodeError as error:
-            raise not_cityjson(path, "not JSON: {}".format(error)) from None
     return doc, offsets, counts, sequence

@@ -26,7 +26,7 @@ import tempfile
 
 import numpy as np
 
-from ..core import crs
+from ..core import crs, jsontext
 from ..core.errors import InputError
 from ..geom.rings import corners, unique_rows
 from ..geom.solidset import SEMANTIC_NAMES, take
@@ -305,10 +305,7 @@ def _faces_of(ss, a, b):
 # ---------------------------------------------------------------------------
 
 def _json_line(line, number, path):
-    try:
-        return json.loads(line)
-    except json.JSONDecodeError as error:
-        raise InputError("'{}', line {}: not JSON ({})".format(path, number, error)) from None
+    return jsontext.loads(line, "CityJSONSeq file (line {})".format(number), path)
 
 
 def features(f, path="<stream>"):

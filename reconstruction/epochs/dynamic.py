@@ -12,6 +12,9 @@ makes one CityJSON 2.0 document of them that holds every building once:
   ``epoch_attributes``, what another epoch says otherwise ({year: {name:
   value}}: the map year, the plot number, a measured height); each object's
   ``geometry_epochs`` lists, per geometry, the epochs it is the geometry of;
+- its identity: its id, while each map's footprint of it overlaps the
+  one before (an id that two runs of the chain gave unrelated buildings
+  is kept apart, the later one as ``<id>@<year>``);
 - its lifespan (:mod:`~reconstruction.epochs.lifespans`): ``epochs``,
   ``dateOfConstruction`` (the register's year, where the maps agree),
   ``dateOfConstructionEarliest``/``Latest``, ``dateOfDemolitionEarliest``/
@@ -40,11 +43,24 @@ import numpy as np
 from ..cityjson import geometry as citygeometry
 from ..cityjson.seq import object_tree
 from ..cityjson.existing import id_key
+from ..core import crs
 from ..core.errors import InputError
 from .lifespans import lifespan
+from .plots import LINK_SHARE
 
 #: the output grid (m): the chain's models are written in millimetres
 SCALE = 0.001
+#: the farthest coordinate (m) from a reference system's origin a model may have
+#: (a projected system spans some thousands of km; millimetres stay well in 64 bits)
+FARTHEST = 1e8
+#: projected reference systems whose unit is not the metre on the ground: Web
+#: Mercator's (EPSG:3857 and its older codes) is 1/cos(latitude) m, 1.6 m at Delft,
+#: so footprints would stand 1.6 times too large under heights in metres and every
+#: tolerance of the chain (the millimetre grid, the outlines) would be off
+NOT_METRIC = frozenset({3857, 3785, 900913, 102100, 102113})
+#: what joins an object id to the year of the epoch where an unrelated building of
+#: the same id first stands (:func:`merge_epochs`)
+APART = "@"
 #: attributes the merge adds to each object (not an epoch's)
 DYNAMIC = ("epochs", "geometry_epochs", "epoch_attributes", "dateOfConstruction",
            "dateOfConstructionEarliest", "dateOfConstructionLatest", "dateOfDemolitionEarliest",
@@ -65,13 +81,17 @@ class Epoch:
 class MergeReport:
     """What :func:`merge_epochs` found: ``buildings`` (distinct identities), per
     epoch year its building count (``per_epoch``), the geometry ``versions``
-    stored, the buildings still ``standing`` and the ``conflicts`` ({id: what})."""
+    stored, the buildings still ``standing``, the ``conflicts`` ({id: what}) and the
+    ids kept ``apart``."""
 
     buildings: int
     per_epoch: dict
     versions: int
     standing: int
     conflicts: dict = field(default_factory=dict)
+    #: {id given: the ids it became} of the ids that name buildings in different
+    #: places on different maps (footprints apart), each kept as a building of its own
+    apart: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -80,12 +100,17 @@ class DynamicModel:
     report: MergeReport
 
 
-def _millimetres(doc):
-    """The document's vertices as absolute integer millimetres (N, 3)."""
+def _millimetres(doc, path="<model>"):
+    """The document's vertices as absolute integer millimetres (N, 3); InputError for
+    a coordinate farther than :data:`FARTHEST` from the origin."""
     t = doc.get("transform") or {"scale": [1, 1, 1], "translate": [0, 0, 0]}
     v = np.asarray(doc.get("vertices") or np.zeros((0, 3)), dtype=float).reshape(-1, 3)
-    return np.rint((v * np.asarray(t["scale"]) + np.asarray(t["translate"])) / SCALE).astype(
-        np.int64)
+    with np.errstate(over="ignore", invalid="ignore"):
+        xyz = v * np.asarray(t["scale"]) + np.asarray(t["translate"])
+    if not np.all(np.abs(xyz) <= FARTHEST):
+        raise InputError("'{}' has a vertex more than {:g} km from its reference system's "
+                         "origin: not a town's model".format(path, FARTHEST / 1000))
+    return np.rint(xyz / SCALE).astype(np.int64)
 
 
 def _reindexed(geometries, mapping):
@@ -107,7 +132,190 @@ def _check_years(epochs):
             ", ".join(map(str, years))))
     if not epochs:
         raise InputError("No epochs to merge")
-    return sorted(epochs, key=lambda e: e.year)
+    epochs = sorted(epochs, key=lambda e: e.year)
+    for k, e in enumerate(epochs):
+        check_one_epoch(e.document, e.path, e.year)
+        for other in epochs[:k]:
+            if other.document == e.document:
+                raise InputError("The models of {} '{}' and of {} '{}' are one and the same: "
+                                 "one model per map".format(other.year, other.path, e.year,
+                                                            e.path))
+    return epochs
+
+
+def _top_attributes(document):
+    """The attributes of the top-level objects of a document (an object's that are not
+    a JSON object, of a broken building, as none)."""
+    return [obj.get("attributes") if isinstance(obj.get("attributes"), dict) else {}
+            for obj in document.get("CityObjects", {}).values()
+            if isinstance(obj, dict) and not obj.get("parents")]
+
+
+def map_years(document):
+    """The map years (``map_year``, v.histo.lod2 year=) its buildings give, sorted."""
+    return sorted({a["map_year"] for a in _top_attributes(document) if isinstance(
+        a.get("map_year"), int) and not isinstance(a.get("map_year"), bool)})
+
+
+def check_one_epoch(document, path, year=None, what="model"):
+    """InputError unless ``document`` (read from ``path``, a ``what``) is the model of
+    one epoch: not a model over time (:func:`merge_epochs`' output), its buildings of
+    one map year, that year ``year`` where given, and (with ``year``) not empty: an
+    epoch without buildings would date the demolition of every building before it."""
+    attributes = _top_attributes(document)
+    if any(name in a for a in attributes for name in ("epochs", "geometry_epochs")):
+        raise InputError("The {} '{}' is a model over several epochs (v.histo.timeline's), "
+                         "not the model of one map: take the epoch wanted from it with "
+                         "v.histo.timeline input= snapshot=".format(what, path))
+    found = map_years(document)
+    if len(found) > 1:
+        raise InputError("The {} '{}' holds buildings of several maps (map_year {}): not the "
+                         "model of one map".format(what, path, ", ".join(map(str, found))))
+    if year is None:
+        return
+    if found and found[0] != year:
+        raise InputError("The {} '{}' is of the map of {} (its buildings' map_year), not of {} "
+                         "as years= says".format(what, path, found[0], year))
+    if not attributes:
+        raise InputError("The {} of {} '{}' has no buildings: a map of the town shows some, "
+                         "and an empty epoch would date the demolition of every building "
+                         "before it".format(what, year, path))
+
+
+def epochs_reference_system(epochs):
+    """The ``referenceSystem`` of the epochs' models (the first one given), None when
+    none gives one; InputError for two that locate points differently (e.g. EPSG:31370
+    and EPSG:28992), and for one in degrees (EPSG:4326) or in Web Mercator's
+    units (:data:`NOT_METRIC`), which are not metres on the ground."""
+    first = None
+    for e in epochs:
+        text = (e.document.get("metadata") or {}).get("referenceSystem")
+        code = crs.epsg_code(text)
+        if code is None:
+            continue
+        if code in NOT_METRIC or crs.geographic(code):
+            raise InputError(
+                "The model of {} '{}' is in EPSG:{}, whose units are not metres on the "
+                "ground ({}): reproject it to the town's projected system first (e.g. with "
+                "cjio's crs_reproject)".format(e.year, e.path, code, "degrees of longitude and "
+                                               "latitude" if crs.geographic(code)
+                                               else "Web Mercator"))
+        if first is None:
+            first = (e, code, text)
+        elif not crs.same_place(first[1], code):
+            raise InputError("The models of {} '{}' (EPSG:{}) and of {} '{}' (EPSG:{}) are in "
+                             "different reference systems: reproject them to one first".format(
+                                 first[0].year, first[0].path, first[1], e.year, e.path, code))
+    return None if first is None else first[2]
+
+
+def _boxes(document, trees, grid):
+    """{top-level id: its tree's box (x0, y0, x1, y1, mm): the extent of its vertices}
+    of the ``trees`` of a document whose vertices are ``grid`` (:func:`_millimetres`);
+    a tree without geometry has an empty box (x0 > x1)."""
+    objects = document["CityObjects"]
+    ids, geometries, owner = list(trees), [], []
+    for n, oid in enumerate(ids):
+        for m in trees[oid]:
+            got = objects[m].get("geometry", ())
+            geometries.extend(got)
+            owner.extend([n] * len(got))
+    lo = np.full((len(ids), 2), np.iinfo(np.int64).max)
+    hi = np.full((len(ids), 2), np.iinfo(np.int64).min)
+    if geometries:
+        lay = citygeometry.layout(geometries)
+        points = np.asarray(owner, dtype=np.int64)[lay.entry_geometry]
+        if len(points):
+            order = np.argsort(points, kind="stable")
+            xy, points = grid[lay.flat[order], :2], points[order]
+            starts = np.flatnonzero(np.r_[True, points[1:] != points[:-1]])
+            lo[points[starts]] = np.minimum.reduceat(xy, starts)
+            hi[points[starts]] = np.maximum.reduceat(xy, starts)
+    return dict(zip(ids, np.hstack([lo, hi])))
+
+
+def _same_places(a, b):
+    """Per pair of boxes (rows of ``a`` and ``b``: x0, y0, x1, y1), whether they are one
+    building's: they share at least :data:`~reconstruction.epochs.plots.LINK_SHARE` of
+    the smaller one's area (or touch, for a box without area; an empty box, of a
+    tree without geometry, is no evidence: the same)."""
+    a, b = np.asarray(a, dtype=float).reshape(-1, 4), np.asarray(b, dtype=float).reshape(-1, 4)
+    size = np.maximum(np.minimum(a[:, 2:], b[:, 2:]) - np.maximum(a[:, :2], b[:, :2]), -1.0)
+    area = [np.prod(np.maximum(x[:, 2:] - x[:, :2], 0), axis=1) for x in (a, b)]
+    smaller = np.minimum(*area)
+    shared = np.prod(np.maximum(size, 0), axis=1)
+    unknown = (a[:, 0] > a[:, 2]) | (b[:, 0] > b[:, 2])       # no geometry: no evidence
+    return unknown | np.where(smaller > 0, shared >= LINK_SHARE * smaller,
+                              (size >= 0).all(axis=1))
+
+
+def _covering(document, tree, grid, extents):
+    """Per epoch, whether its map covers the place of a building (its ``tree`` in
+    ``document``, whose vertices are ``grid``): the centre of the building's extent
+    lies in the extent of the epoch's model (``extents``: x0, y0, x1, y1 per epoch),
+    so that a map of part of the town says nothing of the buildings elsewhere."""
+    box = _boxes(document, {"b": tree}, grid)["b"]
+    if box[0] > box[2]:
+        return None
+    centre = (box[:2] + box[2:]) / 2.0
+    return [bool(np.all(e[:2] <= centre) and np.all(centre <= e[2:])) for e in extents]
+
+
+def _renamed(document, names):
+    """A copy of ``document`` whose objects are renamed by ``names`` ({old id: new id}),
+    their links too."""
+    objects = {}
+    for oid, obj in document["CityObjects"].items():
+        if oid in names:
+            obj = dict(obj)
+            for link in ("children", "parents"):
+                if obj.get(link):
+                    obj[link] = [names.get(x, x) for x in obj[link]]
+        objects[names.get(oid, oid)] = obj
+    return {**document, "CityObjects": objects}
+
+
+def _apart(epochs, grids):
+    """The epochs with the buildings that share an id but not a place kept apart.
+
+    An id is one building across the epochs while each map's footprint of it
+    (its extent) overlaps the one before (:func:`_same_places`): the chain keeps a building's
+    footprint as it was, or redraws it where it stands. Where an id's footprint
+    lies elsewhere than on the map before (two runs that each numbered their
+    buildings from 1), it names another building from there on: its tree is
+    renamed ``<id>@<year>`` (:data:`APART`). Returns (epochs, {id: [new ids]})."""
+    trees = [_trees(e.document) for e in epochs]
+    seen = {}
+    for k, t in enumerate(trees):
+        for oid in t:
+            seen.setdefault(oid, []).append(k)
+    shared = {oid for oid, ks in seen.items() if len(ks) > 1}
+    if not shared:
+        return epochs, {}
+    boxes = [_boxes(e.document, {o: t[o] for o in t if o in shared}, g)
+             for e, t, g in zip(epochs, trees, grids)]
+    steps = [(oid, before, k) for oid in sorted(shared)
+             for before, k in zip(seen[oid], seen[oid][1:])]
+    same = dict(zip(steps, _same_places([boxes[before][oid] for oid, before, _ in steps],
+                                        [boxes[k][oid] for oid, _, k in steps]).tolist()))
+    taken = {m for e in epochs for m in e.document.get("CityObjects", {})}
+    renames = [dict() for _ in epochs]
+    apart = {}
+    for oid in sorted(shared):
+        ks, name = seen[oid], None
+        for before, k in zip(ks, ks[1:]):
+            if not same[oid, before, k]:
+                name = oid + APART + str(epochs[k].year)
+                while name in taken:
+                    name += APART
+                taken.add(name)
+                apart.setdefault(oid, []).append(name)
+            if name is not None:
+                suffix = name[len(oid):]
+                renames[k].update({m: (name if m == oid else m + suffix) for m in trees[k][oid]})
+    out = [Epoch(e.year, _renamed(e.document, names), e.path) if names else e
+           for e, names in zip(epochs, renames)]
+    return out, apart
 
 
 def merge_epochs(epochs, register=None, reference_system=None, title=None):
@@ -116,13 +324,24 @@ def merge_epochs(epochs, register=None, reference_system=None, title=None):
     ``register``: {building id: construction year or None} of today's
     register (the BAG): a building whose id (or, for an id with dots such as
     ``NL.IMBAG.Pand.0503100000012345``, the part after its last dot, leading
-    zeros aside) is in it still stands. Raises InputError for two epochs of
-    one year or an object id that is a building in one epoch and a part in
-    another.
+    zeros aside) is in it still stands; ``reference_system``: the output's
+    (None: the models'). Raises InputError for two epochs of one year, a
+    model that is not one epoch's (:func:`check_one_epoch`: another map
+    year than its epoch's, a merged model, no buildings), models in
+    different reference systems or one not in metres
+    (:func:`epochs_reference_system`), and an object id that is a building
+    in one epoch and a part in another. An id whose footprints lie apart on
+    two maps names two buildings (:func:`_apart`).
     """
     epochs = _check_years(epochs)
+    given = epochs_reference_system(epochs)
+    if reference_system is None:
+        reference_system = given
     years = [e.year for e in epochs]
-    grids = [_millimetres(e.document) for e in epochs]
+    grids = [_millimetres(e.document, e.path) for e in epochs]
+    epochs, apart = _apart(epochs, grids)
+    extents = [np.r_[g[:, :2].min(axis=0), g[:, :2].max(axis=0)] if len(g) else
+               np.array([1, 1, 0, 0]) for g in grids]
     rows = np.concatenate(grids) if grids else np.zeros((0, 3), np.int64)
     unique, inverse = np.unique(rows, axis=0, return_inverse=True)
     inverse = inverse.reshape(-1)
@@ -180,8 +399,12 @@ def merge_epochs(epochs, register=None, reference_system=None, title=None):
                 used.append(citygeometry.indices(geometry))
             if member == oid:
                 built = _built(oid, keys)
+                covered = None
+                if built[0] and max(trees) < len(years) - 1:
+                    k = max(trees)
+                    covered = _covering(epochs[k].document, trees[k], grids[k], extents)
                 span = lifespan(years, [k in trees for k in range(len(years))],
-                                built=built[1], standing=built[0])
+                                built=built[1], standing=built[0], covered=covered)
                 attributes.update(span.attributes())
                 standing += span.standing
                 if span.conflict:
@@ -191,7 +414,7 @@ def merge_epochs(epochs, register=None, reference_system=None, title=None):
     document = _document(objects, unique, used, epochs, reference_system, title)
     report = MergeReport(len(present), {years[k]: sum(k in t for t in present.values())
                                         for k in range(len(years))}, versions, standing,
-                         conflicts)
+                         conflicts, apart)
     return DynamicModel(document, report)
 
 
@@ -249,6 +472,58 @@ def epoch_years(document):
                    for y in (obj.get("attributes") or {}).get("epochs", ())})
 
 
+def _integers(value):
+    return isinstance(value, list) and all(
+        isinstance(v, int) and not isinstance(v, bool) for v in value)
+
+
+def _merged_problem(obj, top):
+    """What of a city object (a dict; ``top``: top-level) a model over time cannot hold
+    (None: nothing): see :func:`check_merged`."""
+    a = obj.get("attributes") or {}
+    if not isinstance(a, dict):
+        return "has attributes that are not an object"
+    if ("epochs" in a or top) and not (_integers(a.get("epochs")) and (a["epochs"] or not top)):
+        return "has no list of epochs (years)"
+    geometry = obj.get("geometry") or []
+    stamps = a.get("geometry_epochs", [] if not geometry else None)
+    if not (isinstance(stamps, list) and len(stamps) == len(geometry) and all(
+            _integers(e) for e in stamps)):
+        return "has no list of the epochs of each of its {} geometries".format(len(geometry))
+    extra = a.get("epoch_attributes") or {}
+    if not (isinstance(extra, dict) and all(isinstance(v, dict) for v in extra.values())):
+        return "has epoch_attributes that are not {year: {name: value}}"
+    for link in ("children", "parents"):
+        if not isinstance(obj.get(link) or [], list):
+            return "has {} that are not a list".format(link)
+    return None
+
+
+def check_merged(document, path):
+    """InputError unless ``document`` (read from ``path`` by
+    :func:`~reconstruction.cityjson.existing.read_document`) is a model over time as
+    :func:`merge_epochs` writes it: each top-level object with its ``epochs`` (years),
+    each object with geometry with the epochs of each geometry (``geometry_epochs``),
+    a geometry in its tree for each of its epochs, ``epoch_attributes`` {year: {name:
+    value}} where given."""
+    objects = document["CityObjects"]
+    for oid, obj in objects.items():
+        problem = _merged_problem(obj, not obj.get("parents"))
+        if problem is None and not obj.get("parents"):
+            drawn = {y for m in object_tree(objects, oid)
+                     for e in (objects[m].get("attributes") or {}).get("geometry_epochs", ())
+                     for y in e}
+            lacking = sorted(set(obj["attributes"]["epochs"]) - drawn)
+            if lacking:
+                problem = "has no geometry of its epoch {}".format(lacking[0])
+        if problem is not None:
+            raise InputError("'{}' is not a model over time of v.histo.timeline: its city "
+                             "object <{}> {}".format(path, oid, problem))
+    if not epoch_years(document):
+        raise InputError("'{}' is not a model over time of v.histo.timeline: it has no "
+                         "epochs".format(path))
+
+
 def standing_versions(document, year):
     """{top-level object id: the epoch whose geometry and attributes it has} of the
     buildings standing in ``year`` in a merged model (the snapshot's rule, see the
@@ -303,10 +578,7 @@ def snapshot(document, year):
                 obj[name] = [x for x in obj[name] if x in out]
                 if not obj[name]:
                     del obj[name]
-    vertices = np.asarray(document.get("vertices") or np.zeros((0, 3)), dtype=np.int64)
-    t = document["transform"]
-    unique = vertices.reshape(-1, 3) + np.rint(np.asarray(t["translate"]) / SCALE).astype(
-        np.int64)
+    unique = _millimetres(document)
     metadata = {k: v for k, v in (document.get("metadata") or {}).items()
                 if k != "geographicalExtent"}
     doc = _document(out, unique, used, [Epoch(year, {"metadata": metadata})], None, None)

@@ -9,9 +9,12 @@ map and not in today's register, it was demolished after that map, when is
 unknown. A building in today's register (the BAG) still stands: no
 demolition, and its register year (``bouwjaar``) is its construction year
 when the maps agree. Where they do not (the register says it was built
-before a map that does not show it, or after one that does; or a map
-between two that show it leaves it out) the :class:`Lifespan` says so in
-``conflict``; the intervals are then the maps' evidence.
+before a map that does not show it, or after one that does; a map
+between two that show it leaves it out; or it stands in the register but
+the maps after the last one that shows it, where they cover its place, do
+not) the :class:`Lifespan` says so in ``conflict``; the intervals are then the maps' evidence (a
+building in the register that the later maps leave out keeps ``standing``
+and gets the demolition interval those maps give).
 
 The attribute names follow CityGML 3.0's ``dateOfConstruction`` and
 ``dateOfDemolition`` (:meth:`Lifespan.attributes`).
@@ -28,7 +31,8 @@ class Lifespan:
     ``epochs``: the map years it is shown in; ``construction`` and
     ``demolition``: ``(earliest, latest)`` years, either bound None where
     unknown (built before the first map; demolished some time after the
-    last); ``demolition`` None for a building still standing; ``built``: the
+    last); ``demolition`` None for a building still standing that the maps
+    do not contradict; ``built``: the
     register's construction year (None: not in the register or none given);
     ``standing``: in today's register; ``conflict``: what contradicts what
     (None: nothing).
@@ -63,10 +67,12 @@ class Lifespan:
         return out
 
 
-def lifespan(years, present, built=None, standing=False):
+def lifespan(years, present, built=None, standing=False, covered=None):
     """The :class:`Lifespan` of a building shown on the maps of ``years`` (ascending)
     where ``present`` (one bool per map); ``built``: its register construction year,
-    ``standing``: in today's register."""
+    ``standing``: in today's register; ``covered``: per map, whether it covers the
+    building's place (None: every map does), for the maps after its last one: a map
+    of another part of the town says nothing of it."""
     shown = [y for y, p in zip(years, present) if p]
     if not shown:
         raise ValueError("a building shown on no map")
@@ -86,8 +92,16 @@ def lifespan(years, present, built=None, standing=False):
             conflicts.append("built {} (register) but on the {} map".format(built, years[first]))
         else:
             construction = (built, built)
-    if standing:
+    covered = [True] * len(years) if covered is None else list(covered)
+    after = [y for y, c in zip(years[last + 1:], covered[last + 1:]) if c]
+    if standing and after:
+        # the register says it stands, the later maps that do not show it say it was gone
+        conflicts.append("in today's register but not on the {} map{} after {}".format(
+            ", ".join(map(str, after)), "s" if len(after) > 1 else "", years[last]))
+    if standing and not after:
         demolition = None
+    elif standing:
+        demolition = (years[last] + 1, after[0])
     elif last == len(years) - 1:
         demolition = (years[last] + 1, None)
     else:

@@ -191,7 +191,11 @@ def read_config(options, flags, location_epsg=None, street_labels=None):
                                              allow_minimum=False))
     height_range = _height_range(options["height"], "height")
     attic_range = _height_range(options["attic"], "attic")
-    map_year = parse_number(options["year"], "year", cast=int) if options["year"] else None
+    map_year = parse_number(options["year"], "year", cast=int, minimum=1) if options["year"] \
+        else None
+    if options.get("previous") and map_year is None:
+        raise InputError("Option previous= needs year=, the year of this map (the earlier "
+                         "epoch's model must be of an earlier map)")
     seed = parse_number(options["seed"], "seed", cast=int)
     nprocs = processes(options["nprocs"])
     rules = read_rules(options["rules"]) if options["rules"] else None

@@ -40,7 +40,6 @@ from . import inputs as lod2_inputs
 from . import output as lod2_output
 from . import previous as lod2_previous
 from .certainty import certainty
-from .config import ExistingRequest
 from .neighbourhood import Plots
 from .report import (build_messages, built_messages, config_messages, existing_messages,
                      existing_model_messages, footprint_messages, ground_points_messages, height_messages,
@@ -167,8 +166,10 @@ def _previous(config, footprints, found, inputs):
         raise InputError("Option previous= needs the footprints' {} column (v.histo.subdivide "
                          "year=): it names each footprint's building".format(BUILDING))
     with inputs.doing("reading the earlier epoch's model '{}'".format(config.previous)):
-        model = lod2_output.read_existing(ExistingRequest(path=config.previous),
-                                          config.location_epsg)
+        model = lod2_previous.read_previous(config.previous, config.map_year,
+                                            config.location_epsg)
+    inputs.say(existing_model_messages(model, "earlier epoch's model", "not kept; the "
+                                       "footprints of their identity are built anew"))
     heights = found.heights
     kept = lod2_previous.match_previous(model, identity, footprints.geometries, heights.eaves,
                                         heights.attic, found.source, config.map_year)

@@ -23,9 +23,11 @@ import numpy as np
 
 from ..cityjson import existing
 from ..core.contract import (HEIGHTS_COLUMN, HEIGHTS_MEASURED, HEIGHTS_POINTS, PLOT, SOURCE)
+from ..core.errors import InputError
+from ..epochs.dynamic import check_one_epoch, map_years
 from ..geom.polygons import polygon_parts, same_outline
 from .config import AUTO, ExistingRequest
-from .output import ExistingMatch
+from .output import ExistingMatch, read_existing
 from .roofs.plan import ROOF_TYPES
 from .stage import ROOF_EARLIER
 
@@ -66,6 +68,22 @@ class PreviousMatch:
     roof_type: list
     report: PreviousReport
     roof_source: Optional[list] = None
+
+
+def read_previous(path, map_year, location_epsg=None):
+    """The earlier epoch's model (previous=), read and checked as an existing model is
+    (its broken buildings left out and named in ``skipped``, for the warning
+    existing= gives), and refused (InputError) unless it is the model of one map
+    before this one's ``map_year``: not a model over time (v.histo.timeline's, whose
+    buildings would be kept with every version), not of the same or a later map year."""
+    model = read_existing(ExistingRequest(path=path), location_epsg)
+    check_one_epoch({"CityObjects": model.objects}, path, what="earlier epoch's model")
+    years = map_years({"CityObjects": model.objects})
+    if years and years[0] >= map_year:
+        raise InputError("The earlier epoch's model '{}' (previous=) is of the map of {}, not "
+                         "of a map before this one's ({}, year=): give the model of the "
+                         "epoch before".format(path, years[0], map_year))
+    return model
 
 
 def _height(attributes, name):

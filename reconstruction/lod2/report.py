@@ -16,6 +16,7 @@ done (a progress message before the work it announces), in this order:
 
 import numpy as np
 
+from ..cityjson import existing
 from ..cityjson.existing import FAR_ID_MATCH
 from ..core import crs
 from ..core.messages import note, verbose, warning
@@ -73,24 +74,17 @@ def existing_messages(request):
     return [note("Reading the existing model '{}'...".format(request.path))]
 
 
-#: broken buildings of an existing model named in its warning
-SKIPPED_NAMED = 3
-
-
-def existing_model_messages(model):
+def existing_model_messages(model, what="existing model",
+                            instead="not copied; the footprints they would match are generated"):
     """After the existing model (an :class:`~reconstruction.cityjson.existing.ExistingModel`)
     is read: the broken buildings left out (issue 33), the first few named
-    with their problem."""
+    with their problem; ``what`` the model is and what is done ``instead``
+    (the earlier epoch's model of previous= gives the same warning)."""
     skipped = model.skipped
     if not skipped:
         return []
-    named = ["<{}>: {}".format(oid, problem) for oid, problem in
-             list(skipped.items())[:SKIPPED_NAMED]]
-    more = len(skipped) - len(named)
-    return [warning("{} buildings of the existing model '{}' are broken and left out (not "
-                    "copied; the footprints they would match are generated): {}{}".format(
-                        len(skipped), model.path, "; ".join(named),
-                        "; and {} more".format(more) if more else ""))]
+    return [warning("{} buildings of the {} '{}' are broken and left out ({}): {}".format(
+        len(skipped), what, model.path, instead, existing.broken_named(skipped)))]
 
 
 def ground_points_messages(config):

@@ -62,7 +62,7 @@ def read_config(options, flags):
         area_threshold = parse_number(options["area_threshold"], "area_threshold", minimum=0)
     year = None
     if options.get("year"):
-        year = parse_number(options["year"], "year", cast=int)
+        year = parse_number(options["year"], "year", cast=int, minimum=1)
     if options.get("previous") and year is None:
         raise InputError("Option previous= needs year=, the year of this map (the identity of "
                          "its new buildings)")

@@ -17,7 +17,7 @@ from ..core.options import integer_column
 from ..core.register import bag_ids, column_named
 from ..geom.polygons import polygon_parts
 from .plots import OVERLAP_TOLERANCE
-from .previous import PreviousEpoch, identities
+from .previous import PreviousEpoch, earlier_identities, identities
 from .stage import Subdivision, subdivide
 
 
@@ -72,8 +72,9 @@ def plots_with_category(geometries, columns, name):
 def read_previous(plots, cats, footprints, columns, config):
     """The :class:`~.previous.PreviousEpoch` of the earlier epoch's maps read: its plots
     (with their categories) and its footprints with their table. A footprint's
-    identity is its ``building`` column, else the BAG id of an aligned one,
-    else ``building_<cat>`` (what v.histo.lod2 names a footprint's building)."""
+    identity is its ``building`` column (InputError without one:
+    :func:`~.previous.earlier_identities`), else the BAG id of an aligned one, else
+    ``building_<cat>`` (what v.histo.lod2 names a footprint's building)."""
     # one footprint per polygon (GRASS hands back single polygons as MultiPolygons),
     # without the slivers of a rounding error that GRASS's cleaning can leave
     # beside a footprint under its category (each would be a building of its own)
@@ -92,7 +93,7 @@ def read_previous(plots, cats, footprints, columns, config):
     source = column_named(columns, contract.SOURCE) or [contract.SOURCE_PROCEDURAL] * n
     case = column_named(columns, contract.CASE) or [None] * n
     bag = bag_ids(columns, config.id_column, config.previous) or [None] * n
-    named = column_named(columns, contract.BUILDING)
+    named = earlier_identities(columns, config.previous, config.year)
     footprint_cats = columns.get("cat") or list(range(1, n + 1))
     identity = []
     for k in range(n):
@@ -114,7 +115,8 @@ def read_inputs(plots, cats, aligned, aligned_columns, config, previous=None):
     if aligned is None:
         return SubdivisionInputs(plots, cats, aligned_columns=aligned_columns or {},
                                  previous=previous)
-    ids = bag_ids(aligned_columns, config.id_column, config.aligned) if config.year else None
+    ids = bag_ids(aligned_columns, config.id_column, config.aligned) \
+        if config.year is not None else None
     plot = column_named(aligned_columns, contract.PLOT)
     if plot is None:
         return SubdivisionInputs(plots, cats, aligned, None, aligned_columns, True, previous,

@@ -34,13 +34,16 @@ keeps its geometry exactly (the map's offset is a drawing error, the
 building did not move) and its identity (:func:`identities`).
 """
 
+import re
 from dataclasses import dataclass, field
 from typing import Optional
 
 import numpy as np
 import shapely
 
-from ..core.contract import NEW_BUILDING, SOURCE_ALIGNED
+from ..core.contract import BUILDING, NEW_BUILDING, SOURCE_ALIGNED
+from ..core.errors import InputError
+from ..core.register import column_named
 from ..epochs import match_plots
 from ..epochs.plots import NEW, TOLERANCE, UNCHANGED, PlotMatches
 from .aligned_footprints import assign_plots
@@ -96,6 +99,31 @@ class KeptFootprints:
     matches: Optional[PlotMatches] = None
     realigned: int = 0
     free: dict = field(default_factory=dict)
+
+
+#: the identity of a footprint new in the epoch of a year (:data:`NEW_BUILDING`), that year
+#: a group (a repeat's ``_2`` suffix aside)
+_NEW_IN = re.compile("^" + re.escape(NEW_BUILDING).replace(re.escape("{year}"), r"(\d+)")
+                     .replace(re.escape("{number}"), r"\d+") + r"(?:_\d+)?$")
+
+
+def earlier_identities(columns, name, year):
+    """The building identities (column ``building``) of the earlier epoch's footprints
+    (map ``name``, previous=; ``columns``: its table), checked: InputError for a map
+    without the column (not footprints of v.histo.subdivide year=: a plots map would
+    be kept whole, as footprints) and for footprints new in an epoch not before
+    ``year`` (the identities name the year of the map they were made on)."""
+    named = column_named(columns, BUILDING)
+    if named is None:
+        raise InputError("Vector map <{}> (previous=) has no {} column: give the footprints "
+                         "v.histo.subdivide made with year= of the earlier map".format(
+                             name, BUILDING))
+    made = [int(m.group(1)) for m in map(_NEW_IN.match, (str(v) for v in named if v)) if m]
+    if made and max(made) >= year:
+        raise InputError("Vector map <{}> (previous=) holds footprints made on the map of {}, "
+                         "not before this map's year {} (year=): give the footprints of the "
+                         "epoch before".format(name, max(made), year))
+    return named
 
 
 def _earlier_plot_of(previous):

@@ -9,11 +9,13 @@ import numpy as np
 import orjson
 
 from ..cityjson import existing
+from ..cityjson.geometry import json_bytes
 from ..cityjson.seq import document_features
 from ..core import register as bag
 from ..core.errors import InputError
 from ..core.safefile import together
-from ..epochs.dynamic import Epoch, MergeReport, epoch_years, merge_epochs, snapshot
+from ..epochs.dynamic import (Epoch, MergeReport, check_merged, epoch_years, merge_epochs,
+                              snapshot)
 from .. import view
 
 
@@ -68,6 +70,7 @@ def run(config, read_table, doing):
     if config.input:
         with doing("reading the merged model '{}'".format(config.input)):
             document = existing.read_document(config.input)
+            check_merged(document, config.input)
     else:
         epochs = []
         for path, year in zip(config.models, config.years):
@@ -89,7 +92,7 @@ def run(config, read_table, doing):
 
 def _lines(document):
     for feature in document_features(document):
-        yield orjson.dumps(feature) + b"\n"
+        yield json_bytes(feature) + b"\n"
 
 
 def write(result, config, report_json=None):
@@ -101,7 +104,7 @@ def write(result, config, report_json=None):
                 for line in _lines(result.document):
                     f.write(line)
             else:
-                f.write(orjson.dumps(result.document))
+                f.write(json_bytes(result.document))
         if config.report_file and report_json is not None:
             with files.open(config.report_file) as f:
                 f.write(orjson.dumps(report_json, option=orjson.OPT_INDENT_2).decode())

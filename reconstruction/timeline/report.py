@@ -26,6 +26,14 @@ def report(result, config, size, seconds):
                                    len(m.conflicts), "" if len(m.conflicts) <= NAMED
                                    else ", the first {}".format(NAMED),
                                    "; ".join("<{}>: {}".format(k, v) for k, v in named))))
+        if m.apart:
+            named = list(m.apart.items())[:NAMED]
+            out.append(warning(
+                "{} ids name buildings in different places on different maps (their "
+                "footprints do not overlap), each kept as a building of its own{}: {}".format(
+                    len(m.apart), "" if len(m.apart) <= NAMED else ", the first {}".format(NAMED),
+                    "; ".join("<{}> also as {}".format(k, ", ".join("<{}>".format(n) for n in v))
+                              for k, v in named))))
     if result.snapshot is not None:
         out.append(note("Snapshot of {} (epochs {}): {} buildings".format(
             result.snapshot, ", ".join(map(str, result.years)), result.buildings)))
@@ -46,6 +54,7 @@ def report_json(result, config):
         "versions": m.versions if m else None,
         "standing": m.standing if m else None,
         "conflicts": dict(m.conflicts) if m else {},
+        "apart": dict(m.apart) if m else {},
         "models": dict(zip(map(str, config.years), config.models)),
         "register": config.register,
     }
@@ -57,7 +66,8 @@ def shell_counts(result):
     lines = ["buildings={}".format(result.buildings)]
     if m is not None:
         lines += ["epochs={}".format(len(m.per_epoch)), "versions={}".format(m.versions),
-                  "standing={}".format(m.standing), "conflicts={}".format(len(m.conflicts))]
+                  "standing={}".format(m.standing), "conflicts={}".format(len(m.conflicts)),
+                  "apart={}".format(len(m.apart))]
         lines += ["buildings_{}={}".format(y, n) for y, n in sorted(m.per_epoch.items())]
     if result.snapshot is not None:
         lines.append("snapshot={}".format(result.snapshot))

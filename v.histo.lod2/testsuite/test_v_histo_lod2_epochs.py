@@ -101,6 +101,40 @@ def test_previous_needs_the_building_column(town, tmp_path):
     gs.run_command("v.histo.subdivide", input="plots_1915", output="plain", quiet=True)
     out = str(tmp_path / "x.city.json")
     rc, _, err = run_module("v.histo.lod2", input="plain", output=out, previous=m1880,
-                            **HEIGHTS)
+                            year=1915, **HEIGHTS)
     assert rc != 0 and "building column" in " ".join(err.split())
     assert "Traceback" not in err and not os.path.exists(out)
+
+
+def test_previous_of_a_later_map_is_refused_with_one_error_line(town, tmp_path):
+    """Issue 49, item 7: 235 buildings were "kept" from 1961 into 1915."""
+    m1915 = str(tmp_path / "m1915.city.json")
+    assert run_module("v.histo.lod2", input="fp_1915", output=m1915, year=1915,
+                      **HEIGHTS)[0] == 0
+    out = str(tmp_path / "x.city.json")
+    rc, _, err = run_module("v.histo.lod2", input="fp_1880", output=out, previous=m1915,
+                            year=1880, **HEIGHTS)
+    text = " ".join(err.split())
+    assert rc != 0 and text.count("ERROR:") == 1 and "is of the map of 1915" in text
+    assert "Traceback" not in err and not os.path.exists(out)
+
+
+def test_a_broken_building_of_previous_gives_the_counted_warning_existing_gives(town,
+                                                                               tmp_path):
+    """Issue 49, item 7: it was left out without a word (existing= warns)."""
+    m1880 = str(tmp_path / "m1880.city.json")
+    assert run_module("v.histo.lod2", input="fp_1880", output=m1880, year=1880, seed=3,
+                      **HEIGHTS)[0] == 0
+    doc = load(m1880)
+    broken = sorted(doc["CityObjects"])[0]
+    doc["CityObjects"][broken]["geometry"][0]["boundaries"][0][0][0][0] = -1
+    with open(m1880, "w") as f:
+        json.dump(doc, f)
+    out = str(tmp_path / "m1915.city.json")
+    rc, _, err = run_module("v.histo.lod2", input="fp_1915", output=out, previous=m1880,
+                            year=1915, seed=4, **HEIGHTS)
+    assert rc == 0, err
+    text = " ".join(err.split())
+    assert "1 buildings of the earlier epoch's model '{}' are broken and left out".format(
+        m1880) in text
+    assert "<{}>: ".format(broken) in text and "vertex index -1 is negative" in text

@@ -92,6 +92,10 @@ def test_without_year_the_footprints_are_those_of_a_single_map(town):
     ({"previous": "plots_1880", "previous_plots": "plots_1880", "year": "1915",
       "tolerance": "-1"}, "tolerance"),
     ({"year": "1915", "aligned": "aligned_1880", "id_column": "nothing"}, "id_column"),
+    # issue 49, item 7: the plots as previous= became whole footprints; year=0 was taken
+    ({"previous": "plots_1880", "previous_plots": "plots_1880", "year": "1915"},
+     "has no building column"),
+    ({"year": "0"}, "year= must be at least 1"),
 ])
 def test_a_bad_dynamic_chain_fails_clearly_and_leaves_nothing(town, options, message):
     gs, _ = town

@@ -51,3 +51,58 @@ def test_bad_years_end_in_one_error_line_and_nothing_written(epochs, tmp_path):
     text = " ".join(err.split())
     assert text.count("ERROR:") == 1 and "one year per model" in text
     assert "Traceback" not in err
+
+
+def rewritten(path, change, tmp_path, name):
+    with open(path) as f:
+        doc = json.load(f)
+    change(doc)
+    out = str(tmp_path / name)
+    with open(out, "w") as f:
+        json.dump(doc, f)
+    return out
+
+
+def set_crs(code):
+    def change(doc):
+        doc["metadata"]["referenceSystem"] = "https://www.opengis.net/def/crs/EPSG/0/{}".format(
+            code)
+    return change
+
+
+def negative_index(doc):
+    doc["CityObjects"]["kept"]["geometry"][0]["boundaries"][0][0][0][0] = -1
+
+
+@pytest.mark.parametrize("case, message", [
+    ("mixed", "different reference systems"),
+    ("geographic", "EPSG:4326, whose units are not metres"),
+    ("swapped", "is of the map of 1915"),
+    ("negative", "vertex index -1 is negative"),
+    ("nested", "nested too deeply"),
+])
+def test_bad_epoch_models_end_in_one_error_line_and_nothing_written(epochs, tmp_path, case,
+                                                                     message):
+    """Issue 49, items 6 and 10: each of these was merged (the output in the last epoch's
+    system, a spike where an index wrapped round) or ended in a traceback."""
+    first, second = epochs[1880], epochs[1915]
+    years = "1880,1915"
+    if case == "mixed":
+        first = rewritten(first, set_crs(31370), tmp_path, "a.city.json")
+        second = rewritten(second, set_crs(28992), tmp_path, "b.city.json")
+    elif case == "geographic":
+        first = rewritten(first, set_crs(4326), tmp_path, "a.city.json")
+    elif case == "swapped":
+        years = "1915,1880"
+    elif case == "negative":
+        first = rewritten(first, negative_index, tmp_path, "a.city.json")
+    else:
+        (tmp_path / "deep.city.json").write_text("[" * 100000 + "]" * 100000)
+        first = str(tmp_path / "deep.city.json")
+    out = tmp_path / "town.city.json"
+    rc, _out, err = run_module("v.histo.timeline", models="{},{}".format(first, second),
+                               years=years, output=str(out))
+    assert rc != 0 and not out.exists()
+    text = " ".join(err.split())
+    assert text.count("ERROR:") == 1 and message in text, text
+    assert "Traceback" not in err

@@ -1,6 +1,8 @@
 """One model of several epochs and its snapshots (reconstruction.epochs.dynamic)."""
 
+import copy
 import os
+import re
 
 import pytest
 
@@ -104,3 +106,73 @@ def test_two_epochs_of_one_year_are_refused():
     a, b = town()
     with pytest.raises(InputError, match="same year"):
         merge_epochs([a, Epoch(a.year, b.document)])
+
+
+def with_crs(doc, code):
+    doc["metadata"]["referenceSystem"] = "https://www.opengis.net/def/crs/EPSG/0/{}".format(code)
+    return doc
+
+
+@pytest.mark.parametrize("codes, message", [
+    ((31370, 28992), "different reference systems"),
+    ((4326, 4326), "EPSG:4326, whose units are not metres on the ground (degrees"),
+    ((3857, 3857), "EPSG:3857, whose units are not metres on the ground (Web Mercator"),
+])
+def test_models_in_other_or_unmetric_reference_systems_are_refused(codes, message):
+    b, a = town()
+    epochs = [Epoch(1880, with_crs(a.document, codes[0])), Epoch(1915, with_crs(b.document,
+                                                                                codes[1]))]
+    with pytest.raises(InputError, match=re.escape(message)):
+        merge_epochs(epochs)
+
+
+def test_a_compound_system_and_its_horizontal_part_merge_in_the_models_system():
+    b, a = town()
+    m = merge_epochs([Epoch(1880, with_crs(a.document, 7415)),
+                      Epoch(1915, with_crs(b.document, 28992))])
+    assert m.document["metadata"]["referenceSystem"].endswith("/7415")
+
+
+def test_years_are_checked_against_the_models_map_year():
+    b, a = town()
+    with pytest.raises(InputError, match="is of the map of 1915 .* not of 1880"):
+        merge_epochs([Epoch(1880, b.document, "b.json"), Epoch(1915, a.document, "a.json")])
+    with pytest.raises(InputError, match="is of the map of 1880 .* not of 1915"):
+        merge_epochs([Epoch(1880, a.document), Epoch(1915, a.document)])
+
+
+def test_one_model_under_two_years_is_refused_without_map_years_too():
+    _, a = town()
+    for obj in a.document["CityObjects"].values():
+        del obj["attributes"]["map_year"]
+    with pytest.raises(InputError, match="one and the same"):
+        merge_epochs([Epoch(1880, a.document), Epoch(1915, copy.deepcopy(a.document))])
+
+
+def test_a_merged_model_or_an_empty_one_is_no_epoch():
+    b, a = town()
+    merged = merge_epochs([a, b]).document
+    with pytest.raises(InputError, match="model over several epochs"):
+        merge_epochs([a, Epoch(1961, merged)])
+    empty = model(1900, {})
+    with pytest.raises(InputError, match="model of 1900 '<model>' has no buildings"):
+        merge_epochs([a, Epoch(1900, empty), b])
+
+
+def test_an_id_of_unrelated_buildings_on_two_maps_names_two_buildings():
+    """Two runs that each named their buildings building_1, building_2...: the same id
+    far apart is two buildings, each with its own lifespan; one drawn a metre off is one."""
+    a = model(1880, {"building_1": (84000, 446000, 8, 1), "building_2": (84020, 446000, 9, 2)})
+    b = model(1915, {"building_1": (84200, 446000, 8, 1), "building_2": (84021, 446001, 9, 2)})
+    m = merge_epochs([Epoch(1880, a), Epoch(1915, b)])
+    objects = m.document["CityObjects"]
+    assert set(objects) == {"building_1", "building_1@1915", "building_2"}
+    assert m.report.apart == {"building_1": ["building_1@1915"]}
+    old, new = objects["building_1"]["attributes"], objects["building_1@1915"]["attributes"]
+    assert old["epochs"] == [1880] and old["dateOfDemolitionLatest"] == 1915
+    assert new["epochs"] == [1915] and new["dateOfConstructionEarliest"] == 1881
+    assert objects["building_2"]["attributes"]["epochs"] == [1880, 1915]
+    assert cityjson.consistency_errors(m.document) == []
+    for year, shown in ((1880, {"building_1", "building_2"}),
+                        (1915, {"building_1@1915", "building_2"})):
+        assert set(snapshot(m.document, year)["CityObjects"]) == shown

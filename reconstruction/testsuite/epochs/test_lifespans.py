@@ -62,3 +62,57 @@ def test_the_intervals_hold_the_true_dates(present, true_year):
     dlo, dhi = span.demolition
     assert dlo <= gone and (dhi is None or gone <= dhi)
     assert span.conflict is None and span.epochs == tuple(y for y, p in zip(years, present) if p)
+
+
+def test_a_standing_building_left_out_by_the_later_maps_is_a_conflict():
+    """On the 1880 map, not on the 1915 and 1961 ones, yet in today's register: the maps
+    and the register disagree (issue 49, item 9), not silently standing."""
+    span = lifespan(YEARS, [True, False, False], built=1850, standing=True)
+    assert span.conflict == "in today's register but not on the 1915, 1961 maps after 1880"
+    assert span.standing and span.demolition == (1881, 1915)
+    a = span.attributes()
+    assert a["conflict"] == span.conflict and "dateOfConstruction" not in a
+    assert (a["dateOfDemolitionEarliest"], a["dateOfDemolitionLatest"]) == (1881, 1915)
+    # shown on the last map: no conflict
+    assert lifespan(YEARS, [True, True, True], standing=True).conflict is None
+
+
+def test_the_merge_flags_a_register_building_the_next_map_leaves_out():
+    """A small synthetic case: a building of the 1880 map, not on the 1915 one (which
+    covers its place), and in the register: a conflict of the merge, counted in its
+    report."""
+    from reconstruction.epochs.dynamic import Epoch, merge_epochs
+    from reconstruction.testsuite.epochs.test_dynamic import model
+
+    a = model(1880, {"NL.IMBAG.Pand.0503100000000009": (84000, 446000, 8, 1),
+                     "b": (84020, 446000, 9, 2)})
+    b = model(1915, {"b": (84020, 446000, 9, 2), "w": (83980, 446000, 9, 3)})
+    m = merge_epochs([Epoch(1880, a), Epoch(1915, b)], register={"0503100000000009": 1700})
+    assert m.report.conflicts == {"NL.IMBAG.Pand.0503100000000009":
+                                  "in today's register but not on the 1915 map after 1880"}
+    attributes = m.document["CityObjects"]["NL.IMBAG.Pand.0503100000000009"]["attributes"]
+    assert attributes["standing"] and attributes["conflict"]
+
+
+def test_a_later_map_of_another_part_of_the_town_says_nothing_of_a_building():
+    """A map that does not cover a register building's place (the Delft 1961 subset)
+    is no evidence that it was gone."""
+    span = lifespan(YEARS, [True, False, False], standing=True,
+                    covered=[True, False, True])
+    assert span.conflict == "in today's register but not on the 1961 map after 1880"
+    assert span.demolition == (1881, 1961)
+    span = lifespan(YEARS, [True, False, False], standing=True, covered=[True, False, False])
+    assert span.conflict is None and span.demolition is None
+
+
+def test_the_merge_asks_only_the_maps_that_cover_the_building():
+    from reconstruction.epochs.dynamic import Epoch, merge_epochs
+    from reconstruction.testsuite.epochs.test_dynamic import model
+
+    a = model(1880, {"NL.IMBAG.Pand.0503100000000009": (84000, 446000, 8, 1),
+                     "b": (84200, 446000, 9, 2)})
+    b = model(1915, {"b": (84200, 446000, 9, 2), "c": (84220, 446000, 9, 2)})
+    m = merge_epochs([Epoch(1880, a), Epoch(1915, b)], register={"0503100000000009": 1700})
+    assert m.report.conflicts == {}
+    assert m.document["CityObjects"]["NL.IMBAG.Pand.0503100000000009"]["attributes"][
+        "standing"]

@@ -160,3 +160,16 @@ def test_a_projected_crs_is_taken_and_another_than_the_locations_warned_about(cr
     assert c.output.reference_system.endswith("/" + crs.split(":")[-1])
     said = [m.text for m in config_messages(c)]
     assert any("is not the location's" in t for t in said) == warned
+
+
+@pytest.mark.parametrize("change, message", [
+    ({"year": "0"}, "year= must be at least 1"),
+    ({"year": "-1880"}, "year= must be at least 1"),
+    ({"previous": "m1880.city.json"}, "previous= needs year="),
+])
+def test_a_map_year_before_1_or_previous_without_one_is_refused(change, message):
+    """Issue 49, item 7: year=0 is no map's year; previous= must be of an earlier map,
+    which needs this map's year."""
+    with pytest.raises(InputError, match=message):
+        config(**change)
+    assert config(year="1915", previous="m1880.city.json").map_year == 1915

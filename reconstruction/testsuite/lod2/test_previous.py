@@ -3,11 +3,14 @@ nothing changes where the maps and the measured heights did not."""
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 from shapely.geometry import box
 
 from reconstruction.cityjson import existing
 from reconstruction.core.contract import HEIGHTS_MEASURED
 from reconstruction.lod2.previous import HEIGHT_TOLERANCE, match_previous
+from reconstruction.testsuite.timeline.test_timeline_fuzz import FUZZ, epoch_model, mutated
 
 CUBE = [[[[0, 3, 2, 1]], [[4, 5, 6, 7]], [[0, 1, 5, 4]], [[1, 2, 6, 5]], [[2, 3, 7, 6]],
          [[3, 0, 4, 7]]]]
@@ -72,3 +75,92 @@ def test_a_footprint_without_an_earlier_building_is_built(identity):
     match = match_previous(model, [identity], [box(0, 0, 4, 4)], np.array([9.0]),
                            np.array([3.0]), [HEIGHTS_MEASURED])
     assert match.building[0] == -1 and match.report.new == (identity is not None)
+
+
+def written(tmp_path, doc, name="earlier.city.json"):
+    import json
+
+    path = str(tmp_path / name)
+    with open(path, "w") as f:
+        json.dump(doc, f)
+    return path
+
+
+def epoch_doc(map_year):
+    from reconstruction.testsuite.epochs.test_dynamic import model
+
+    return model(map_year, {"b1": (84000, 446000, 8, 1), "b2": (84020, 446000, 9, 2)})
+
+
+@pytest.mark.parametrize("earlier, message", [(1961, "is of the map of 1961"),
+                                              (1915, "is of the map of 1915")])
+def test_previous_of_a_later_or_the_same_map_is_refused(tmp_path, earlier, message):
+    """Issue 49, item 7: 235 buildings were "kept" from 1961 into 1915."""
+    from reconstruction.core.errors import InputError
+    from reconstruction.lod2.previous import read_previous
+
+    path = written(tmp_path, epoch_doc(earlier))
+    with pytest.raises(InputError, match=message + r", not of a map before this one's \(1915"):
+        read_previous(path, 1915)
+    assert read_previous(written(tmp_path, epoch_doc(1880), "ok.city.json"), 1915).buildings \
+        == ["b1", "b2"]
+
+
+def test_previous_a_merged_model_over_time_is_refused(tmp_path):
+    from reconstruction.core.errors import InputError
+    from reconstruction.epochs.dynamic import Epoch, merge_epochs
+    from reconstruction.lod2.previous import read_previous
+
+    merged = merge_epochs([Epoch(1880, epoch_doc(1880)), Epoch(1900, epoch_doc(1900))])
+    with pytest.raises(InputError, match="model over several epochs.*snapshot="):
+        read_previous(written(tmp_path, merged.document), 1915)
+
+
+def test_a_broken_building_of_previous_gives_the_warning_existing_gives(tmp_path):
+    from reconstruction.lod2.previous import read_previous
+    from reconstruction.lod2.report import existing_model_messages
+
+    doc = epoch_doc(1880)
+    doc["CityObjects"]["b2"]["geometry"][0]["boundaries"][0][0][0][0] = -1
+    model = read_previous(written(tmp_path, doc), 1915)
+    assert model.buildings == ["b1"]
+    said = existing_model_messages(model, "earlier epoch's model", "not kept")
+    assert len(said) == 1 and said[0].level == "warning"
+    assert "1 buildings of the earlier epoch's model" in said[0].text
+    assert "<b2>" in said[0].text and "vertex index -1 is negative" in said[0].text
+
+
+def test_previous_with_attributes_of_the_wrong_kind_leaves_that_building_out(tmp_path):
+    from reconstruction.lod2.previous import read_previous
+
+    doc = epoch_doc(1880)
+    doc["CityObjects"]["b2"]["attributes"] = ["map_year", 1961]
+    model = read_previous(written(tmp_path, doc), 1915)
+    assert model.buildings == ["b1"] and "attributes that are not an object" in \
+        model.skipped["b2"]
+
+
+@FUZZ
+@given(data=st.data())
+def test_a_malformed_previous_model_gives_a_match_or_one_input_error(data):
+    """Issue 49, item 10, for previous=: mutations of a small earlier model (the
+    timeline's fuzz test's) are read and matched, or refused with one InputError."""
+    import json
+    import tempfile
+
+    from reconstruction.core.errors import InputError
+    from reconstruction.lod2.previous import read_previous
+
+    with tempfile.TemporaryDirectory() as folder:
+        path = folder + "/earlier.city.json"
+        with open(path, "w") as f:
+            json.dump(mutated(data, epoch_model()), f)
+        try:
+            model = read_previous(path, 1961)
+        except InputError as error:
+            assert str(error)
+            return
+        outlines = [box(84000, 446000, 84010, 446010), box(84020, 446000, 84030, 446010)]
+        match = match_previous(model, ["a", "b"], outlines, np.array([8.0, 9.0]),
+                               np.array([0.0, 0.0]), [HEIGHTS_MEASURED] * 2, 1961)
+        assert match.report.footprints == 2

@@ -49,3 +49,10 @@ def test_each_bad_value_names_its_option(changes, message):
         config(**changes)
     assert str(caught.value) == message
     assert "Option {}=".format(next(iter(changes))) in str(caught.value)
+
+
+@pytest.mark.parametrize("year", ["0", "-5"])
+def test_a_year_before_1_is_refused(year):
+    """Issue 49, item 7: year=0 dropped the aligned footprints' BAG ids."""
+    with pytest.raises(InputError, match="year= must be at least 1"):
+        config(year=year)

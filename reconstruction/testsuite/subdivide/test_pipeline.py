@@ -42,3 +42,16 @@ def test_run_gives_the_footprints_and_their_table():
     assert result.table["name"] == ["x"] + [None] * (len(sub.geometries) - 1)
     assert "cat" not in result.table
     assert result.clock[0] <= result.clock[1]
+
+
+def test_the_aligned_footprints_bag_ids_are_read_for_any_year():
+    """With year= the aligned footprints keep their BAG ids as identities (issue 49,
+    item 7: a year that is false as a number, 0, dropped them)."""
+    import dataclasses
+
+    plots, cats = [box(0, 0, 10, 10)], [1]
+    columns = {"cat": [1], "plot": [1], "identificatie": ["0503100000000009"]}
+    for year in (0, 1915):
+        inputs = read_inputs(plots, cats, [box(1, 1, 4, 4)], columns,
+                             dataclasses.replace(CONFIG, year=year))
+        assert inputs.aligned_ids == ["0503100000000009"]

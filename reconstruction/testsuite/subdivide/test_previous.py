@@ -269,3 +269,33 @@ def test_a_sliver_grass_left_under_a_footprints_category_is_no_building():
                          {"cat": [5, 6, 7], "building": ["h5", "h6", "h7"]}, config)
     assert prev.identity == ["h5", "h6", "h7"]
     assert [g.area for g in prev.footprints] == [140, 140, pytest.approx(2e-6)]
+
+
+def earlier(columns, year=1915):
+    from reconstruction.subdivide import read_previous
+    from reconstruction.subdivide.config import SubdivisionConfig
+
+    config = SubdivisionConfig("p", "f", previous="f0", previous_plots="p0", year=year)
+    return read_previous([box(0, 0, 60, 14)], [1], [box(0, 0, 10, 14), box(10, 0, 20, 14)],
+                         columns, config)
+
+
+def test_previous_without_a_building_column_is_refused():
+    """Issue 49, item 7: a map without identities (the plots themselves, footprints made
+    without year=) gave whole plots as kept footprints."""
+    from reconstruction.core.errors import InputError
+
+    with pytest.raises(InputError, match="<f0> \\(previous=\\) has no building column"):
+        earlier({"cat": [5, 6], "plot": [1, 1]})
+
+
+@pytest.mark.parametrize("made, year", [(1961, 1915), (1915, 1915)])
+def test_previous_footprints_of_a_later_or_the_same_map_are_refused(made, year):
+    from reconstruction.core.errors import InputError
+
+    names = ["building_1880_3", "building_{}_4_2".format(made)]
+    with pytest.raises(InputError, match="made on the map of {}, not before this map's "
+                                         "year {}".format(made, year)):
+        earlier({"cat": [5, 6], "building": names}, year)
+    assert earlier({"cat": [5, 6], "building": ["building_1880_3", "0503100000000009"]},
+                   1915).identity == ["building_1880_3", "0503100000000009"]

@@ -116,3 +116,22 @@ def test_a_model_that_cannot_be_opened_is_named(tmp_path):
                                           years="1880"), {})
     with pytest.raises(InputError, match="Cannot read the model '.*none.city.json'"):
         timeline.run(config, lambda name: {}, doing)
+
+
+def test_ids_kept_apart_are_counted_in_a_warning_the_report_and_g(tmp_path):
+    from reconstruction.testsuite.epochs.test_dynamic import model
+
+    paths = []
+    for year, x in ((1880, 84000), (1915, 84300)):
+        paths.append(str(tmp_path / "m{}.city.json".format(year)))
+        with open(paths[-1], "w") as f:
+            json.dump(model(year, {"building_1": (x, 446000, 8, 1)}), f)
+    config = timeline.read_config(options(models=",".join(paths), years="1880,1915",
+                                          output=str(tmp_path / "t.city.json")), {})
+    result = timeline.run(config, lambda name: {}, doing)
+    said = [m for m in timeline.report(result, config, 1000, 0.1) if "do not overlap" in m.text]
+    assert len(said) == 1 and said[0].level == "warning"
+    assert "1 ids name buildings in different places" in said[0].text
+    assert "<building_1> also as <building_1@1915>" in said[0].text
+    assert timeline.report_json(result, config)["apart"] == {"building_1": ["building_1@1915"]}
+    assert "apart=1" in timeline.shell_counts(result)
