@@ -38,7 +38,9 @@ def _list(text):
 
 
 def _year(text, key):
-    return parse_number(text.strip() if isinstance(text, str) else text, key, cast=int)
+    # a map's year, as year= of the other modules: 1 or later
+    return parse_number(text.strip() if isinstance(text, str) else text, key, cast=int,
+                        minimum=1)
 
 
 def read_config(options, flags):

@@ -32,6 +32,8 @@ def options(**kw):
     ({"models": "a.json,b.json", "years": "1880,1880"}, "two models of one year"),
     ({"models": "a.json", "years": "1880.5"}, "years= must be a number"),
     ({"input": "m.json"}, "needs snapshot="),
+    ({"models": "a.json,b.json", "years": "0,1880"}, "years= must be"),
+    ({"input": "m.json", "snapshot": "-5"}, "snapshot= must be"),
     ({"models": "a.json", "years": "1880", "format": "obj"}, "format=: one of"),
 ])
 def test_bad_options_are_refused_with_the_option_named(given, message):
