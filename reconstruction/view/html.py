@@ -14,6 +14,7 @@ order, gzip without a time stamp.
 
 import base64
 import gzip
+import hashlib
 import io
 import json
 import os
@@ -97,21 +98,36 @@ def _map_png(map_image, origin):
             "extent": [west - origin[0], east - origin[0], south - origin[1], north - origin[1]]}
 
 
-def _json(value):
-    """JSON safe inside a <script> element (no "</" closes it early)."""
-    return json.dumps(value, ensure_ascii=False, separators=(",", ":")).replace("</", "<\\/")
+#: the characters of JSON text written as escapes inside a <script> element: with no
+#: "<" there is no "</script" to close it early and no "<!--" followed by "<script" to put
+#: the HTML parser in its double-escaped state (issue 49, item 4), which would swallow
+#: the rest of the page; ">" and "&" for good measure, U+2028 and U+2029 for older
+#: JavaScript parsers. JSON only holds them inside strings, where the escape is the same
+#: character.
+SCRIPT_ESCAPES = {ord(c): "\\u{:04x}".format(ord(c)) for c in "<>&\u2028\u2029"}
 
+
+def _json(value):
+    """JSON text safe inside a <script> element (:data:`SCRIPT_ESCAPES`)."""
+    return json.dumps(value, ensure_ascii=False, separators=(",", ":")).translate(SCRIPT_ESCAPES)
+
+
+#: the page's Content Security Policy (issue 49, item 3): nothing but its own inline
+#: scripts and style sheet, named by their SHA-256 (:func:`_csp`), so that a script or
+#: style smuggled into the page, an event handler attribute (onerror=) or a style
+#: attribute is refused by the browser even if escaping ever failed; no request
+#: anywhere (default-src 'none'), images and the model's data only from data: and blob:
+CSP = ("default-src 'none'; script-src {scripts}; style-src {styles}; img-src data: blob:; "
+       "connect-src data: blob:; base-uri 'none'; form-action 'none'")
 
 PAGE = """<!DOCTYPE html>
 <html lang="en">
 <head>
 <meta charset="utf-8">
 <meta name="viewport" content="width=device-width, initial-scale=1">
-<meta http-equiv="Content-Security-Policy" content="default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; img-src data: blob:; connect-src data: blob:">
+<meta http-equiv="Content-Security-Policy" content="{csp}">
 <title>{title}</title>
-<style>
-{css}
-</style>
+<style>{css}</style>
 </head>
 <body>
 <canvas id="view"></canvas>
@@ -129,18 +145,36 @@ PAGE = """<!DOCTYPE html>
 <!-- three.js, https://threejs.org, licence:
 {notice}
 -->
-<script>
-{three}
-</script>
-<script>
-{controls}
-</script>
-<script>
-{viewer}
-</script>
+<script>{three}</script>
+<script>{controls}</script>
+<script>{viewer}</script>
 </body>
 </html>
 """
+
+
+def _inline(text, what):
+    """``text`` as the content of an inline <script> or <style> element: its own lines
+    between two line breaks, as the browser reads it back (line ends as LF, the text its
+    hash is computed on). InputError for text that would end the element early or that
+    the HTML parser would change."""
+    text = text.replace("\r\n", "\n").replace("\r", "\n")
+    lower = text.lower()
+    if "</script" in lower or "</style" in lower or "<!--" in lower or "\0" in text:
+        raise InputError("{} cannot be written inline in the viewer's page".format(what))
+    return "\n" + text + "\n"
+
+
+def _source(text):
+    """The CSP source naming an inline element's content ``text`` by its SHA-256."""
+    digest = hashlib.sha256(text.encode("utf-8")).digest()
+    return "'sha256-{}'".format(base64.b64encode(digest).decode("ascii"))
+
+
+def _csp(scripts, styles):
+    """The page's policy (:data:`CSP`) allowing the inline ``scripts`` and ``styles``."""
+    return CSP.format(scripts=" ".join(map(_source, scripts)),
+                      styles=" ".join(map(_source, styles)))
 
 
 def viewer_html(scene, title, map_image=None, three_root=THREE):
@@ -158,23 +192,34 @@ def viewer_html(scene, title, map_image=None, three_root=THREE):
             "background": list(BACKGROUND), "certainty": CERTAINTY_CLASSES,
             "map": _map_png(map_image, scene.origin) if map_image is not None else None}
     with open(os.path.join(HERE, "viewer.css"), encoding="utf-8") as f:
-        css = f.read()
+        css = _inline(f.read() + _swatch_css(), "viewer.css")
     with open(os.path.join(HERE, "viewer.js"), encoding="utf-8") as f:
-        viewer = f.read()
-    return PAGE.format(title=_escape(title), css=css, meta=_json(meta),
+        viewer = _inline(f.read(), "viewer.js")
+    three = _inline(three, "three.js")
+    controls = _inline(controls, "three.js's OrbitControls")
+    return PAGE.format(csp=_csp((three, controls, viewer), (css,)),
+                       title=_escape(title), css=css, meta=_json(meta),
                        data=base64.b64encode(packed).decode("ascii"),
                        notice=notice.replace("--", "- -"), three=three, controls=controls,
                        viewer=viewer, legend=_legend(scene.copied.any()))
 
 
+#: the legend's swatches: (name, colour) in the palette's colours
+SWATCHES = (("roof", COLOURS[ROOF]), ("wall", COLOURS[WALL]), ("ground", COLOURS[GROUND]),
+            ("copied", COPIED_COLOURS[ROOF]))
+
+
+def _swatch_css():
+    """The swatches' colours as rules of the style sheet (a style attribute would need
+    'unsafe-inline' in the policy)."""
+    return "".join("\n.swatch.{} {{ background: #{:02x}{:02x}{:02x}; }}".format(
+        name, *(int(v) for v in rgb)) for name, rgb in SWATCHES)
+
+
 def _legend(copied):
-    """The legend's swatches in the palette's colours (copied buildings' roofs with
-    ``copied``)."""
-    entries = [(COLOURS[ROOF], "roof"), (COLOURS[WALL], "wall"), (COLOURS[GROUND], "ground")]
-    if copied:
-        entries.append((COPIED_COLOURS[ROOF], "copied"))
-    return "".join('<span class="swatch" style="background:#{:02x}{:02x}{:02x}"></span>{}'
-                   .format(*(int(v) for v in rgb), name) for rgb, name in entries)
+    """The legend's swatches (copied buildings' roofs with ``copied``)."""
+    return "".join('<span class="swatch {0}"></span>{0}'.format(name)
+                   for name, _rgb in SWATCHES[:4 if copied else 3])
 
 
 def _escape(text):
