@@ -6,7 +6,10 @@ rendering, no GPU, no display): the screenshot shows it, and the page had
 no error and asked for nothing on the network. Pages that do reach for the
 network, or fail, are caught doing it: the guard and the error lists of
 ``testsuite/browser.py`` work, so a viewer test that finds them empty can
-trust them. No GRASS needed.
+trust them. Then the viewer's own page against hostile data (issue 49, items 3
+and 4): text that would break out of its script elements in every field the
+page shows, ids that name JavaScript's machinery, and the Content Security
+Policy refusing what a copy of the page has injected. No GRASS needed.
 """
 
 import json
@@ -296,3 +299,24 @@ def test_the_policy_refuses_a_script_injected_into_a_copy_of_the_page(browser_pa
         "script-src-attr", "script-src-elem", "style-src-attr"], violations
     assert browser_page.blocked == []
     assert all("Content Security Policy" in e for e in browser_page.errors), browser_page.errors
+
+
+def test_the_page_with_its_map_draws_under_the_policy(browser_page, tmp_path):
+    # item 3: what the page needs passes the strict policy: its three scripts and style
+    # sheet (by their hashes), the map (a data: PNG) and the model (base64 through a blob)
+    import numpy as np
+
+    from reconstruction.geom.grid import MapImage
+    from reconstruction.testsuite.view.models import ORIGIN
+    from reconstruction.view import build_scene, viewer_html
+
+    rgb = np.zeros((64, 64, 3), dtype=np.uint8)
+    rgb[..., 0] = np.arange(64)[:, None] * 4                  # a gradient to see
+    west, south = ORIGIN[0] - 10, ORIGIN[1] - 10
+    image = MapImage(rgb, (west, west + 60, south, south + 60))
+    page_file = _write(tmp_path, "map.html", viewer_html(build_scene(_model()), "map", image))
+    page = _open_viewer(browser_page, page_file)
+    assert page.evaluate("histo.drawn()") == 2
+    assert page.is_visible("#map-toggle")
+    assert page.evaluate("window.violations") == []
+    assert browser_page.errors == [] and browser_page.blocked == []
