@@ -20,10 +20,11 @@ footprints.
 A CityJSONSeq file is drawn without ever holding its whole document
 (:func:`scene_of_seq`, issue 49 item 14): its features are read a batch at a
 time, twice (first for the model's lowest corner, the scene's origin), each
-batch cut into triangles with the whole model's origin and let go; the
-buildings' attributes are kept as compact JSON texts (:class:`AttributeTexts`).
-The scene is the one :func:`build_scene` makes of the whole document, array
-for array.
+batch cut into triangles with the whole model's origin and let go, its arrays
+gathered in temporary files beside the model and read into one array each at
+the end; the buildings' attributes are kept as zlib-compressed JSON texts
+(:class:`AttributeTexts`). The scene is the one :func:`build_scene` makes of
+the whole document, array for array.
 
 Pure: numpy and the CityJSON document (a dict); pyvista imported lazily.
 """
@@ -79,7 +80,7 @@ def attribute_text(attributes):
 class AttributeTexts(Sequence):
     """The buildings' attributes as JSON texts (:func:`attribute_text`) in blocks, each
     block its buildings' texts joined by commas, UTF-8, zlib-compressed: a building's
-    attributes take some 40 bytes instead of a dict's kilobyte or two. ``blocks``: the
+    attributes take some tens of bytes instead of a dict's kilobyte or two. ``blocks``: the
     compressed blocks; ``starts``: per block, where each text starts in it and where
     the last ends (int64 arrays). An item is the building's dict, decoded."""
 
@@ -91,7 +92,7 @@ class AttributeTexts(Sequence):
 
     @staticmethod
     def of(dicts):
-        """One block of the attributes ``dicts``, in a tuple of the blocks' arguments."""
+        """One block of the attributes ``dicts``: its compressed bytes and its starts."""
         texts = [attribute_text(a).encode("utf-8") for a in dicts]
         starts = np.cumsum([0] + [len(t) + 1 for t in texts], dtype=np.int64)
         return zlib.compress(b",".join(texts), 1), starts
