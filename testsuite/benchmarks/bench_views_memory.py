@@ -8,6 +8,11 @@ a time into compact arrays, never from one document of every building
 (before: 50,000 footprints took 226 MB without them, 1.54 GB with viewer=,
 1.68 GB with gltf=).
 
+Measured on the 2-core machine of issue 49 (shared with other work): 50,000
+footprints, median of 3: none 222 MB, viewer 339 MB, gltf 329 MB, both 341 MB
+(57d2396: 222 / 1,509 / 1,719 / 1,712 MB, one run each); 200,000 footprints:
+none 595 MB, viewer 784 MB, gltf 804 MB, both 803 MB (one run each).
+
 For each number of footprints, v.histo.lod2 runs with neither, with
 ``viewer=``, with ``gltf=`` and with both; each run is one process started
 by a small Python process that prints the largest peak RSS (``ru_maxrss``)
