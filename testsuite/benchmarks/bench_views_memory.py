@@ -11,7 +11,8 @@ a time into compact arrays, never from one document of every building
 Measured on the 2-core machine of issue 49 (shared with other work): 50,000
 footprints, median of 3: none 222 MB, viewer 339 MB, gltf 329 MB, both 341 MB
 (57d2396: 222 / 1,509 / 1,719 / 1,712 MB, one run each); 200,000 footprints:
-none 595 MB, viewer 784 MB, gltf 804 MB, both 803 MB (one run each).
+none 595 MB, viewer 784 MB, gltf 804 MB (one run each), both 802 MB (median
+of 3, 802-803).
 
 For each number of footprints, v.histo.lod2 runs with neither, with
 ``viewer=``, with ``gltf=`` and with both; each run is one process started
