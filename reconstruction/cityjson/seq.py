@@ -335,6 +335,25 @@ def read_features(f, path="<stream>"):
     feature's indices, the vertex offset of every object's feature and the
     number of its feature's vertices (its indices must stay below it)."""
     head, lines = features(f, path)
+    return _gathered(head, lines, path)
+
+
+def read_batches(f, path="<stream>", step=2000):
+    """The features of a CityJSONSeq ``step`` at a time, each batch as
+    :func:`read_features` gives them all (a document, offsets and counts), so that a
+    reader holds one batch at a time (issue 49, item 14)."""
+    head, lines = features(f, path)
+    while True:
+        with citygeometry.gc_paused():
+            batch = list(itertools.islice(lines, step))
+            if not batch:
+                return
+            gathered = _gathered(head, batch, path)
+        yield gathered
+
+
+def _gathered(head, lines, path):
+    """The features ``lines`` as one document (see :func:`read_features`)."""
     objects, vertices, offsets, counts = {}, [], {}, {}
     for feature in lines:
         offset = len(vertices)

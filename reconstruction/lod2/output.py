@@ -424,19 +424,21 @@ def _views(model_file, viewer_path, gltf_path, request, copied, doing, match=Non
     (``viewer_path``, ``gltf_path``; None: not asked for) from the model just written
     to ``model_file``: every building, the copied ones in their colours."""
     kept = match.kept_previous if match is not None else frozenset()
+    shown = _shown_copied(copied, kept)
     with doing("reading back '{}' for the viewer and glTF".format(request.path)):
-        with open(model_file, encoding="utf-8") as f:
-            document = (json.load(f) if request.format == "cityjson" else
-                        cityjsonseq.collect(f, request.path))
-        scene = view.build_scene(document, copied=_shown_copied(copied, kept))
+        if request.format == "cityjson":
+            with open(model_file, encoding="utf-8") as f:
+                scene = view.build_scene(json.load(f), copied=shown)
+        else:   # a few thousand features at a time, as it was written (issue 49, item 14)
+            scene = view.scene_of_seq(model_file, copied=shown, name=request.path)
     if viewer_path:
         with doing("writing the viewer '{}'".format(request.viewer)):
             title = request.title or os.path.basename(request.path)
             with open(viewer_path, "w", encoding="utf-8") as f:
-                f.write(view.viewer_html(scene, title, request.map_image))
+                view.write_viewer(f, scene, title, request.map_image)
     if gltf_path:
         with doing("writing the glTF '{}'".format(request.gltf)), open(gltf_path, "wb") as f:
-            f.write(view.glb_bytes(scene))
+            view.write_glb(f, scene, folder=os.path.dirname(os.path.abspath(gltf_path)))
 
 
 def _shown_copied(copied, kept):

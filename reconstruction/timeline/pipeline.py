@@ -109,7 +109,7 @@ def write(result, config, report_json=None):
             with files.open(config.report_file) as f:
                 f.write(orjson.dumps(report_json, option=orjson.OPT_INDENT_2).decode())
         if config.viewer:
-            page = view.viewer_html(view.build_scene(result.document), _title(config))
+            scene = view.build_scene(result.document)
             with files.open(config.viewer) as f:
-                f.write(page)
+                view.write_viewer(f, scene, _title(config))
     return os.path.getsize(config.output)

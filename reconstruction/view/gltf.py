@@ -40,9 +40,11 @@ same bytes. The tests read the files back with trimesh and run Khronos's
 validator on them.
 """
 
+import io
 import json
 import math
 import struct
+import tempfile
 
 import numpy as np
 
@@ -62,6 +64,16 @@ ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER = 34962, 34963
 TRIANGLES = 4
 #: the largest vertex count indexed by uint16 (65535 is the primitive restart value)
 UINT16_VERTICES = 65535
+#: the buffer views in the order they lie in the binary chunk, and their targets
+COMPONENTS = (FLOAT, UINT32, UINT16)
+TARGET = {FLOAT: ARRAY_BUFFER, UINT32: ELEMENT_ARRAY_BUFFER, UINT16: ELEMENT_ARRAY_BUFFER}
+#: the placeholder of each view's index in an accessor's text: control characters, which
+#: JSON text never holds raw
+VIEW_MARK = {FLOAT: b"\x01", UINT32: b"\x02", UINT16: b"\x03"}
+#: bytes of a spool kept in memory before it goes to a temporary file
+SPOOLED = 1 << 22
+#: the lists of the glTF document written from spools
+SPOOLED_LISTS = ("nodes", "meshes", "accessors")
 
 
 def _linear(value):
@@ -98,42 +110,69 @@ def _y_up(points):
     return np.column_stack([points[:, 0], points[:, 2], -points[:, 1]])
 
 
-class _Buffer:
-    """The binary chunk, built in three buffer views: vertices (float32 x, y, z),
-    uint32 and uint16 indices."""
+class _Spools:
+    """The binary chunk's three buffer views (vertices float32 x, y, z; uint32 and uint16
+    indices) and the JSON texts of the nodes, meshes and accessors, each written to a
+    temporary file as the buildings go (kept in memory while small), so that a city's
+    glTF is never held whole (issue 49, item 14). An accessor's text names its buffer
+    view by a placeholder byte (:data:`VIEW_MARK`), the view's index once the views
+    used are known (:meth:`finish`)."""
 
-    def __init__(self):
-        self.parts = {FLOAT: [], UINT32: [], UINT16: []}
-        self.size = dict.fromkeys(self.parts, 0)
-        self.accessors = []
+    def __init__(self, folder=None):
+        def spool():
+            return tempfile.SpooledTemporaryFile(max_size=SPOOLED, dir=folder)
+
+        self.binary = {component: spool() for component in COMPONENTS}
+        self.size = dict.fromkeys(COMPONENTS, 0)
+        self.texts = {name: spool() for name in SPOOLED_LISTS}
+        self.count = dict.fromkeys(self.texts, 0)
+
+    def close(self):
+        for f in list(self.binary.values()) + list(self.texts.values()):
+            f.close()
+
+    def text(self, name, value, prefix=b"{"):
+        """Append ``value`` (a JSON-able dict; its text starting with ``prefix``) to the
+        list ``name``; returns its index."""
+        f = self.texts[name]
+        f.write((b"," if self.count[name] else b"") + prefix + _json_bytes(value)[1:])
+        self.count[name] += 1
+        return self.count[name] - 1
 
     def add(self, array, component, kind, **extra):
         """An accessor over ``array`` (its bytes appended to the view of ``component``)."""
         data = np.ascontiguousarray(array).tobytes()
-        self.accessors.append(dict({"bufferView": component, "byteOffset": self.size[component],
-                                    "componentType": component, "count": int(len(array)),
-                                    "type": kind}, **extra))
-        self.parts[component].append(data)
+        accessor = dict({"byteOffset": self.size[component], "componentType": component,
+                         "count": int(len(array)), "type": kind}, **extra)
+        self.binary[component].write(data)
         self.size[component] += len(data)
-        return len(self.accessors) - 1
+        return self.text("accessors", accessor, b'{"bufferView":' + VIEW_MARK[component] + b",")
 
-    def finish(self):
-        """The buffer views, the accessors pointing at them and the binary chunk's bytes."""
-        views, blob, index = [], bytearray(), {}
-        for component, target in ((FLOAT, ARRAY_BUFFER), (UINT32, ELEMENT_ARRAY_BUFFER),
-                                  (UINT16, ELEMENT_ARRAY_BUFFER)):
+    def views(self):
+        """The buffer views (dicts) of the views used, their start in the binary chunk,
+        and its length: each view 4-byte aligned, one after the other."""
+        views, starts, at = [], {}, 0
+        for component in COMPONENTS:
             if not self.size[component]:
                 continue
-            blob += b"\0" * (-len(blob) % 4)
-            index[component] = len(views)
-            view = {"buffer": 0, "byteOffset": len(blob), "byteLength": self.size[component],
-                    "target": target}
-            if target == ARRAY_BUFFER:
+            at += -at % 4
+            starts[component] = at
+            view = {"buffer": 0, "byteOffset": at, "byteLength": self.size[component],
+                    "target": TARGET[component]}
+            if TARGET[component] == ARRAY_BUFFER:
                 view["byteStride"] = 12   # several accessors share it: glTF then wants the stride
             views.append(view)
-            blob += b"".join(self.parts[component])
-        accessors = [dict(a, bufferView=index[a["bufferView"]]) for a in self.accessors]
-        return views, accessors, bytes(blob)
+            at += self.size[component]
+        return views, starts, at
+
+    def marks(self):
+        """The placeholder bytes of the accessors' views as the views' indices."""
+        used = [c for c in COMPONENTS if self.size[c]]
+        table = bytes(range(256))
+        for component, mark in VIEW_MARK.items():
+            if component in used:
+                table = table[:mark[0]] + str(used.index(component)).encode() + table[mark[0] + 1:]
+        return table
 
 
 def _chunks(scene, year):
@@ -153,13 +192,48 @@ def glb_bytes(scene, year=None):
     for a dynamic model the buildings standing in ``year`` (default: its last year).
     A building with no triangle to draw has no node. InputError when ``year`` lies
     outside the model's years."""
+    out = io.BytesIO()
+    write_glb(out, scene, year)
+    return out.getvalue()
+
+
+def write_glb(f, scene, year=None, folder=None):
+    """Write the glTF of :func:`glb_bytes` to the binary file ``f``, building by building
+    through temporary files in ``folder`` (None: the system's), never holding a
+    city's glTF whole (issue 49, item 14)."""
     chunks, year = _chunks(scene, year)
-    buffer, materials, material_of = _Buffer(), [], {}
-    nodes, meshes, drawn = [], [], {}
-    for k in chunks:
-        if scene.chunk_start[k + 1] > scene.chunk_start[k]:
-            drawn.setdefault(int(scene.chunk_building[k]), []).append(int(k))
-    for b, ks in drawn.items():
+    spools = _Spools(folder)
+    try:
+        materials = _buildings(scene, _drawn(scene, chunks), spools)
+        extras = {"origin": [float(v) for v in scene.origin], "crs": scene.crs,
+                  "axes": "x east, y up, z south; metres from origin (east, north, up)"}
+        if year is not None:
+            extras["year"] = year
+        _container(f, spools, materials, extras)
+    finally:
+        spools.close()
+
+
+def _drawn(scene, chunks):
+    """Each building with triangles among ``chunks`` and its chunks that have some, in
+    the order of its first such chunk (building, list of chunks), one at a time."""
+    chunks = np.asarray(chunks, dtype=np.int64)
+    chunks = chunks[scene.chunk_start[chunks + 1] > scene.chunk_start[chunks]]
+    building = scene.chunk_building[chunks].astype(np.int64)
+    _unique, first, which = np.unique(building, return_index=True, return_inverse=True)
+    rank = np.argsort(np.argsort(first))[which.reshape(-1)]    # buildings by first chunk
+    order = np.argsort(rank, kind="stable")
+    chunks, rank = chunks[order], rank[order]
+    ends = np.flatnonzero(np.diff(rank)) + 1
+    for ks in np.split(chunks, ends) if len(chunks) else ():
+        yield int(scene.chunk_building[ks[0]]), ks.tolist()
+
+
+def _buildings(scene, drawn, spools):
+    """Write the node, mesh and accessors of each building of ``drawn`` ((building, its
+    chunks), :func:`_drawn`); returns the materials used, in the order of their first use."""
+    materials, material_of = [], {}
+    for b, ks in drawn:
         copied = bool(scene.copied[b])
         vertex = np.concatenate([np.arange(scene.chunk_vertex[k], scene.chunk_vertex[k + 1])
                                  for k in ks])
@@ -176,44 +250,80 @@ def glb_bytes(scene, year=None):
                 first, last = int(own.min()), int(own.max()) + 1
                 local = (_y_up(scene.positions[first:last].astype(np.float64))
                          - anchor).astype(np.float32)
-                position = buffer.add(local, FLOAT, "VEC3", min=local.min(axis=0).tolist(),
+                position = spools.add(local, FLOAT, "VEC3", min=local.min(axis=0).tolist(),
                                       max=local.max(axis=0).tolist())
                 small = last - first <= UINT16_VERTICES
                 indices = (own - first).astype(np.uint16 if small else np.uint32).ravel()
-                index = buffer.add(indices, UINT16 if small else UINT32, "SCALAR")
+                index = spools.add(indices, UINT16 if small else UINT32, "SCALAR")
                 key = (copied, int(kind))
                 if key not in material_of:
                     material_of[key] = len(materials)
                     materials.append(_material(*COLOURS[key]))
                 primitives.append({"attributes": {"POSITION": position}, "indices": index,
                                    "material": material_of[key], "mode": TRIANGLES})
-        meshes.append({"name": scene.ids[b], "primitives": primitives})
-        nodes.append({"name": scene.ids[b], "mesh": len(meshes) - 1,
-                      "translation": [float(v) for v in anchor],
-                      "extras": json_safe(scene.attributes[b])})
-    extras = {"origin": [float(v) for v in scene.origin], "crs": scene.crs,
-              "axes": "x east, y up, z south; metres from origin (east, north, up)"}
-    if year is not None:
-        extras["year"] = year
-    views, accessors, blob = buffer.finish()
-    view = {"name": "histo city model", "nodes": list(range(len(nodes))), "extras": extras}
-    document = {"asset": {"version": "2.0", "generator": GENERATOR},
-                "scene": 0, "scenes": [{k: v for k, v in view.items() if v != []}],
-                "nodes": nodes, "meshes": meshes, "materials": materials,
-                "accessors": accessors, "bufferViews": views}
-    if blob:
-        document["buffers"] = [{"byteLength": len(blob)}]
-    document = {k: v for k, v in document.items() if v != []}
-    return _container(document, blob)
+        mesh = spools.text("meshes", {"name": scene.ids[b], "primitives": primitives})
+        spools.text("nodes", {"name": scene.ids[b], "mesh": mesh,
+                              "translation": [float(v) for v in anchor],
+                              "extras": json_safe(scene.attributes[b])})
+    return materials
 
 
-def _container(document, blob):
-    """The GLB container: header, JSON chunk (padded with spaces), binary chunk (zeros)."""
-    text = json.dumps(document, ensure_ascii=False, separators=(",", ":"),
-                      allow_nan=False).encode("utf-8")
-    text += b" " * (-len(text) % 4)
-    chunks = struct.pack("<I4s", len(text), b"JSON") + text
-    if blob:
-        blob += b"\0" * (-len(blob) % 4)
-        chunks += struct.pack("<I4s", len(blob), b"BIN\0") + blob
-    return struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks
+#: the glTF's JSON as ``json.dumps(..., ensure_ascii=False, separators=(",", ":"),
+#: allow_nan=False)`` writes it (one encoder: json.dumps makes one a call otherwise)
+_ENCODER = json.JSONEncoder(ensure_ascii=False, separators=(",", ":"), allow_nan=False)
+
+
+def _json_bytes(value):
+    return _ENCODER.encode(value).encode("utf-8")
+
+
+def _container(f, spools, materials, extras):
+    """Write the GLB container: header, JSON chunk (padded with spaces), binary chunk
+    (zeros); the JSON's lists of nodes, meshes and accessors and the binary views
+    copied from their spools."""
+    views, starts, length = spools.views()
+    view = {"name": "histo city model", "nodes": list(range(spools.count["nodes"])),
+            "extras": extras}
+    head = {"asset": {"version": "2.0", "generator": GENERATOR},
+            "scene": 0, "scenes": [{k: v for k, v in view.items() if v != []}]}
+    # the document's members in order: text, or the name of a spooled list
+    members = [_json_bytes(head)[:-1]]
+    for key, value in (("nodes", None), ("meshes", None), ("materials", materials),
+                       ("accessors", None), ("bufferViews", views),
+                       ("buffers", [{"byteLength": length}] if length else [])):
+        if value is None and spools.count[key]:
+            members += [b',"' + key.encode() + b'":[', key, b"]"]
+        elif value:
+            members.append(b',"' + key.encode() + b'":' + _json_bytes(value))
+    members.append(b"}")
+    size = sum(spools.texts[m].tell() if isinstance(m, str) else len(m) for m in members)
+    pad = -size % 4
+    binary = length + (-length % 4)
+    f.write(struct.pack("<4sII", b"glTF", 2, 12 + 8 + size + pad + (8 + binary if length else 0)))
+    f.write(struct.pack("<I4s", size + pad, b"JSON"))
+    marks = spools.marks()
+    for member in members:
+        if isinstance(member, str):
+            _copy(spools.texts[member], f, marks if member == "accessors" else None)
+        else:
+            f.write(member)
+    f.write(b" " * pad)
+    if length:
+        f.write(struct.pack("<I4s", binary, b"BIN\0"))
+        at = 0
+        for component in COMPONENTS:
+            if component in starts:
+                f.write(b"\0" * (starts[component] - at))
+                _copy(spools.binary[component], f)
+                at = starts[component] + spools.size[component]
+        f.write(b"\0" * (binary - at))
+
+
+def _copy(spool, f, table=None):
+    """Copy a spool's bytes to ``f`` (translated by ``table`` when given)."""
+    spool.seek(0)
+    while True:
+        block = spool.read(SPOOLED)
+        if not block:
+            return
+        f.write(block.translate(table) if table is not None else block)

@@ -17,15 +17,30 @@ Faces are triangulated by VTK's polygon triangulation (pyvista, as the
 pictures of v.histo.lod2 are), which handles the concave faces of concave
 footprints.
 
+A CityJSONSeq file is drawn without ever holding its whole document
+(:func:`scene_of_seq`, issue 49 item 14): its features are read a batch at a
+time, twice (first for the model's lowest corner, the scene's origin), each
+batch cut into triangles with the whole model's origin and let go, its arrays
+gathered in temporary files beside the model and read into one array each at
+the end; the buildings' attributes are kept as zlib-compressed JSON texts
+(:class:`AttributeTexts`). The scene is the one :func:`build_scene` makes of
+the whole document, array for array.
+
 Pure: numpy and the CityJSON document (a dict); pyvista imported lazily.
 """
 
-from dataclasses import dataclass
+import json
+import os
+import tempfile
+import zlib
+from collections.abc import Sequence
+from dataclasses import dataclass, field
 from typing import Optional
 
 import numpy as np
 
 from ..cityjson import geometry as citygeometry
+from ..cityjson import seq as cityjsonseq
 from ..cityjson.seq import object_tree
 from ..core.errors import InputError
 from ..epochs.dynamic import epoch_years, standing_versions
@@ -45,6 +60,74 @@ COPIED_COLOURS = np.array([[150, 150, 150], [205, 222, 240], [35, 85, 170], [190
 BACKGROUND = (214, 224, 235)
 #: attributes of a dynamic model's building that describe its versions, not the building
 VERSION_ATTRIBUTES = ("geometry_epochs",)
+#: features of a CityJSONSeq file read and cut into triangles at a time (:func:`scene_of_seq`)
+STEP = 500
+#: a scene's arrays: (name, dtype, what its values count (None: nothing), whether it ends
+#: with the count of that, the end of its last item)
+ARRAYS = (("copied", bool, None, False), ("positions", np.float32, None, False),
+          ("kinds", np.uint8, None, False), ("triangles", np.uint32, "vertices", False),
+          ("chunk_start", np.uint32, "triangles", True),
+          ("chunk_vertex", np.uint32, "vertices", True),
+          ("chunk_building", np.uint32, "buildings", False))
+
+
+def attribute_text(attributes):
+    """A building's attributes (a dict) as the JSON text the page and the glTF write."""
+    return json.dumps(attributes, ensure_ascii=False, separators=(",", ":"))
+
+
+@dataclass(frozen=True)
+class AttributeTexts(Sequence):
+    """The buildings' attributes as JSON texts (:func:`attribute_text`) in blocks, each
+    block its buildings' texts joined by commas, UTF-8, zlib-compressed: a building's
+    attributes take some tens of bytes instead of a dict's kilobyte or two. ``blocks``: the
+    compressed blocks; ``starts``: per block, where each text starts in it and where
+    the last ends (int64 arrays). An item is the building's dict, decoded."""
+
+    blocks: tuple
+    starts: tuple
+    #: the first building of each block, and the last block decompressed (its index and
+    #: bytes): texts are read in order
+    _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+
+    @staticmethod
+    def of(dicts):
+        """One block of the attributes ``dicts``: its compressed bytes and its starts."""
+        texts = [attribute_text(a).encode("utf-8") for a in dicts]
+        starts = np.cumsum([0] + [len(t) + 1 for t in texts], dtype=np.int64)
+        return zlib.compress(b",".join(texts), 1), starts
+
+    @property
+    def _first(self):
+        if "first" not in self._cache:
+            self._cache["first"] = np.cumsum([0] + [len(s) - 1 for s in self.starts])
+        return self._cache["first"]
+
+    def __len__(self):
+        return int(self._first[-1])
+
+    def __getitem__(self, b):
+        if isinstance(b, slice):
+            return [self[i] for i in range(*b.indices(len(self)))]
+        return json.loads(self.text(b))
+
+    def _block(self, k):
+        if self._cache.get("k") != k:
+            self._cache.update(k=k, block=zlib.decompress(self.blocks[k]))
+        return self._cache["block"]
+
+    def text(self, b):
+        """The JSON text of building ``b``'s attributes."""
+        k = int(np.searchsorted(self._first, b, side="right")) - 1
+        i = b - int(self._first[k])
+        start, end = self.starts[k][i], self.starts[k][i + 1] - 1
+        return str(self._block(k)[start:end], "utf-8")
+
+    def joined(self):
+        """The texts of every building, joined by commas, a block at a time (str)."""
+        for k in range(len(self.blocks)):
+            if len(self.starts[k]) > 1:
+                yield str(zlib.decompress(self.blocks[k]), "utf-8")
 
 
 @dataclass(frozen=True)
@@ -68,7 +151,7 @@ class Scene:
     """
 
     ids: tuple
-    attributes: tuple
+    attributes: Sequence
     copied: np.ndarray
     positions: np.ndarray
     kinds: np.ndarray
@@ -84,6 +167,15 @@ class Scene:
     @property
     def buildings(self):
         return len(self.ids)
+
+    def attribute_texts(self):
+        """The attributes of every building as JSON text (:func:`attribute_text`), joined
+        by commas, a few hundred buildings at a time (str)."""
+        if isinstance(self.attributes, AttributeTexts):
+            yield from self.attributes.joined()
+            return
+        for a in range(0, len(self.attributes), 500):
+            yield ",".join(map(attribute_text, self.attributes[a:a + 500]))
 
     def standing(self, year):
         """The chunks drawn in ``year`` (all of them for a model of one date)."""
@@ -162,10 +254,18 @@ def _triangulated(points, rings):
 def build_scene(document, copied=()):
     """The :class:`Scene` of a CityJSON document (dict); ``copied``: ids of top-level
     objects copied from an existing 3D model. InputError when it has nothing to draw."""
-    objects = document.get("CityObjects") or {}
     xyz = _vertices(document)
+    scene, faces = _scene(document, set(copied or ()), xyz.min(axis=0) if len(xyz) else None)
+    if not faces:
+        raise InputError("The model has no surfaces to draw")
+    return scene
+
+
+def _scene(document, copied, origin):
+    """The :class:`Scene` of ``document`` with its vertices from ``origin`` (None: none
+    to draw), and the number of faces drawn (0: the scene is empty)."""
+    objects = document.get("CityObjects") or {}
     tops = [oid for oid, obj in objects.items() if not obj.get("parents")]
-    copied = set(copied or ())
     rings, face_kind, face_chunk, keys = [], [], [], []
     for b, oid in enumerate(tops):
         for key, geoms in _versions(document, oid).items():
@@ -178,17 +278,21 @@ def build_scene(document, copied=()):
                         rings.append(face[0])
                         face_kind.append(KIND.get(kind, OTHER))
                         face_chunk.append(chunk)
-    if not rings:
-        raise InputError("The model has no surfaces to draw")
-    origin = xyz.min(axis=0)
-    triangles, face, points = _triangulated(xyz - origin, rings)
+    if rings:
+        triangles, face, points = _triangulated(_vertices(document) - origin, rings)
+    else:
+        triangles, face, points = (np.zeros((0, 3), np.int64), np.zeros(0, np.int64),
+                                   np.zeros((0, 3)))
     kind = np.asarray(face_kind, dtype=np.uint8)[face]
     chunk = np.asarray(face_chunk, dtype=np.int64)[face]
     order = np.lexsort((kind, chunk))
     triangles, kind, chunk = triangles[order], kind[order], chunk[order]
     # one vertex per (chunk, kind, point): shared within a chunk's surfaces of one kind
     corner = np.column_stack([np.repeat(chunk, 3), np.repeat(kind, 3), triangles.ravel()])
-    unique, inverse = np.unique(corner, axis=0, return_inverse=True)
+    if len(corner):
+        unique, inverse = np.unique(corner, axis=0, return_inverse=True)
+    else:
+        unique, inverse = np.zeros((0, 3), np.int64), np.zeros(0, np.int64)
     dynamic = any(key is not None for _b, key in keys)
     if dynamic:
         chunk_years, years = _spans(document, tops, [(b, key) for b, key in keys])
@@ -206,4 +310,102 @@ def build_scene(document, copied=()):
         chunk_start=np.searchsorted(chunk, np.arange(len(keys) + 1)).astype(np.uint32),
         chunk_vertex=np.searchsorted(unique[:, 0], np.arange(len(keys) + 1)).astype(np.uint32),
         chunk_building=np.array([b for b, _key in keys], dtype=np.uint32),
-        chunk_years=chunk_years, origin=origin, years=years, crs=crs)
+        chunk_years=chunk_years, origin=origin, years=years, crs=crs), len(rings)
+
+
+def scene_of_seq(path, copied=(), step=None, name=None):
+    """The :class:`Scene` of the CityJSONSeq file at ``path`` (what :func:`build_scene`
+    makes of its document), read ``step`` (default :data:`STEP`) features at a time:
+    never the whole model's objects at once (issue 49, item 14). A dynamic model (a
+    building with versions) is read whole. ``name``: the file's name in messages
+    (default ``path``). InputError when it has nothing to draw."""
+    copied, name, step = set(copied or ()), name or path, step or STEP
+    with open(path, encoding="utf-8") as f:
+        low, head, dynamic = _lowest(cityjsonseq.read_batches(f, name, step))
+    if dynamic:
+        with open(path, encoding="utf-8") as f:
+            return build_scene(cityjsonseq.collect(f, name), copied)
+    origin = None if low is None else _vertices({"transform": head.get("transform"),
+                                                 "vertices": [low]})[0]
+    parts = _Parts(os.path.dirname(os.path.abspath(path)))
+    try:
+        with open(path, encoding="utf-8") as f:
+            for doc, offsets, _counts in cityjsonseq.read_batches(f, name, step):
+                parts.add(*_scene(cityjsonseq.joined(doc, offsets), copied, origin))
+        if not parts.faces:
+            raise InputError("The model has no surfaces to draw")
+        return parts.scene(origin, (head.get("metadata") or {}).get("referenceSystem"))
+    finally:
+        parts.close()
+
+
+def _lowest(batches):
+    """The lowest corner (integer vertex rows) of every vertex the geometries of the
+    batches use (None: none), the header, and whether a building has versions."""
+    low, head, dynamic = None, {}, False
+    for doc, offsets, _counts in batches:
+        head = {"transform": doc.get("transform"), "metadata": doc.get("metadata")}
+        geoms, shift = [], []
+        for oid, obj in doc["CityObjects"].items():
+            dynamic = dynamic or "geometry_epochs" in (obj.get("attributes") or {})
+            for g in obj.get("geometry", ()):
+                geoms.append(g)
+                shift.append(offsets[oid])
+        used = citygeometry.indices(geoms, shift) if geoms else np.zeros(0, np.int64)
+        if len(used):
+            rows = np.asarray(doc["vertices"], dtype=np.int64).reshape(-1, 3)[np.unique(used)]
+            least = rows.min(axis=0)
+            low = least if low is None else np.minimum(low, least)
+    return low, head, dynamic
+
+
+class _Parts:
+    """The scenes of consecutive batches of a model, gathered into one: their arrays
+    (indices counted on from the batches before) each in a temporary file in ``folder``
+    until the last batch (then read into one array: never held twice), ids and
+    attributes (a block of :class:`AttributeTexts` a batch)."""
+
+    def __init__(self, folder=None):
+        self.files = {name: tempfile.TemporaryFile(dir=folder) for name, *_ in ARRAYS}
+        self.count = {"vertices": 0, "triangles": 0, "buildings": 0, "chunks": 0}
+        self.ids, self.blocks, self.faces = [], [], 0
+
+    def close(self):
+        for f in self.files.values():
+            f.close()
+
+    def add(self, part, faces):
+        for name, dtype, counts, ends in ARRAYS:
+            values = getattr(part, name)
+            if counts is not None:
+                values = (values[:-1] if ends else values) + dtype(self.count[counts])
+            self.files[name].write(np.ascontiguousarray(values, dtype=dtype).tobytes())
+        self.count["vertices"] += len(part.positions)
+        self.count["triangles"] += len(part.triangles)
+        self.count["buildings"] += len(part.ids)
+        self.count["chunks"] += len(part.chunk_building)
+        self.ids.extend(part.ids)
+        self.blocks.append(AttributeTexts.of(part.attributes))
+        self.faces += faces
+
+    def scene(self, origin, crs):
+        """The scene of every batch."""
+        shape = {"copied": (self.count["buildings"],), "positions": (self.count["vertices"], 3),
+                 "kinds": (self.count["vertices"],), "triangles": (self.count["triangles"], 3),
+                 "chunk_start": (self.count["chunks"] + 1,),
+                 "chunk_vertex": (self.count["chunks"] + 1,),
+                 "chunk_building": (self.count["chunks"],)}
+        arrays = {}
+        for name, dtype, counts, ends in ARRAYS:
+            out = arrays[name] = np.empty(shape[name], dtype=dtype)
+            data = memoryview(out).cast("B")
+            f = self.files[name]
+            f.seek(0)
+            if ends:
+                out[-1] = self.count[counts]
+                data = data[:-out.itemsize]
+            if f.readinto(data) != len(data):
+                raise OSError("a temporary file of the viewer's scene was cut short")
+        return Scene(ids=tuple(self.ids), attributes=AttributeTexts(*zip(*self.blocks)),
+                     chunk_years=((),) * self.count["chunks"], origin=origin, crs=crs,
+                     **arrays)

@@ -45,8 +45,10 @@
 
   function main(meta, arrays) {
     var n = meta.ids.length, chunks = arrays.chunkStart.length - 1;
-    var index = {};
-    meta.ids.forEach(function (id, b) { index[id] = b; });
+    // building id -> index: a Map, so that an id such as "__proto__" or "toString" is an
+    // id like any other (in a plain object it would be the object's own machinery)
+    var index = new Map();
+    meta.ids.forEach(function (id, b) { index.set(id, b); });
     // every triangle's vertex indices, global (the file stores them per chunk)
     var all = new Uint32Array(arrays.triangles.length);
     for (var k = 0; k < chunks; k++) {
@@ -124,18 +126,18 @@
         }
         if (keep) { on.push(k); total += arrays.chunkStart[k + 1] - arrays.chunkStart[k]; }
       }
-      var idx = new Uint32Array(total * 3), at = 0, seen = {};
+      var idx = new Uint32Array(total * 3), at = 0, seen = new Set();
       drawnStart = []; drawnChunk = [];
       on.forEach(function (k) {
         drawnStart.push(at / 3); drawnChunk.push(k);
         idx.set(all.subarray(arrays.chunkStart[k] * 3, arrays.chunkStart[k + 1] * 3), at);
         at += (arrays.chunkStart[k + 1] - arrays.chunkStart[k]) * 3;
-        seen[arrays.chunkBuilding[k]] = true;
+        seen.add(arrays.chunkBuilding[k]);
       });
       geometry.setIndex(new THREE.BufferAttribute(idx, 1));
-      hook.drawnBuildings = Object.keys(seen).length;
+      hook.drawnBuildings = seen.size;
       hook.year = year;
-      if (hook.selected !== null && !chunkOf(index[hook.selected])) select(null);
+      if (hook.selected !== null && !chunkOf(index.get(hook.selected))) select(null);
       draw();
     }
     hook.drawn = function () { return hook.drawnBuildings; };
@@ -148,39 +150,45 @@
 
     var picked = null;
     var info = document.getElementById("info");
+    function own(object, name) { return Object.prototype.hasOwnProperty.call(object, name); }
+    function element(tag, text, className) {     // text only: the model's data never as HTML
+      var e = document.createElement(tag);
+      e.textContent = text;
+      if (className) e.className = className;
+      return e;
+    }
     function select(id) {
       if (picked !== null) paint(picked, null);
       picked = null; hook.selected = null;
-      if (id === null || !(id in index)) {
-        info.innerHTML = "Click a building to see what is known about it.";
+      info.textContent = "";
+      if (id === null || !index.has(id)) {
+        info.textContent = "Click a building to see what is known about it.";
       } else {
-        var c = chunkOf(index[id]);
+        var c = chunkOf(index.get(id));
         if (c) { picked = c.k; paint(c.k, PICKED); }
         hook.selected = id;
-        var a = meta.attributes[index[id]], rows = ["<b>" + escape(id) + "</b>"];
+        var a = meta.attributes[index.get(id)];
+        info.appendChild(element("b", id));
         SHOWN.concat(Object.keys(a).filter(function (x) { return SHOWN.indexOf(x) < 0; }))
           .forEach(function (name) {
-            if (a[name] === undefined || a[name] === null) return;
+            if (!own(a, name) || a[name] === null) return;
             var v = typeof a[name] === "object" ? JSON.stringify(a[name]) : String(a[name]);
-            if (name === "certainty" && meta.certainty[a[name]]) v += " (" + meta.certainty[a[name]] + ")";
-            rows.push("<span class=\"name\">" + escape(name) + "</span> " + escape(v));
+            if (name === "certainty" && own(meta.certainty, v)) v += " (" + meta.certainty[v] + ")";
+            var row = element("div");
+            row.appendChild(element("span", name, "name"));
+            row.appendChild(document.createTextNode(" " + v));
+            info.appendChild(row);
           });
-        info.innerHTML = rows.join("<br>");
       }
       colours.needsUpdate = true;
       draw();
       return hook.selected;
     }
     hook.select = select;
-    function escape(s) {
-      return String(s).replace(/[&<>"]/g, function (ch) {
-        return {"&": "&amp;", "<": "&lt;", ">": "&gt;", "\"": "&quot;"}[ch];
-      });
-    }
 
     // a point on the building's largest roof triangle, in the page's pixels
     hook.screenPosition = function (id) {
-      var c = chunkOf(index[id]);
+      var c = index.has(id) ? chunkOf(index.get(id)) : null;
       if (!c) return null;
       var best = -1, point = null, p = arrays.positions;
       for (var t = arrays.chunkStart[c.k]; t < arrays.chunkStart[c.k + 1]; t++) {
@@ -219,9 +227,9 @@
 
     var search = document.getElementById("search");
     hook.find = function (id) {
-      if (!(id in index) || !chunkOf(index[id])) return false;
+      if (!index.has(id) || !chunkOf(index.get(id))) return false;
       select(id);
-      var c = chunkOf(index[id]), p = arrays.positions, v = arrays.chunkVertex;
+      var c = chunkOf(index.get(id)), p = arrays.positions, v = arrays.chunkVertex;
       var x = 0, y = 0, m = v[c.k + 1] - v[c.k];
       for (var i = v[c.k]; i < v[c.k + 1]; i++) { x += p[3 * i]; y += p[3 * i + 1]; }
       controls.target.set(x / m, 0, -y / m);

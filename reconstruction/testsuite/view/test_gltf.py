@@ -191,6 +191,31 @@ def test_indices_are_uint32_only_beyond_65535_vertices():
             [1000 + (n - 1) // 2 * 0.01, 2000, 6], abs=1e-3)
 
 
+def test_uint16_and_uint32_indices_in_one_file_name_their_own_views():
+    # write_glb spools each view apart and names it by index once the views used are known
+    big, small = strip_scene(65536), strip_scene(10)
+    nv, nt = len(big.positions), len(big.triangles)
+    both = dataclasses.replace(
+        big, ids=("big", "small"), attributes=({"n": 1}, {"n": 2}), copied=np.zeros(2, bool),
+        positions=np.concatenate([big.positions, small.positions]),
+        kinds=np.concatenate([big.kinds, small.kinds]),
+        triangles=np.concatenate([big.triangles, small.triangles + nv]).astype(np.uint32),
+        chunk_start=np.array([0, nt, nt + len(small.triangles)], np.uint32),
+        chunk_vertex=np.array([0, nv, nv + len(small.positions)], np.uint32),
+        chunk_building=np.array([0, 1], np.uint32), chunk_years=((), ()))
+    glb = glb_bytes(both)
+    document = json_chunk(glb)
+    views = document["bufferViews"]
+    for accessor in document["accessors"]:
+        view = views[accessor["bufferView"]]
+        size = {5126: 12, 5125: 4, 5123: 2}[accessor["componentType"]]   # VEC3 or SCALAR
+        assert accessor["byteOffset"] + accessor["count"] * size <= view["byteLength"]
+        assert ("byteStride" in view) == (accessor["componentType"] == 5126)
+    assert sorted(a["componentType"] for a in document["accessors"]
+                  if a["type"] == "SCALAR") == [5123, 5125]
+    assert triangle_count(read(glb)) == 65534 + 8
+
+
 def test_extras_are_plain_json():
     scene = build_scene(document({"a": (SQUARE, 6.0)}))
     odd = {"h": np.float64(6.5), "n": np.int32(3), "nan": float("nan"), "t": (1, 2),
