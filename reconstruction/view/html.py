@@ -147,8 +147,11 @@ def _map_png(map_image, origin):
 #: the HTML parser in its double-escaped state (issue 49, item 4), which would swallow
 #: the rest of the page; ">" and "&" for good measure, U+2028 and U+2029 for older
 #: JavaScript parsers. JSON only holds them inside strings, where the escape is the same
-#: character.
-SCRIPT_ESCAPES = {ord(c): "\\u{:04x}".format(ord(c)) for c in "<>&\u2028\u2029"}
+#: character. A UTF-16 surrogate in a Python text is always a lone one (a title given on
+#: the command line in another encoding, an attribute column's bytes): UTF-8 cannot
+#: hold it, JSON's escape can.
+SCRIPT_ESCAPES = {c: "\\u{:04x}".format(c) for c in list(map(ord, "<>&\u2028\u2029"))
+                  + list(range(0xD800, 0xE000))}
 
 
 def _json(value):
@@ -285,6 +288,10 @@ def _legend(copied):
                    for name, _rgb in SWATCHES[:4 if copied else 3])
 
 
+_SURROGATES = dict.fromkeys(range(0xD800, 0xE000), "\ufffd")
+
+
 def _escape(text):
-    return (str(text).replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
-            .replace('"', "&quot;"))
+    """``text`` as HTML text; a lone surrogate (which UTF-8 cannot hold) as U+FFFD."""
+    return (str(text).translate(_SURROGATES).replace("&", "&amp;")
+            .replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;"))

@@ -103,3 +103,20 @@ def test_the_page_carries_the_scene_and_fetches_nothing():
     assert "default-src 'none'" in page
     # the same scene, the same bytes
     assert viewer_html(scene, "Two <houses>") == page
+
+
+def test_a_lone_surrogate_in_the_title_or_an_attribute_is_written_not_a_traceback(tmp_path):
+    # a title given on the command line in another encoding, or an attribute column's
+    # bytes, arrive as a text with a lone surrogate, which UTF-8 cannot hold: the page is
+    # written, the title shows U+FFFD and the data keeps the JSON escape (issue 49, item 10)
+    from reconstruction.view import build_scene, viewer_html
+
+    model = document({"a": ([(0, 0), (8, 0), (8, 8), (0, 8)], 6.0)})
+    model["CityObjects"]["a"]["attributes"]["note"] = "caf\udce9"
+    page = viewer_html(build_scene(model), "Li\udce8ge")
+    path = tmp_path / "page.html"
+    path.write_text(page, encoding="utf-8")
+    text = path.read_text(encoding="utf-8")
+    assert "<title>Li\ufffdge</title>" in text
+    assert "caf\\udce9" in text and "Li\\udce8ge" in text
+    assert '"title":"Li\\udce8ge"' in text
