@@ -76,10 +76,12 @@ GLTF_VALIDATOR := gltf-validator@2.0.0-dev.3.10
 # chromium, the real browser the HTML 3D viewer's tests drive headless
 # through Playwright (never a browser Playwright downloads), and libjs-three
 # (three.js r111), which the viewer inlines so it opens from file:// offline.
-# Redis (redis-server) and curl for the map series' actinia service, python3-dev
-# for the uWSGI build of actinia's venv (section "actinia" below); defined
-# before DEBIAN_PACKAGES, whose := expands it at once.
-ACTINIA_DEBIAN_PACKAGES := redis-server curl python3-dev
+# Redis (redis-server) and curl for the map series' actinia service, zip (actinia
+# packs a job's exported files with /usr/bin/zip: without it every sheet failed
+# on a fresh machine), python3-dev for the uWSGI build of actinia's venv
+# (section "actinia" below); defined before DEBIAN_PACKAGES, whose := expands
+# it at once.
+ACTINIA_DEBIAN_PACKAGES := redis-server curl zip python3-dev
 DEBIAN_PACKAGES := grass-core grass-dev subversion make gcc python3-venv man-db \
 	libboost-filesystem1.74.0 libmpfr6 libgmp10 libgeos-c1v5 libegl1 libgl1-mesa-dri \
 	chromium libjs-three $(ACTINIA_DEBIAN_PACKAGES)
@@ -157,7 +159,7 @@ clean-dist:
 # GRASS 8.2, whose API speaks of locations; 5.x is built on GRASS 8.3, 6.x and
 # 7.x on 8.4), in a venv of its own (its dependencies, pinned by
 # tools/actinia/constraints.txt, would clash with the suite's pins), made from
-# Debian's python3 like the suite's. Redis (redis-server) and curl from
+# Debian's python3 like the suite's. Redis (redis-server), curl and zip from
 # Debian (python3-dev: pip builds uWSGI, which actinia runs under, from source).
 # tools/actinia/service.sh starts and stops them; tools/histo_series.py
 # runs a series through them (README, "A map series on actinia").
