@@ -21,6 +21,7 @@ import json
 import re
 from dataclasses import dataclass
 
+from ..core import jsontext
 from ..core.errors import InputError
 from . import edges
 
@@ -92,15 +93,9 @@ class ProcessChain:
 
 def read_template(path):
     """The template (a dict) of a JSON file; InputError when it is not one."""
-    try:
-        with open(path, encoding="utf-8") as f:
-            doc = json.load(f)
-    except OSError as e:
-        raise InputError("Cannot read the chain template '{}': {}".format(path, e.strerror)) \
-            from None
-    except ValueError as e:
-        raise InputError("The chain template '{}' is not JSON ({})".format(path, e)) from None
-    if not isinstance(doc.get("list"), list) or not isinstance(doc.get("defaults", {}), dict):
+    doc = jsontext.load(path, "chain template")
+    if not isinstance(doc, dict) or not isinstance(doc.get("list"), list) \
+            or not isinstance(doc.get("defaults", {}), dict):
         raise InputError("The chain template '{}' has no list of steps".format(path))
     return doc
 

@@ -249,3 +249,14 @@ def test_the_chain_carries_the_grid_of_the_sheet_and_its_neighbours(tmp_path):
     grid = json.loads(dict(step.params)["input"])
     assert [(f["properties"]["name"], f["properties"]["sheet"]) for f in grid["features"]] == \
         [("a", 1), ("b", 2), ("c", 3)]
+
+
+@pytest.mark.parametrize("text, said", [("[1]", "has no list of steps"),
+                                        ('{"list": 1}', "has no list of steps"),
+                                        ("nope", "is not JSON"),
+                                        ("[" * 5000 + "]" * 5000, "nested too deeply")])
+def test_a_bad_chain_template_is_one_input_error(tmp_path, text, said):
+    path = tmp_path / "template.json"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(InputError, match=said):
+        chain.read_template(str(path))
