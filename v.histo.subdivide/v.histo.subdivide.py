@@ -103,6 +103,29 @@
 # % description: The building identity of an aligned footprint (with year=)
 # % guisection: Epochs
 # %end
+# %option G_OPT_R_INPUTS
+# % key: map
+# % required: no
+# % label: Scanned map (red,green,blue rasters) whose lines divide the plots: footprints follow them
+# % description: A plot the map divides by drawn lines (parcels, buildings) gets those as footprints (source drawn); the others are subdivided as without it. Read in the current region
+# % guisection: Drawn
+# %end
+# %option
+# % key: stroke
+# % type: double
+# % required: no
+# % label: Width of the map's lines (map units)
+# % description: Default: measured on map=
+# % guisection: Drawn
+# %end
+# %option
+# % key: min_parcel
+# % type: double
+# % required: no
+# % label: Least unit the map draws (square map units)
+# % description: Default: 6 stroke widths square
+# % guisection: Drawn
+# %end
 # %flag
 # % key: c
 # % description: Do not decompose concave plots into convex parts (case 5); footprints may then be concave
@@ -113,12 +136,15 @@
 # % guisection: Aligned
 # %end
 # %rules
+# % requires: stroke, map
+# % requires: min_parcel, map
 # % requires: -a, aligned
 # % requires: previous, previous_plots
 # % requires: previous, year
 # % requires: previous_plots, previous
 # %end
 
+import dataclasses
 import os
 import signal
 import sys
@@ -157,6 +183,8 @@ def main(options, flags):
             if grassio.vector_counts(name).get("areas", 0) == 0:
                 raise InputError("Vector map <{}> has no areas: {} must be areas".format(
                     name, what))
+    for name in config.maps:
+        grassio.require_raster(name)
 
     start = time.perf_counter()
     with grassio.doing("reading the plots <{}>".format(config.plots)):
@@ -174,6 +202,9 @@ def main(options, flags):
                     *grassio.read_features(config.previous_plots, "area"), config.previous_plots),
                 *grassio.read_features(config.previous, "area"), config)
     inputs = subdivide.read_inputs(plots, cats, aligned, aligned_columns, config, previous)
+    if config.maps:
+        inputs = dataclasses.replace(inputs, image=grassio.read_region_image(config.maps),
+                                     progress=lambda done, total: gs.percent(done, total, 5))
     grassio.say(subdivide.announce(inputs, config))
     result = subdivide.run(inputs, config)
     if not result.geometries:

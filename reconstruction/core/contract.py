@@ -7,10 +7,12 @@ instead of string literals.
 
 #: category of a plot in the plots map; later maps refer to it in a PLOT column
 PLOT = "plot"
-#: how a footprint was made: SOURCE_PROCEDURAL or SOURCE_ALIGNED
+#: how a footprint was made: SOURCE_PROCEDURAL (generated), SOURCE_ALIGNED (a current
+#: footprint that already stood) or SOURCE_DRAWN (a unit the map draws: a parcel, a building)
 SOURCE = "source"
 SOURCE_PROCEDURAL = "2pm"
 SOURCE_ALIGNED = "aligned"
+SOURCE_DRAWN = "drawn"
 #: procedural case (0-5) of v.histo.subdivide ("pm_case": 2D procedural modelling's
 #: case; not "case", an SQL keyword that core GRASS tools do not quote, issue 12)
 CASE = "pm_case"

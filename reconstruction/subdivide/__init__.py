@@ -22,10 +22,13 @@ the footprints and their table) and :func:`report` (the messages;
 - ``convex_rings``: small convex geometry; ``noding``: shared vertices;
 - ``invariants``: the guarantees of the footprints, as a check;
 - ``previous``: a dynamic chain's earlier epoch, its footprints kept where
-  the plots did not change.
+  the plots did not change;
+- ``drawn``: the units a map draws inside its plots (parcels, buildings),
+  read from its lines (map=).
 """
 
-from . import aligned_footprints, cases, config, convex_rings, decomposition, invariants, noding
+from . import aligned_footprints, cases, config, convex_rings, decomposition, drawn, invariants
+from . import noding
 from . import pipeline, plots, previous, stage
 from .config import SubdivisionConfig, read_config
 from .invariants import invariant_violations
@@ -36,7 +39,7 @@ from .report import announce, report
 from .stage import Subdivision, subdivide
 
 __all__ = ["PreviousEpoch", "Subdivision", "SubdivisionConfig", "SubdivisionInputs", "SubdivisionResult",
-           "aligned_footprints", "announce", "cases", "config", "convex_rings", "decomposition",
+           "aligned_footprints", "announce", "cases", "config", "convex_rings", "decomposition", "drawn",
            "invariant_violations", "invariants", "noding", "pipeline", "plots",
            "plots_with_category", "previous", "read_config", "read_inputs", "read_previous",
            "report", "run", "stage",

@@ -4,7 +4,7 @@ from dataclasses import dataclass
 from typing import Optional, Tuple
 
 from ..core.errors import InputError
-from ..core.options import parse_number, parse_range
+from ..core.options import parse_list, parse_number, parse_range
 from ..epochs.plots import TOLERANCE
 
 
@@ -28,6 +28,11 @@ class SubdivisionConfig:
     drawn twice unchanged (map units); ``id_column``: the aligned
     footprints' BAG id column (empty: the first of
     :data:`~reconstruction.core.contract.BAG_ID_COLUMNS` present).
+
+    Units the map draws (issue 50): ``maps``, the scanned map's red, green and
+    blue rasters (map=; empty: every plot is subdivided as before); ``stroke``
+    the width of its lines and ``min_parcel`` the least unit it draws (map
+    units; None: from the stroke width measured on the map).
     """
 
     plots: str
@@ -44,6 +49,9 @@ class SubdivisionConfig:
     previous_plots: str = ""
     tolerance: float = TOLERANCE
     id_column: str = ""
+    maps: tuple = ()
+    stroke: Optional[float] = None
+    min_parcel: Optional[float] = None
 
 
 def _range(text, key):
@@ -52,6 +60,13 @@ def _range(text, key):
     if pair is None:
         raise InputError("Option {}= must be two numbers min,max".format(key))
     return pair
+
+
+def _positive(options, key):
+    """The positive number of option ``key``, None when it is not given."""
+    if not options.get(key):
+        return None
+    return parse_number(options[key], key, minimum=0, allow_minimum=False)
 
 
 def read_config(options, flags):
@@ -69,6 +84,10 @@ def read_config(options, flags):
     if bool(options.get("previous")) != bool(options.get("previous_plots")):
         raise InputError("Options previous= and previous_plots= go together: the earlier "
                          "epoch's footprints and its plots")
+    maps = tuple(parse_list(options.get("map") or ""))
+    if maps and len(maps) != 3:
+        raise InputError("Option map= needs three rasters: red, green and blue, not {}".format(
+            len(maps)))
     return SubdivisionConfig(
         plots=options["input"], output=options["output"], aligned=options["aligned"] or "",
         length=_range(options["length"], "length"), depth=_range(options["depth"], "depth"),
@@ -77,4 +96,6 @@ def read_config(options, flags):
         decompose=not flags["c"], calibrate=flags["a"], year=year,
         previous=options.get("previous") or "", previous_plots=options.get("previous_plots") or "",
         tolerance=parse_number(options.get("tolerance") or TOLERANCE, "tolerance", minimum=0),
-        id_column=options.get("id_column") or "")
+        id_column=options.get("id_column") or "",
+        maps=maps,
+        stroke=_positive(options, "stroke"), min_parcel=_positive(options, "min_parcel"))

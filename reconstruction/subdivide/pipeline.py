@@ -9,13 +9,15 @@ result.
 
 import time
 from dataclasses import dataclass
-from typing import Optional
+from typing import Callable, Optional
 
 from ..core import contract
 from ..core.errors import InputError
 from ..core.options import integer_column
 from ..core.register import bag_ids, column_named
+from ..geom.grid import MapImage
 from ..geom.polygons import polygon_parts
+from .drawn import DrawnDivisions, read_divisions
 from .plots import OVERLAP_TOLERANCE
 from .previous import PreviousEpoch, earlier_identities, identities
 from .stage import Subdivision, subdivide
@@ -42,17 +44,24 @@ class SubdivisionInputs:
     previous: Optional[PreviousEpoch] = None
     #: the BAG id of every aligned footprint (None: none), for their building identity
     aligned_ids: Optional[list] = None
+    #: the scanned map (:class:`~reconstruction.geom.grid.MapImage`, map=) whose lines
+    #: divide the plots, None without; ``progress(done, total)`` while it is read
+    image: Optional[MapImage] = None
+    progress: Optional[Callable] = None
 
 
 @dataclass(frozen=True)
 class SubdivisionResult:
     """What :func:`run` did: the ``subdivision`` (:class:`~.stage.Subdivision`), the
     attribute ``table`` of the footprints map ({column: values}) and ``clock``:
-    the ``time.perf_counter()`` when the subdivision started and when it was done."""
+    the ``time.perf_counter()`` when the subdivision started and when it was done;
+    ``drawn``: what the map's lines gave (:class:`~.drawn.DrawnDivisions`), None
+    without map=."""
 
     subdivision: Subdivision
     table: dict
     clock: tuple
+    drawn: Optional[DrawnDivisions] = None
 
     @property
     def geometries(self):
@@ -151,12 +160,18 @@ def run(inputs, config):
     (:class:`~.config.SubdivisionConfig`): a :class:`SubdivisionResult`. Bad
     parameters (too much work) raise :class:`~reconstruction.core.errors.InputError`."""
     started = time.perf_counter()
+    drawn = None
+    if inputs.image is not None:
+        drawn = read_divisions(inputs.image.rgb, inputs.image.extent, inputs.plots, inputs.cats,
+                               stroke=config.stroke, min_area=config.min_parcel,
+                               progress=inputs.progress)
     result = subdivide(
         inputs.plots, inputs.cats, length=config.length, depth=config.depth,
         area_threshold=config.area_threshold, seed=config.seed, decompose=config.decompose,
         aligned=inputs.aligned, aligned_plots=inputs.aligned_plots,
         calibrate_ranges=config.calibrate, previous=inputs.previous,
-        aligned_ids=inputs.aligned_ids or (), tolerance=config.tolerance)
+        aligned_ids=inputs.aligned_ids or (), tolerance=config.tolerance,
+        drawn=drawn.parcels if drawn is not None else None)
     done = time.perf_counter()
     table = {
         contract.PLOT: result.plot,
@@ -174,4 +189,4 @@ def run(inputs, config):
         own = {"cat"} | set(table)
         table.update(_own_columns(inputs.aligned_columns or {}, result.aligned, own,
                                   inputs.previous, result.kept))
-    return SubdivisionResult(result, table, (started, done))
+    return SubdivisionResult(result, table, (started, done), drawn)

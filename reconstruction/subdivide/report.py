@@ -3,6 +3,7 @@
 
 from ..core import contract
 from ..core.messages import note, verbose, warning
+from .drawn import REGION_STROKES
 
 
 def announce(inputs, config):
@@ -73,6 +74,26 @@ def previous_messages(rep, config):
     return out
 
 
+def drawn_messages(drawn, rep, config):
+    """What the map's lines gave (map=): the scale they were read at and the plots they
+    divide."""
+    if drawn is None:
+        return []
+    scale = drawn.scale
+    out = [note("Lines drawn in the plots read on <{}>: strokes {:.1f} cells wide ({}), least "
+                "unit {:.3g} square map units ({}); {} of {} plots divided into {} drawn "
+                "footprints, the others subdivided as without map=".format(
+                    config.maps[0], scale.stroke,
+                    "stroke= given" if config.stroke else "measured",
+                    scale.min_area, "min_parcel= given" if config.min_parcel
+                    else "{} stroke widths square".format(REGION_STROKES),
+                    rep.drawn_plots, drawn.plots_read, rep.drawn))]
+    if drawn.plots_read == 0:
+        out.append(warning("No plot lies on the map <{}>: check the region and the map".format(
+            config.maps[0])))
+    return out
+
+
 def report(result, config, started=None, finished=None):
     """The messages of a :class:`~.pipeline.SubdivisionResult` run with ``config``.
 
@@ -90,10 +111,13 @@ def report(result, config, started=None, finished=None):
         began, done = result.clock
         messages.append(verbose("Timing (s): read {:.2f}, subdivide {:.2f}, write {:.2f}".format(
             began - started, done - began, finished - done)))
+    messages.extend(drawn_messages(result.drawn, rep, config))
     counts = {c: subdivision.case.count(c) for c in sorted(set(subdivision.case))}
-    messages.append(note("{} footprints written to <{}> ({} generated, {} aligned{}); by case: "
+    messages.append(note("{} footprints written to <{}> ({} generated, {} aligned{}{}); by case: "
                          "{}".format(len(subdivision.geometries), config.output, rep.generated,
-                                     len(subdivision.geometries) - rep.generated - rep.kept,
+                                     len(subdivision.geometries) - rep.generated - rep.kept
+                                     - rep.drawn,
+                                     ", {} drawn".format(rep.drawn) if result.drawn else "",
                                      ", {} kept".format(rep.kept) if rep.previous else "",
                                      ", ".join("{}: {}".format(c, n)
                                                for c, n in counts.items()))))

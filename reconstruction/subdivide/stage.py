@@ -65,7 +65,7 @@ import numpy as np
 import shapely
 from shapely.geometry import Polygon
 
-from ..core.contract import SOURCE_ALIGNED, SOURCE_PROCEDURAL
+from ..core.contract import SOURCE_ALIGNED, SOURCE_DRAWN, SOURCE_PROCEDURAL
 from ..core.errors import InputError
 from ..core.options import parse_number, parse_range
 from ..core.work_limits import check_facades
@@ -76,6 +76,7 @@ from .cases import STREET_TURN, subdivide_plot
 from .convex_rings import (MIN_AREA, MIN_WIDTH, SNAP, is_convex, is_sliver, polygon_width,
                            to_polygons)
 from .decomposition import convex_parts
+from .drawn import free_parcels
 from .invariants import invariant_violations
 from .noding import node_footprints
 from .plots import (CHECK_GRID, CLIP_AREA, MIN_STREET, OVERLAP_TOLERANCE, PlotRepairs,
@@ -91,7 +92,8 @@ __all__ = [
     "prepare_plots", "subdivide", "subdivide_plot",
 ]
 
-#: the case of a kept aligned footprint (generated ones are cases 1-5)
+#: the case of a footprint not generated: a kept aligned one, or one the map draws
+#: (generated ones are cases 1-5)
 CASE_ALIGNED = 0
 
 
@@ -126,6 +128,9 @@ class SubdivisionReport:
     kept: int = 0
     kept_clipped: int = 0
     kept_dropped: int = 0
+    #: footprints the map draws, and the plots they divide
+    drawn: int = 0
+    drawn_plots: int = 0
 
 
 @dataclass(frozen=True)
@@ -133,8 +138,8 @@ class Subdivision:
     """The footprints of a set of plots and what happened on the way.
 
     ``geometries`` (shapely Polygons), ``plot`` (category of the plot),
-    ``case`` (0 for a kept aligned footprint, else 1-5), ``source`` (``2pm``
-    or ``aligned``) and ``aligned`` (index of the aligned footprint, -1 for a
+    ``case`` (0 for a kept aligned or a drawn footprint, else 1-5), ``source``
+    (``2pm``, ``aligned`` or ``drawn``) and ``aligned`` (index of the aligned footprint, -1 for a
     generated one) are parallel lists; ``report`` is a :class:`SubdivisionReport`.
     """
 
@@ -183,7 +188,7 @@ def _positive_range(values, name):
 
 def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_threshold=None,
               seed=0, decompose=True, aligned=None, aligned_plots=None, calibrate_ranges=False,
-              previous=None, aligned_ids=(), tolerance=None):
+              previous=None, aligned_ids=(), tolerance=None, drawn=None):
     """Footprints of all plots.
 
     ``plots``: shapely geometries (invalid ones are repaired, overlapping ones
@@ -200,6 +205,10 @@ def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_thre
     footprints are kept where the plots did not change
     (:func:`~reconstruction.subdivide.previous.keep_previous`, plots matched
     within ``tolerance``; ``aligned_ids``: the BAG id of each aligned footprint).
+    ``drawn``: {plot category: [Polygon, ...]}, the units the map draws in a plot
+    (:func:`~reconstruction.subdivide.drawn.read_divisions`): such a plot's
+    footprints are those (``drawn``, case 0) less the aligned and kept footprints
+    in it, and none is generated there.
     Returns a :class:`Subdivision`; bad parameters raise
     :class:`~reconstruction.core.errors.InputError`.
     """
@@ -250,6 +259,11 @@ def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_thre
         if kept is not None and (cat in kept.done or (
                 cat in kept.free and kept.free[cat].area < MIN_AREA)):
             continue                # nothing changed here since the earlier epoch
+        if drawn and cat in drawn:
+            for poly in free_parcels(drawn[cat], [g for g, c in zip(result.geometries, result.plot)
+                                                  if c == cat]):
+                result.add(poly, cat, CASE_ALIGNED, SOURCE_DRAWN)
+            continue
         rng = plot_rng(seed, cat)
         plot_front = front(geom, [geoms[j] for j in neighbours[k]]) if neighbours[k] else None
         for poly, case in subdivide_plot(geom, length, depth, area_threshold, rng, decompose,
@@ -295,4 +309,6 @@ def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_thre
         generated=sum(s == SOURCE_PROCEDURAL and k < 0
                       for s, k in zip(result.source, result.kept)),
         previous=kept, kept=sum(k >= 0 for k in result.kept), kept_clipped=kept_clipped,
-        kept_dropped=kept_dropped))
+        kept_dropped=kept_dropped,
+        drawn=sum(s == SOURCE_DRAWN for s in result.source),
+        drawn_plots=len({p for p, s in zip(result.plot, result.source) if s == SOURCE_DRAWN})))

@@ -56,3 +56,16 @@ def test_a_year_before_1_is_refused(year):
     """Issue 49, item 7: year=0 dropped the aligned footprints' BAG ids."""
     with pytest.raises(InputError, match="year= must be at least 1"):
         config(year=year)
+
+
+def test_the_map_whose_lines_divide_the_plots():
+    c = config(map="scan.red,scan.green,scan.blue", stroke="0.3", min_parcel="2.5")
+    assert (c.maps, c.stroke, c.min_parcel) == (("scan.red", "scan.green", "scan.blue"), 0.3, 2.5)
+    assert (config().maps, config().stroke, config().min_parcel) == ((), None, None)
+    with pytest.raises(InputError, match="map= needs three rasters"):
+        config(map="scan.red,scan.green")
+    for key in ("stroke", "min_parcel"):
+        with pytest.raises(InputError, match=key):
+            config(map="r,g,b", **{key: "0"})
+        with pytest.raises(InputError, match=key):
+            config(map="r,g,b", **{key: "wide"})
