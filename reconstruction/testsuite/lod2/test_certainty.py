@@ -12,6 +12,14 @@ def test_the_classes_go_from_measured_to_drawn():
     assert list(CLASSES) == sorted(CLASSES, reverse=True)
 
 
+def test_a_footprint_the_map_draws_is_surer_than_a_generated_one_not_than_a_measured_one():
+    # issue 50: a parcel or building outlined on the map (source drawn)
+    drawn = ["drawn"] * 4
+    assert certainty(drawn, ["measured", "neighbours", "column", "range"]).tolist() == [
+        ALIGNED, ALIGNED, ALIGNED, DRAWN]
+    assert certainty(["2pm"], ["neighbours"]).tolist() == [GENERATED]
+
+
 def test_without_a_footprint_source_every_footprint_counts_as_generated():
     assert certainty(None, ["measured", "neighbours"]).tolist() == [ALIGNED, GENERATED]
 
