@@ -21,6 +21,19 @@ row houses with construction years before and after the map's year
 :data:`MAP_YEAR`, a few offset or straddling two plots, modern blocks,
 buildings away from the plots), the fixture of v.histo.align.
 
+Other styles (``generate(style=...)``, ``--style``; synthetic_styles.py
+draws them from their own random streams, so this map's draws do not change):
+``cadaster``, a colour-washed cadaster like Venice's of 1808 (ragged blocks in
+a thick dark-red outline divided into numbered pink, yellow, pale and white
+parcels by thin grey lines, white courtyards, buff streets, pinkish squares,
+a blue canal, JPEG noise; 0.2 m per pixel) and ``insurance``, a
+fire-insurance map like Sanborn's of 1892 (every building outlined in black
+and filled by its material, outbuildings crossed, house numbers; 0.3 m per
+pixel). Their truth adds ``SyntheticMap.parcels`` (the divisions the map
+draws inside its plots), ``parcel_info`` and ``courtyards``, and the classes
+``courtyard`` (7) and ``outline`` (8); the Delft map's ``parcels`` are empty
+(it draws no divisions).
+
 Two parts:
 
 - :func:`generate` is pure (numpy, scipy, shapely; no GRASS) and returns a
@@ -28,7 +41,7 @@ Two parts:
 - :func:`write_to_grass` writes it into the current GRASS mapset (region,
   ``<prefix>.red/.green/.blue`` rasters, ``<prefix>_training``,
   ``<prefix>_gt_points``, ``<prefix>_plots`` and ``<prefix>_current``
-  vectors). From the command line,
+  vectors; ``<prefix>_parcels`` too for the other styles). From the command line,
   inside a GRASS session::
 
       python3 testsuite/synthetic_map.py --seed 1 --size 600 --prefix map

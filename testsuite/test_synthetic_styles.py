@@ -157,13 +157,20 @@ def _line_pixels(m, ring_or_line, step):
 def test_cadaster_lines_darker_than_the_fills_where_parcels_meet(cadaster):
     m = cadaster
     grey = m.rgb.astype(float).mean(axis=2)
-    on_line, beside, reds = [], [], []
+    on_line, beside, reds, ends = [], [], [], []
     for k, plot in enumerate(m.plots, start=1):
         mine = [p for p, info in zip(m.parcels, m.parcel_info) if info.plot == k]
         for line in ss._inner_lines(mine, plot):
             for r, c in _line_pixels(m, line, 0.5):
                 if m.drawn[r, c] != TEXT:
                     on_line.append((r, c))
+            # where it meets the block's outline: half a pixel inside the thick line
+            for end in (0, 1):
+                if plot.exterior.distance(shapely.Point(line.coords[-end])) < 0.05 and \
+                        line.length > 2:
+                    d = m.strokes.outline / 2 + 0.5 * m.res
+                    p = line.interpolate(d if end == 0 else line.length - d)
+                    ends.append(m.drawn[_at(m, (p.x, p.y))])
         for r, c in _line_pixels(m, plot.exterior, 0.5):
             reds.append(m.rgb[r, c].astype(int))
         for p in mine:  # the fill, 1 m inside the parcel, off the ink
@@ -181,6 +188,8 @@ def test_cadaster_lines_darker_than_the_fills_where_parcels_meet(cadaster):
     # (some stop short of the outline, a few have gaps) and darker than every fill
     assert np.mean(m.drawn[line_rows, line_cols] == OUTLINE) > 0.9
     assert np.median(grey[line_rows, line_cols]) < np.percentile(grey[fill_rows, fill_cols], 1) - 40
+    # some lines stop short of the block's outline (1-3 pixels), most meet it
+    assert 0.15 < np.mean(np.array(ends) != OUTLINE) < 0.6
     # the blocks' outline is thick and dark red
     reds = np.array(reds)
     assert np.median(reds[:, 0] - reds[:, 1]) > 50 and np.median(reds.mean(axis=1)) < 140
