@@ -26,8 +26,9 @@ on its edges, so touching buildings share one line) and filled by its
 material (yellow frame, pink brick, blue stone); rows of touching buildings
 along the streets, detached houses, rear wings touching their house, small
 yellow outbuildings at the back of the lots crossed by an X (two diagonal
-black lines); white paper around; street names; house numbers in the street
-along the buildings' fronts; scan noise and JPEG compression.
+black lines); a D (dwelling) or S (store) written on most houses; white
+paper around; street names; house numbers in the street along the houses'
+fronts; scan noise and JPEG compression.
 
 Truth (:class:`synthetic_map.SyntheticMap`, world coordinates):
 
@@ -142,10 +143,12 @@ class ParcelInfo:
 
     ``plot``: 1-based index of its plot in ``SyntheticMap.plots``; ``fill``:
     one of :data:`CADASTER_FILLS` or :data:`MATERIALS`; ``number``: the
-    number written over it (cadaster: its parcel number, centred at
-    ``number_xy``, world coordinates) or None; ``across``: the number is
-    written across one of the parcel's lines; ``crossed``: an outbuilding
-    crossed by an X (insurance).
+    number written for it, centred at ``number_xy`` (world coordinates), or
+    None: the cadaster's parcel number, over the parcel; the insurance map's
+    house number, in the street in front of the house (its wings and
+    outbuildings have none); ``across``: the number is written across one of
+    the parcel's lines (cadaster); ``crossed``: an outbuilding crossed by an
+    X (insurance).
     """
 
     plot: int
@@ -493,13 +496,14 @@ def _insurance(rng, extent, res):
                     last=25)
     strokes = Strokes(outline=max(0.15, 1.1 * res), line=max(0.15, 1.1 * res))
     materials, shares = list(MATERIALS), np.array(list(MATERIALS.values()))
-    buildings, fills, crossed, numbers = [], [], [], []
+    buildings, info, texts = [], [], []
     num_height = max(1.2, 5 * res)
+    mark_height = max(1.4, 5 * res)
     for (x0, x1), (y0, y1) in ((c, r) for r in rows for c in cols):
         horizontal = x1 - x0 >= y1 - y0
         a0, a1 = (x0, x1) if horizontal else (y0, y1)
         depth = ((y1 - y0) if horizontal else (x1 - x0)) / 2
-        mode = str(rng.choice(["row", "detached", "mixed"]))
+        mode = str(rng.choice(["row", "row", "mixed", "detached"]))
         block = []
         for side in (0, 1):
             # (along, in from the street) -> local metres
@@ -529,40 +533,49 @@ def _insurance(rng, extent, res):
                 back = rng.uniform(2, 4) if detached else 0.0
                 deep = rng.uniform(9, min(18, depth - 5))
                 main = rect(lot[0] + inset, lot[1] - inset, back, back + deep)
-                block.append((main, materials[int(rng.choice(3, p=shares))], False))
+                material = materials[int(rng.choice(3, p=shares))]
+                # the house number in the street, in front of the house
+                centre = at((lot[0] + lot[1]) / 2, -(0.6 + num_height / 2))
+                angle = 0.0 if horizontal else 90.0
+                texts.append((str(house), centre, angle, num_height, max(0.14, 0.8 * res)))
+                block.append((main, material, False, str(house), centre))
+                if rng.random() < 0.6:  # D (dwelling) or S (store) written on it
+                    mark = "S" if not detached and material != "frame" else "D"
+                    height = min(mark_height, 0.5 * min(w - 2 * inset, deep))
+                    texts.append((mark, (main.centroid.x, main.centroid.y), angle, height,
+                                  max(0.14, 0.8 * res)))
                 if rng.random() < 0.3 and back + deep + 4 < depth - 5:
                     narrow = rng.uniform(0, 1.5, size=2)
                     wing = rect(lot[0] + inset + narrow[0], lot[1] - inset - narrow[1],
                                 back + deep, back + deep + rng.uniform(3, 5))
-                    block.append((wing, materials[int(rng.choice(3, p=shares))], False))
+                    block.append((wing, materials[int(rng.choice(3, p=shares))], False, None,
+                                  None))
                 if rng.random() < 0.4:
                     s, d = rng.uniform(2.5, 4.0), rng.uniform(2.5, 4.5)
                     c = rng.uniform(lot[0] + 0.8, max(lot[0] + 0.8, lot[1] - 0.8 - s))
                     shed = rect(c, c + s, depth - 1 - d, depth - 1)
-                    if all(shed.distance(g) >= 1.0 for g, _, _ in block):
-                        block.append((shed, "frame", True))
-                centre = at((lot[0] + lot[1]) / 2, -(0.6 + num_height / 2))
-                numbers.append((str(house), centre, 0.0 if horizontal else 90.0))
-        for g, m, x in block:
-            buildings.append(g)
-            fills.append(m)
-            crossed.append(x)
+                    if all(shed.distance(g[0]) >= 1.0 for g in block):
+                        block.append((shed, "frame", True, None, None))
+        buildings += [g for g, _, _, _, _ in block]
+        info += [ParcelInfo(plot=0, fill=m, number=n, number_xy=xy, crossed=x)
+                 for _, m, x, n, xy in block]
     buildings = _noded(buildings)
     # plots: the groups of touching buildings
     groups = _parts(unary_union(buildings))
     tree = shapely.STRtree(groups)
     owner = [int(tree.query(b.representative_point(), predicate="within")[0]) for b in buildings]
+    info = [ParcelInfo(plot=o + 1, fill=i.fill, number=i.number, number_xy=i.number_xy,
+                       crossed=i.crossed) for o, i in zip(owner, info)]
     counts = np.bincount(owner, minlength=len(groups))
     kinds = []
     for g in range(len(groups)):
         if counts[g] > 1:
             kinds.append("row")
         else:
-            kinds.append("outbuilding" if crossed[owner.index(g)] else "single")
-    groups = [shapely.set_precision(g, 0.01) for g in groups]
+            kinds.append("outbuilding" if info[owner.index(g)].crossed else "single")
     outlines = [_band(b, strokes.outline) for b in buildings]
-    for b, x in zip(buildings, crossed):
-        if x:
+    for b, i in zip(buildings, info):
+        if i.crossed:
             minx, miny, maxx, maxy = b.bounds
             outlines += [LineString(d).buffer(strokes.outline / 2, cap_style="flat") for d in
                          (((minx, miny), (maxx, maxy)), ((minx, maxy), (maxx, miny)))]
@@ -572,11 +585,8 @@ def _insurance(rng, extent, res):
               + [("v", (a[1] + b[0]) / 2, b[0] - a[1]) for a, b in zip(cols[:-1], cols[1:])]}
     style = sm.LabelStyle(canal_names=(), street_names=SANBORN_STREETS, building_names=(),
                           scale=0.5)
-    texts = [(text, centre, angle, height, max(0.12 * height, 0.9 * res))
-             for text, centre, angle, height in sm._labels(rng, layout, extent, style)]
-    texts += [(text, centre, angle, num_height, max(0.14, 0.8 * res))
-              for text, centre, angle in numbers]
-    info = [ParcelInfo(plot=o + 1, fill=f, crossed=x) for o, f, x in zip(owner, fills, crossed)]
+    texts += [(text, centre, angle, height, max(0.12 * height, 0.9 * res))
+              for text, centre, angle, height in sm._labels(rng, layout, extent, style)]
     return _Drawing(ground=[], parcels=buildings, info=info, courtyards=[], lines=lines,
                     texts=texts, plots=groups, kinds=kinds, strokes=strokes)
 

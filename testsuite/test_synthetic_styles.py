@@ -269,9 +269,18 @@ def test_insurance_buildings_one_each_by_material_outbuildings_crossed(insurance
             for fx, fy in ((0.25, 0.25), (0.75, 0.75), (0.25, 0.75), (0.75, 0.25)):
                 rr, cc = _at(m, (minx + fx * (maxx - minx), miny + fy * (maxy - miny)))
                 assert OUTLINE in m.drawn[rr - 1:rr + 2, cc - 1:cc + 2], info
-        else:
-            assert m.drawn[r, c] == BUILDING
-            colour.setdefault(info.fill, []).append(m.rgb[r, c].astype(float))
+        else:  # its fill (off the D or S written in its middle)
+            assert m.drawn[r, c] in (BUILDING, TEXT)
+            minx, miny, maxx, maxy = p.bounds
+            rr, cc = _at(m, (0.75 * minx + 0.25 * maxx, 0.75 * miny + 0.25 * maxy))
+            assert m.drawn[rr, cc] == BUILDING
+            colour.setdefault(info.fill, []).append(m.rgb[rr, cc].astype(float))
+        if info.number:  # its house number, in the street in front of it
+            point = shapely.Point(info.number_xy)
+            assert p.distance(point) < 6.0  # (detached houses stand back 2-4 m)
+            assert not any(q.contains(point) for q in m.parcels)
+            rr, cc = _at(m, info.number_xy)
+            assert TEXT in m.drawn[rr - 3:rr + 4, cc - 3:cc + 4]
         # its own black outline all round
         ring = _line_pixels(m, p.exterior, 0.5)
         rows, cols = np.array(ring).T
@@ -287,6 +296,8 @@ def test_insurance_buildings_one_each_by_material_outbuildings_crossed(insurance
     paper = m.rgb[m.drawn == STREET].astype(float).mean(axis=0)
     assert paper.min() > 225
     assert np.sum((m.drawn == TEXT) & (m.truth == STREET)) > 500
+    assert np.sum((m.drawn == TEXT) & (m.truth == BUILDING)) > 100  # D and S
+    assert sum(1 for info in m.parcel_info if info.number) > 0.5 * len(m.parcels)
 
 
 @pytest.mark.parametrize("style,size,res,seed", [
@@ -329,16 +340,18 @@ def test_outline_of_the_parcels_drawn_on_the_picture(cadaster):
 
 
 @pytest.mark.grass
-def test_write_to_grass_writes_the_parcels(mapset):
+@pytest.mark.parametrize("style", ["cadaster", "insurance"])
+def test_write_to_grass_writes_the_parcels(style, mapset):
     import grass.script as gs
 
     from reconstruction import grassio
 
-    m = sm.generate(seed=2, size=200, style="cadaster")
+    m = sm.generate(seed=2, size=200 if style == "cadaster" else 300, style=style)
     names = sm.write_map_to_grass(m, "cad")
     assert names["parcels"] == "cad_parcels"
     topo = grassio.vector_counts("cad_parcels")
     holes = sum(len(p.interiors) for p in m.parcels)
+    # one area per parcel (touching parcels share their boundary: no slivers)
     assert topo["centroids"] == len(m.parcels)
     assert topo["areas"] == len(m.parcels) + holes
     geoms, columns = grassio.read_features("cad_parcels")
