@@ -64,7 +64,7 @@ import shapely
 from scipy import fft
 from shapely import affinity
 from shapely.geometry import LineString, MultiPoint, Point, box
-from shapely.ops import nearest_points, polylabel, split, unary_union
+from shapely.ops import polylabel, split, unary_union
 
 import synthetic_map as sm
 from synthetic_map import BUILDING, COURTYARD, OUTLINE, STREET, TEXT, WATER
