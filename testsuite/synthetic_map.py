@@ -21,6 +21,19 @@ row houses with construction years before and after the map's year
 :data:`MAP_YEAR`, a few offset or straddling two plots, modern blocks,
 buildings away from the plots), the fixture of v.histo.align.
 
+Other styles (``generate(style=...)``, ``--style``; synthetic_styles.py
+draws them from their own random streams, so this map's draws do not change):
+``cadaster``, a colour-washed cadaster like Venice's of 1808 (ragged blocks in
+a thick dark-red outline divided into numbered pink, yellow, pale and white
+parcels by thin grey lines, white courtyards, buff streets, pinkish squares,
+a blue canal, JPEG noise; 0.2 m per pixel) and ``insurance``, a
+fire-insurance map like Sanborn's of 1892 (every building outlined in black
+and filled by its material, outbuildings crossed, house numbers; 0.3 m per
+pixel). Their truth adds ``SyntheticMap.parcels`` (the divisions the map
+draws inside its plots), ``parcel_info`` and ``courtyards``, and the classes
+``courtyard`` (7) and ``outline`` (8); the Delft map's ``parcels`` are empty
+(it draws no divisions).
+
 Two parts:
 
 - :func:`generate` is pure (numpy, scipy, shapely; no GRASS) and returns a
@@ -28,7 +41,7 @@ Two parts:
 - :func:`write_to_grass` writes it into the current GRASS mapset (region,
   ``<prefix>.red/.green/.blue`` rasters, ``<prefix>_training``,
   ``<prefix>_gt_points``, ``<prefix>_plots`` and ``<prefix>_current``
-  vectors). From the command line,
+  vectors; ``<prefix>_parcels`` too for the other styles). From the command line,
   inside a GRASS session::
 
       python3 testsuite/synthetic_map.py --seed 1 --size 600 --prefix map
@@ -54,6 +67,13 @@ from shapely.ops import unary_union
 
 CLASSES = {1: "building", 2: "text", 3: "water", 4: "street", 5: "vegetation", 6: "symbol"}
 BUILDING, TEXT, WATER, STREET, VEGETATION, SYMBOL = 1, 2, 3, 4, 5, 6
+#: classes of the other styles only (synthetic_styles.py): white courtyards, drawn lines
+COURTYARD, OUTLINE = 7, 8
+#: the map styles :func:`generate` draws: the Delft 1961 map (the default), a colour-washed
+#: cadaster (Venice 1808) and a fire-insurance map (Sanborn 1892); see synthetic_styles.py
+STYLES = ("delft", "cadaster", "insurance")
+#: metres per pixel of each style when none is given
+STYLE_RES = {"delft": 1.0, "cadaster": 0.2, "insurance": 0.3}
 PLOT_KINDS = ("single", "row", "double_row", "courtyard", "L", "U")
 #: the year the map shows (the demo chain's YEAR): current buildings older than it may be on it
 MAP_YEAR = 1900
@@ -167,6 +187,14 @@ class SyntheticMap:
     misregistration: dict = field(default_factory=dict)  # {"band": "red", "shift": (rows, cols)}
     ink_cover: np.ndarray = None  # float (rows, cols): share of black ink in each pixel
     _current: object = field(default=None, repr=False, compare=False)
+    style: str = "delft"     # one of STYLES
+    #: shapely Polygons of the divisions the map draws inside its plots (cadaster: the
+    #: parcels; insurance: the buildings); empty on the Delft map, which draws none
+    parcels: list = field(default_factory=list)
+    #: one synthetic_styles.ParcelInfo per parcel, same order (plot, fill, number...)
+    parcel_info: list = field(default_factory=list)
+    courtyards: list = field(default_factory=list)  # shapely Polygons (cadaster)
+    strokes: object = None   # synthetic_styles.Strokes: the drawn lines' widths (m)
 
     @property
     def shape(self):
@@ -201,19 +229,22 @@ class SyntheticMap:
 # Layout: streets, canal, blocks and plots (local metres, origin south-west)
 # ---------------------------------------------------------------------------
 
-def _cuts(rng, extent):
-    """Block intervals [(a, b), ...] along one axis, separated by streets 8-20 m wide."""
+def _cuts(rng, extent, block=(55, 100), street=(8, 17), start=(5, 12), edge=5, last=30):
+    """Block intervals [(a, b), ...] along one axis: blocks ``block`` m long separated by
+    streets ``street`` m wide (the Delft map's by default), the first ``start`` m from
+    the map's edge, none nearer than ``edge`` m to the other edge and the last one at
+    least ``last`` m long."""
     intervals = []
-    pos = rng.uniform(5, 12)
+    pos = rng.uniform(*start)
     while True:
-        width = rng.uniform(55, 100)
-        if pos + width > extent - 5:
-            width = extent - 5 - pos
-            if width >= 30:
+        width = rng.uniform(*block)
+        if pos + width > extent - edge:
+            width = extent - edge - pos
+            if width >= last:
                 intervals.append((pos, pos + width))
             break
         intervals.append((pos, pos + width))
-        pos += width + rng.uniform(8, 17)
+        pos += width + rng.uniform(*street)
     return intervals
 
 
@@ -436,14 +467,27 @@ def _label_box(text, centre, angle, height):
     return affinity.translate(affinity.rotate(rect, angle, origin=(0, 0)), *centre)
 
 
-def _labels(rng, layout, extent):
+@dataclass(frozen=True)
+class LabelStyle:
+    """What :func:`_labels` writes: the names it draws from and ``scale``, the size of
+    the letters and of the room kept around them relative to the Delft map's (1.0:
+    canal names 7.5-9 m high, street names 6-9 m, kept 5 m apart)."""
+
+    canal_names: tuple = CANAL_NAMES
+    street_names: tuple = STREET_NAMES
+    building_names: tuple = BUILDING_NAMES
+    scale: float = 1.0
+
+
+def _labels(rng, layout, extent, style=LabelStyle()):
     """Street names, canal names and building names: [(text, centre, angle, height)].
 
     Labels never overlap each other nor leave the map; street names stay off
-    the canal.
+    the canal (a layout without one, ``canal_line`` None, has no canal name).
     """
     labels, taken = [], []
-    inside = box(4, 4, extent - 4, extent - 4)
+    k = style.scale
+    inside = box(4 * k, 4 * k, extent - 4 * k, extent - 4 * k)
 
     def place(text, centre, angle, height, avoid=None):
         footprint = _label_box(text, centre, angle, height)
@@ -452,43 +496,47 @@ def _labels(rng, layout, extent):
         if avoid is not None and footprint.intersects(avoid):
             return False
         labels.append((text, centre, angle, height))
-        taken.append(footprint.buffer(5))
+        taken.append(footprint.buffer(5 * k))
         return True
 
     # along the canal, first
     line = layout["canal_line"]
-    name = str(rng.choice(CANAL_NAMES))
-    height = rng.uniform(7.5, 9.0)
-    for _ in range(20):
-        x = rng.uniform(0.2, 0.8) * extent
-        p = line.interpolate(line.project(Point(x, line.interpolate(0.5, normalized=True).y)))
-        if place(name, (p.x, p.y), layout["canal_angle"], height):
-            break
+    if line is not None:
+        name = str(rng.choice(style.canal_names))
+        height = rng.uniform(7.5 * k, 9.0 * k)
+        for _ in range(20):
+            x = rng.uniform(0.2, 0.8) * extent
+            p = line.interpolate(line.project(Point(x, line.interpolate(0.5,
+                                                                          normalized=True).y)))
+            if place(name, (p.x, p.y), layout["canal_angle"], height):
+                break
     # street names, along the streets between the blocks
-    names = list(rng.permutation(STREET_NAMES))
+    names = list(rng.permutation(style.street_names))
     anchors = list(layout["street_anchors"])
     for i in rng.permutation(len(anchors)):
         direction, pos, width = anchors[i]
         if not names:
             break
         name = str(names.pop())
-        height = float(np.clip(width * rng.uniform(0.55, 0.8), 6.0, 9.0))
+        height = float(np.clip(width * rng.uniform(0.55, 0.8), 6.0 * k, 9.0 * k))
         length = text_length(name, height)
-        if length > extent - 60:
+        if length > extent - 60 * k:
             continue
         for _ in range(12):
-            along = rng.uniform(10 + length / 2, extent - 10 - length / 2)
+            along = rng.uniform(10 * k + length / 2, extent - 10 * k - length / 2)
             centre, angle = ((along, pos), 0.0) if direction == "h" else ((pos, along), 90.0)
             if place(name, centre, angle, height, avoid=layout["quays"]):
                 break
     # names of a few buildings, written on their plots
+    if not style.building_names:
+        return labels
     plots = layout["plots"]
-    big = [i for i, (poly, kind, ang) in enumerate(plots) if poly.area > 900]
+    big = [i for i, (poly, kind, ang) in enumerate(plots) if poly.area > 900 * k * k]
     for i in rng.permutation(big)[: 4]:
         poly, kind, ang = plots[i]
-        name = str(rng.choice(BUILDING_NAMES))
+        name = str(rng.choice(style.building_names))
         p = poly.representative_point()
-        place(name, (p.x, p.y), ang, rng.uniform(6.0, 7.5))
+        place(name, (p.x, p.y), ang, rng.uniform(6.0 * k, 7.5 * k))
     return labels
 
 
@@ -561,6 +609,19 @@ class _Canvas:
         return slice(r0, r1), slice(c0, c1)
 
 
+def pixel_colours(colours, size, n_sub, sub=_SUB):
+    """The pixels' colours (float (size, size, 3)): the mean of their sub-pixels'
+    (mixed edge pixels), ``colours(a, b)`` giving those of sub-pixel rows a to b
+    ((b - a, n_sub, 3)); coloured in bands of rows, so the memory stays bounded."""
+    rgb = np.empty((size, size, 3))
+    band_rows = max(1, _BAND_SUBPIXELS // (n_sub * sub))  # pixel rows per band
+    for r0 in range(0, size, band_rows):
+        r1 = min(size, r0 + band_rows)
+        rgb[r0:r1] = colours(r0 * sub, r1 * sub).reshape(r1 - r0, sub, size, sub, 3).mean(
+            axis=(1, 3))
+    return rgb
+
+
 def _smooth_field(rng, shape, sigma):
     field_ = ndimage.gaussian_filter(rng.standard_normal(shape), sigma, mode="reflect")
     field_ -= field_.min()
@@ -574,16 +635,15 @@ def _render(rng, layer, plot_ids, n_plots, size):
     # printing: each plot's pink varies a little
     tint = rng.normal(0, 5, size=(n_plots + 1, 3))
     tint[0] = 0
-    rgb = np.empty((size, size, 3))
-    band_rows = max(1, _BAND_SUBPIXELS // (layer.shape[1] * sub))  # pixel rows per band
-    for r0 in range(0, size, band_rows):  # in bands of rows: bounded memory
-        r1 = min(size, r0 + band_rows)
-        part = layer[r0 * sub:r1 * sub]
-        colours = _LAYER_COLOUR[part]                     # (rows, n, 3)
+
+    def colours(a, b):
+        part = layer[a:b]
+        out = _LAYER_COLOUR[part]                     # (rows, n, 3)
         on_plot = (part == _FILL)
-        colours[on_plot] += tint[plot_ids[r0 * sub:r1 * sub][on_plot]]
-        # mixed edge pixels
-        rgb[r0:r1] = colours.reshape(r1 - r0, sub, size, sub, 3).mean(axis=(1, 3))
+        out[on_plot] += tint[plot_ids[a:b][on_plot]]
+        return out
+
+    rgb = pixel_colours(colours, size, layer.shape[1])
     # bleaching: smooth brightening and yellowing, strongest towards one corner
     yy, xx = np.mgrid[0:size, 0:size] / float(size)
     gx, gy = rng.uniform(-1, 1, size=2)
@@ -609,11 +669,15 @@ def _render(rng, layer, plot_ids, n_plots, size):
     return rgb
 
 
-def _pick_training(rng, drawn, cover, xy_of):
-    """3-8 training points per class on clean pixels of that class, spread out."""
-    points, labels = [], []
-    for label in sorted(CLASSES):
-        if label in (TEXT, SYMBOL):
+def _pick_training(rng, drawn, cover, xy_of, labels=None, thin=(TEXT, SYMBOL)):
+    """3-8 training points per class on clean pixels of that class, spread out.
+
+    ``labels``: the values of ``drawn`` to place points on (default: every class of
+    :data:`CLASSES`); those of ``thin`` (printed ink, drawn lines) go on pixels that
+    their class covers for 7/9 at least, the others on pixels two pixels inside."""
+    points, chosen_labels = [], []
+    for label in sorted(CLASSES if labels is None else labels):
+        if label in thin:
             mask = (drawn == label) & (cover[label] >= 7.0 / 9.0)
             min_dist = 15.0
         else:
@@ -638,19 +702,30 @@ def _pick_training(rng, drawn, cover, xy_of):
             min_dist /= 2.0
         for r, c in chosen:
             points.append(xy_of(int(r), int(c)))
-            labels.append(label)
-    return np.array(points, dtype=float).reshape(-1, 2), np.array(labels, dtype=np.int32)
+            chosen_labels.append(label)
+    return (np.array(points, dtype=float).reshape(-1, 2),
+            np.array(chosen_labels, dtype=np.int32))
 
 
-def generate(seed=1, size=600, res=1.0, origin=(84000.0, 446000.0)):
+def generate(seed=1, size=600, res=None, origin=(84000.0, 446000.0), style="delft"):
     """Generate the synthetic historical map.
 
-    ``size`` pixels square at ``res`` metres; ``origin`` is the south-west
-    corner in EPSG:28992. Lengths (streets, plots, letters) are in metres, so
-    they are drawn at about 1 pixel per metre with the default ``res``.
+    ``size`` pixels square at ``res`` metres (default: the style's
+    :data:`STYLE_RES`); ``origin`` is the south-west corner in EPSG:28992.
+    Lengths (streets, plots, letters) are in metres, so they are drawn at
+    about 1 pixel per metre with the Delft map's ``res``. ``style`` is one of
+    :data:`STYLES`: the other styles are drawn by synthetic_styles.py from
+    their own random streams (the Delft map's draws are not changed by them).
     """
+    if style not in STYLES:
+        raise ValueError("style must be one of {}".format(", ".join(STYLES)))
     if size < 200:
         raise ValueError("size must be at least 200 pixels (a few blocks, every class)")
+    res = STYLE_RES[style] if res is None else res
+    if style != "delft":
+        import synthetic_styles
+
+        return synthetic_styles.generate(seed, size, res, origin, style)
     rng = np.random.default_rng(seed)
     layout = _layout(rng, size * res)
     return render(layout, rng, seed=seed, size=size, res=res, origin=origin)
@@ -943,14 +1018,15 @@ def current_footprints(rng, smap, map_year=MAP_YEAR):
 # Pictures without GRASS
 # ---------------------------------------------------------------------------
 
-def outline_plots(smap, rgb=None, colour=(200, 20, 20)):
-    """A copy of the picture with the true plots' boundaries drawn in ``colour``."""
+def outline_plots(smap, rgb=None, colour=(200, 20, 20), polygons=None, width=1.0):
+    """A copy of the picture with the true plots' boundaries (or those of ``polygons``)
+    drawn in ``colour``, ``width`` metres inside them."""
     rgb = (smap.rgb if rgb is None else rgb).copy()
     size = rgb.shape[0]
     canvas = _Canvas(size, smap.res, sub=1)
-    for poly in smap.plots:
+    for poly in smap.plots if polygons is None else polygons:
         local = affinity.translate(poly, -smap.west, -smap.south)
-        canvas.burn(local.difference(local.buffer(-1.0, join_style="mitre")), 1)
+        canvas.burn(local.difference(local.buffer(-width, join_style="mitre")), 1)
     rgb[canvas.layer == 1] = colour
     return rgb
 
@@ -1012,7 +1088,12 @@ def write_to_grass(smap, prefix="map"):
     (points: ``label``, ``class``), ``<prefix>_gt_points`` (points: ``plot``,
     the category of the plot they lie in), ``<prefix>_plots`` (areas:
     ``kind``) and ``<prefix>_current`` (areas: today's footprints with
-    ``bouwjaar``, NULL where unknown, and ``identificatie``). Respects
+    ``bouwjaar``, NULL where unknown, and ``identificatie``); and, for a
+    style that draws divisions inside its plots (``smap.parcels``, not the
+    Delft map), ``<prefix>_parcels`` (areas, one per parcel: ``plot``, the
+    category of its plot, ``fill``, ``number``, the number written over it
+    or NULL, ``crossed``, 1 for an outbuilding crossed by an X; its name is
+    the ``parcels`` entry of the names returned). Respects
     GRASS_OVERWRITE / --overwrite like any module.
     """
     names = write_map_to_grass(smap, prefix)
@@ -1029,6 +1110,8 @@ def write_map_to_grass(smap, prefix="map"):
     from reconstruction import grassio
 
     names = map_names(prefix)
+    if smap.parcels:
+        names["parcels"] = prefix + "_parcels"
     gs.run_command("g.region", quiet=True, **smap.region())
     for i, band in enumerate(("red", "green", "blue")):
         grassio.write_raster(names[band], smap.rgb[..., i].astype(np.int32),
@@ -1041,6 +1124,14 @@ def write_map_to_grass(smap, prefix="map"):
     grassio.write_points(names["gt_points"], smap.gt_points, {"plot": cats})
     grassio.write_features(names["plots"], smap.plots, {"kind": list(smap.plot_kinds)},
                            cats=cats)
+    if smap.parcels:
+        info = smap.parcel_info
+        grassio.write_features(
+            names["parcels"], smap.parcels,
+            {"plot": [p.plot for p in info], "fill": [p.fill for p in info],
+             "number": [p.number for p in info], "crossed": [int(p.crossed) for p in info]},
+            title="Parcels drawn on the synthetic {} map (seed {})".format(smap.style,
+                                                                          smap.seed))
     return names
 
 
@@ -1097,25 +1188,34 @@ def plots_sampled(smap, step):
     return rows, cols, inside
 
 
-def map_arguments(description):
-    """The command line parser of a synthetic map's options (seed, size, resolution)."""
+def map_arguments(description, res=1.0):
+    """The command line parser of a synthetic map's options (seed, size, resolution;
+    ``res`` None: the style's, :data:`STYLE_RES`)."""
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--size", type=int, default=600, help="pixels per side")
-    parser.add_argument("--res", type=float, default=1.0, help="metres per pixel")
+    parser.add_argument("--res", type=float, default=res, help="metres per pixel" + (
+        " (default: the style's, 1 for the Delft map)" if res is None else ""))
     return parser
 
 
 def main(argv=None):
     parser = map_arguments("Write the synthetic historical map into the current GRASS mapset "
-                           "(run inside a GRASS session), or as a PNG picture.")
+                           "(run inside a GRASS session), or as a PNG picture.", res=None)
     parser.add_argument("--prefix", default="map", help="prefix of the map names")
     parser.add_argument("--png", help="write only a PNG picture (plots outlined) to this path")
     parser.add_argument("--overwrite", action="store_true", help="replace existing maps")
+    parser.add_argument("--style", choices=STYLES, default="delft",
+                        help="the map's style: Delft 1961 (default), a colour-washed cadaster "
+                        "(Venice 1808) or a fire-insurance map (Sanborn 1892)")
     args = parser.parse_args(argv)
-    smap = generate(seed=args.seed, size=args.size, res=args.res)
+    smap = generate(seed=args.seed, size=args.size, res=args.res, style=args.style)
     if args.png:
-        write_png(args.png, outline_plots(smap), colours=48)
+        if smap.parcels:  # the parcels, a thin line inside each
+            picture = outline_plots(smap, polygons=smap.parcels, width=smap.res)
+        else:
+            picture = outline_plots(smap)
+        write_png(args.png, picture, colours=48)
         print("picture written to '{}'".format(args.png))
         return 0
     if not os.environ.get("GISRC"):
@@ -1124,16 +1224,19 @@ def main(argv=None):
         os.environ["GRASS_OVERWRITE"] = "1"
     os.environ.setdefault("GRASS_VERBOSE", "1")  # no progress bars from the raster import
     names = write_to_grass(smap, args.prefix)
-    counts = {label: int(np.sum(smap.training["label"] == label)) for label in CLASSES}
+    parcels = ", {} ({} parcels)".format(names["parcels"], len(smap.parcels)) \
+        if smap.parcels else ""
     print("synthetic map (seed {}, {} x {} px at {} m) written: rasters {}, {}, {}; "
           "vectors {} ({} training points), {} ({} points), {} ({} plots), {} ({} current "
-          "footprints)".format(
-              args.seed, args.size, args.size, args.res, names["red"], names["green"],
-              names["blue"], names["training"], sum(counts.values()), names["gt_points"],
-              len(smap.gt_points), names["plots"], len(smap.plots), names["current"],
-              len(smap.current.polygons)))
+          "footprints){}".format(
+              args.seed, args.size, args.size, smap.res, names["red"], names["green"],
+              names["blue"], names["training"], len(smap.training["label"]),
+              names["gt_points"], len(smap.gt_points), names["plots"], len(smap.plots),
+              names["current"], len(smap.current.polygons), parcels))
     return 0
 
 
 if __name__ == "__main__":
+    # synthetic_styles.py imports this file as the module synthetic_map: the same one
+    sys.modules.setdefault("synthetic_map", sys.modules[__name__])
     sys.exit(main())
