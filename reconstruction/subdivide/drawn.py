@@ -18,11 +18,16 @@ scipy and shapely):
    spread (median + :data:`SPREAD` median absolute deviations, at least
    :data:`MIN_CONTRAST`): the threshold follows the plot's wash and the
    scan's noise, not a colour trained on another map.
-2. **Regions are what the ink leaves.** The plot's cells that are not ink
-   fall into 4-connected regions. Letters and numbers written over a parcel
-   are ink holes in its region (their loops make tiny regions of their
-   own); a line broken by a gap or stopping short of the block's edge joins
-   the two sides (one footprint where the map has two: the safe side). A
+2. **Regions are what the lines leave.** Letters and numbers written over
+   a parcel are no lines: only the ink connected to the plot's outline, or
+   drawn as a thin long stroke, is a line (:func:`lines`); writing stays a
+   hole in its parcel's region. Gaps in a line up to half a stroke wide (two
+   cells at least) are closed, and the plot's edge is read
+   :data:`EDGE_STROKES` widths wide, so that a line stopping that short of
+   the block's outline still meets it (wider closings would join the
+   numbers written across narrow parcels to their lines); a line broken by
+   a wider gap joins the two sides (one footprint where the map has two:
+   the safe side). The plot's other cells fall into 4-connected regions; a
    region smaller than the least area (:func:`stroke_scale`: in the map's
    own scale, from the stroke width) is no unit of the map.
 3. **Regions grow over the ink.** Every cell of the plot goes to the
@@ -66,6 +71,11 @@ THIN = 2.0
 #: their lines (Venice 1808: 0.5 widths keeps the parcels matched as without,
 #: 1 or 2 widths lose 1.3 % of them)
 GAP_STROKES = 0.5
+#: a line that stops at most this many stroke widths short of the plot's edge
+#: meets it: the edge is read as that much wider (the synthetic cadaster, whose
+#: lines stop 1-3 cells short of the outline at a third of their ends: 64 % of
+#: its parcels matched without, 79 % with; Venice 1808 unchanged, 92.6 %)
+EDGE_STROKES = 2.0
 
 
 @dataclass(frozen=True)
@@ -208,10 +218,13 @@ def regions(contrast, inside, scale):
     ink = contrast > max(median + SPREAD * spread, MIN_CONTRAST)
     barrier = lines(ink, inside, scale.stroke) | ~inside
     reach = max(1, int(np.ceil(GAP_STROKES * scale.stroke / 2)))
-    if reach:
-        padded = np.pad(barrier, reach + 1, constant_values=True)
-        barrier = ndimage.binary_closing(padded, structure=_disk(reach))[
-            reach + 1:-reach - 1, reach + 1:-reach - 1]
+    padded = np.pad(barrier, reach + 1, constant_values=True)
+    barrier = ndimage.binary_closing(padded, structure=_disk(reach))[
+        reach + 1:-reach - 1, reach + 1:-reach - 1]
+    edge = int(np.ceil(EDGE_STROKES * scale.stroke))
+    if edge:
+        barrier |= ndimage.binary_dilation(np.pad(~inside, 1, constant_values=True),
+                                           structure=_disk(edge))[1:-1, 1:-1]
     labels, n = ndimage.label(inside & ~barrier)
     if n < 2:
         return np.zeros(inside.shape, np.int32), n
