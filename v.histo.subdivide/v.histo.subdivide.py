@@ -127,6 +127,12 @@
 # % guisection: Drawn
 # %end
 # %flag
+# % key: d
+# % label: The map draws every unit (a cadaster's parcels, an insurance map's buildings)
+# % description: A plot map= does not divide is one footprint (source drawn), not subdivided
+# % guisection: Drawn
+# %end
+# %flag
 # % key: c
 # % description: Do not decompose concave plots into convex parts (case 5); footprints may then be concave
 # %end
@@ -136,6 +142,7 @@
 # % guisection: Aligned
 # %end
 # %rules
+# % requires: -d, map
 # % requires: stroke, map
 # % requires: min_parcel, map
 # % requires: -a, aligned

@@ -32,7 +32,8 @@ class SubdivisionConfig:
     Units the map draws (issue 50): ``maps``, the scanned map's red, green and
     blue rasters (map=; empty: every plot is subdivided as before); ``stroke``
     the width of its lines and ``min_parcel`` the least unit it draws (map
-    units; None: from the stroke width measured on the map).
+    units; None: from the stroke width measured on the map); ``whole``: the map
+    draws every unit, a plot it does not divide is one footprint (-d).
     """
 
     plots: str
@@ -52,6 +53,7 @@ class SubdivisionConfig:
     maps: tuple = ()
     stroke: Optional[float] = None
     min_parcel: Optional[float] = None
+    whole: bool = False
 
 
 def _range(text, key):
@@ -98,4 +100,5 @@ def read_config(options, flags):
         tolerance=parse_number(options.get("tolerance") or TOLERANCE, "tolerance", minimum=0),
         id_column=options.get("id_column") or "",
         maps=maps,
-        stroke=_positive(options, "stroke"), min_parcel=_positive(options, "min_parcel"))
+        stroke=_positive(options, "stroke"), min_parcel=_positive(options, "min_parcel"),
+        whole=bool(flags.get("d")))

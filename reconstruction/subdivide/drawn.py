@@ -72,10 +72,8 @@ THIN = 2.0
 #: 1 or 2 widths lose 1.3 % of them)
 GAP_STROKES = 0.5
 #: a line that stops at most this many stroke widths short of the plot's edge
-#: meets it: the edge is read as that much wider (the synthetic cadaster, whose
-#: lines stop 1-3 cells short of the outline at a third of their ends: 64 % of
-#: its parcels matched without, 79 % with; Venice 1808 unchanged, 92.6 %)
-EDGE_STROKES = 2.0
+#: meets it: the cells that near both the edge and a line are a line
+EDGE_STROKES = 3.0
 
 
 @dataclass(frozen=True)
@@ -97,11 +95,14 @@ class StrokeScale:
 @dataclass(frozen=True)
 class DrawnDivisions:
     """What :func:`read_divisions` found: ``parcels`` {plot category: [Polygon, ...]}
-    for every plot the map divides (two parcels or more), ``scale`` the
-    :class:`StrokeScale` used, ``plots_read`` how many plots lay on the map."""
+    for every plot the map divides (two parcels or more) and, when the map draws
+    every unit, every plot it does not divide (the plot itself: ``whole`` of
+    them); ``scale`` the :class:`StrokeScale` used, ``plots_read`` how many
+    plots lay on the map."""
     parcels: dict = field(default_factory=dict)
     scale: Optional[StrokeScale] = None
     plots_read: int = 0
+    whole: int = 0
 
     @property
     def count(self):
@@ -216,19 +217,23 @@ def regions(contrast, inside, scale):
     median = float(np.median(values))
     spread = 1.4826 * float(np.median(np.abs(values - median)))
     ink = contrast > max(median + SPREAD * spread, MIN_CONTRAST)
-    barrier = lines(ink, inside, scale.stroke) | ~inside
+    line = lines(ink, inside, scale.stroke)
+    barrier = line | ~inside
     reach = max(1, int(np.ceil(GAP_STROKES * scale.stroke / 2)))
     padded = np.pad(barrier, reach + 1, constant_values=True)
     barrier = ndimage.binary_closing(padded, structure=_disk(reach))[
         reach + 1:-reach - 1, reach + 1:-reach - 1]
-    edge = int(np.ceil(EDGE_STROKES * scale.stroke))
-    if edge:
-        barrier |= ndimage.binary_dilation(np.pad(~inside, 1, constant_values=True),
-                                           structure=_disk(edge))[1:-1, 1:-1]
+    edge = EDGE_STROKES * scale.stroke
+    if edge and line.any():
+        # a line's end near the plot's edge meets it: the cells near both
+        outside = ndimage.distance_transform_edt(np.pad(inside, 1))[1:-1, 1:-1]
+        barrier |= (outside <= edge) & (ndimage.distance_transform_edt(~line) <= edge)
     labels, n = ndimage.label(inside & ~barrier)
     if n < 2:
         return np.zeros(inside.shape, np.int32), n
-    sizes = np.bincount(labels.ravel(), minlength=n + 1)
+    # a region's size: the cells nearest to it (what it grows to), not the cells
+    # the lines and the edge leave of it (a small annex is mostly edge)
+    sizes = np.bincount(grow(labels, inside).ravel(), minlength=n + 1)
     big = sizes >= scale.min_cells
     big[0] = False
     count = int(big.sum())
@@ -237,6 +242,13 @@ def regions(contrast, inside, scale):
     renumber = np.zeros(n + 1, np.int32)
     renumber[big] = np.arange(1, count + 1)
     return renumber[labels], count
+
+
+def grow(labels, within):
+    """Every cell of ``within`` given the label of the nearest labelled cell (0
+    elsewhere)."""
+    _, (row, col) = ndimage.distance_transform_edt(labels == 0, return_indices=True)
+    return np.where(within, labels[row, col], 0)
 
 
 def _cells_polygon(mask, west, north, cell):
@@ -262,9 +274,7 @@ def plot_parcels(polygon, contrast, west, north, cell, scale):
         return []
     # every cell goes to the nearest region, one cell beyond the plot too, so
     # that the parcels cut to the plot cover it
-    around = ndimage.binary_dilation(inside, iterations=1)
-    _, (row, col) = ndimage.distance_transform_edt(labels == 0, return_indices=True)
-    labels = np.where(around, labels[row, col], 0)
+    labels = grow(labels, ndimage.binary_dilation(inside, iterations=1))
     cells = [_cells_polygon(labels == k, west, north, cell) for k in range(1, count + 1)]
     simple = shapely.coverage_simplify(np.asarray(cells, dtype=object), max(cell))
     out = []
@@ -275,21 +285,24 @@ def plot_parcels(polygon, contrast, west, north, cell, scale):
     return out if len(out) >= 2 else []
 
 
-def read_divisions(rgb, extent, plots, cats, stroke=None, min_area=None, progress=None):
+def read_divisions(rgb, extent, plots, cats, stroke=None, min_area=None, progress=None,
+                   whole=False):
     """The parcels the map draws in each plot: a :class:`DrawnDivisions`.
 
     ``rgb`` (rows, cols, 3) uint8, north-up, with ``extent`` (west, east, south,
     north); ``plots`` shapely polygons with their categories ``cats``;
     ``stroke`` (map units) and ``min_area`` (square map units) override what is
     measured on the map (:func:`stroke_scale`); ``progress(done, total)`` is
-    called as plots are read."""
+    called as plots are read. ``whole``: the map draws every unit (a cadaster's
+    parcels, an insurance map's buildings), so a plot on the map without inner
+    lines is one unit; otherwise it is left to the procedural cases."""
     rgb = np.asarray(rgb)
     west, east, south, north = (float(v) for v in extent)
     rows, cols = rgb.shape[:2]
     cell = ((east - west) / cols, (north - south) / rows)
     scale = stroke_scale(rgb, float(np.sqrt(cell[0] * cell[1])), stroke, min_area)
     contrast = ink_contrast(rgb, scale.radius)
-    parcels, read = {}, 0
+    parcels, read, alone = {}, 0, 0
     for k, (polygon, cat) in enumerate(zip(plots, cats)):
         if progress is not None:
             progress(k, len(plots))
@@ -307,20 +320,24 @@ def read_divisions(rgb, extent, plots, cats, stroke=None, min_area=None, progres
                              north - r0 * cell[1], cell, scale)
         if found:
             parcels[cat] = found
-    return DrawnDivisions(parcels, scale, read)
+        elif whole:
+            parcels[cat] = [polygon]
+            alone += 1
+    return DrawnDivisions(parcels, scale, read, alone)
 
 
-def free_parcels(parcels, taken):
-    """``parcels`` less the footprints ``taken`` before them in their plot (aligned,
-    kept from an earlier epoch): each parcel's parts of at least a tenth of its area
+def free_parcels(parcels, plot, taken):
+    """``parcels`` within their ``plot`` (as repaired and made disjoint from its
+    neighbours), less the footprints ``taken`` before them in it (aligned, kept
+    from an earlier epoch): each parcel's polygons of at least a tenth of its area
     (and more than :data:`~reconstruction.subdivide.plots.OVERLAP_TOLERANCE`); a
     parcel under a taken footprint is gone."""
-    if not taken:
-        return list(parcels)
-    union = shapely.union_all(taken)
+    cut = shapely.union_all([g for g in taken if g is not None]) if taken else None
     out = []
     for parcel in parcels:
-        rest = shapely.difference(parcel, union) if parcel.intersects(union) else parcel
+        rest = shapely.intersection(parcel, plot)
+        if cut is not None and rest.intersects(cut):
+            rest = shapely.difference(rest, cut)
         out.extend(p for p in polygon_parts(rest)
                    if p.area > max(OVERLAP_TOLERANCE, 0.1 * parcel.area))
     return out

@@ -164,7 +164,7 @@ def run(inputs, config):
     if inputs.image is not None:
         drawn = read_divisions(inputs.image.rgb, inputs.image.extent, inputs.plots, inputs.cats,
                                stroke=config.stroke, min_area=config.min_parcel,
-                               progress=inputs.progress)
+                               progress=inputs.progress, whole=config.whole)
     result = subdivide(
         inputs.plots, inputs.cats, length=config.length, depth=config.depth,
         area_threshold=config.area_threshold, seed=config.seed, decompose=config.decompose,

@@ -82,12 +82,14 @@ def drawn_messages(drawn, rep, config):
     scale = drawn.scale
     out = [note("Lines drawn in the plots read on <{}>: strokes {:.1f} cells wide ({}), least "
                 "unit {:.3g} square map units ({}); {} of {} plots divided into {} drawn "
-                "footprints, the others subdivided as without map=".format(
+                "footprints{}".format(
                     config.maps[0], scale.stroke,
                     "stroke= given" if config.stroke else "measured",
                     scale.min_area, "min_parcel= given" if config.min_parcel
                     else "{} stroke widths square".format(REGION_STROKES),
-                    rep.drawn_plots, drawn.plots_read, rep.drawn))]
+                    rep.drawn_plots - drawn.whole, drawn.plots_read, rep.drawn - drawn.whole,
+                    ", {} undivided plots one footprint each (-d)".format(drawn.whole)
+                    if config.whole else ", the others subdivided as without map="))]
     if drawn.plots_read == 0:
         out.append(warning("No plot lies on the map <{}>: check the region and the map".format(
             config.maps[0])))

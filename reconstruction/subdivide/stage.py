@@ -260,8 +260,8 @@ def subdivide(plots, cats=None, length=(5.0, 8.0), depth=(12.0, 16.0), area_thre
                 cat in kept.free and kept.free[cat].area < MIN_AREA)):
             continue                # nothing changed here since the earlier epoch
         if drawn and cat in drawn:
-            for poly in free_parcels(drawn[cat], [g for g, c in zip(result.geometries, result.plot)
-                                                  if c == cat]):
+            for poly in free_parcels(drawn[cat], geom, [g for g, c in zip(result.geometries,
+                                                                          result.plot) if c == cat]):
                 result.add(poly, cat, CASE_ALIGNED, SOURCE_DRAWN)
             continue
         rng = plot_rng(seed, cat)

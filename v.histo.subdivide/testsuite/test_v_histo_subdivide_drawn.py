@@ -74,6 +74,16 @@ def test_the_drawn_parcels_are_the_footprints_and_say_so(drawn_map):
     assert mine == theirs
 
 
+def test_flag_d_makes_an_undivided_plot_one_footprint(drawn_map):
+    gs, grassio, _ = drawn_map
+    code, _, err = run_module("v.histo.subdivide", flags="d", input="plots", output="fp",
+                              map="scan.red,scan.green,scan.blue")
+    assert code == 0, err
+    geoms, columns = grassio.read_features("fp")
+    assert columns[SOURCE] == [SOURCE_DRAWN] * 6
+    assert "1 undivided plots one footprint each (-d)" in " ".join(err.split())
+
+
 @pytest.mark.parametrize("options, message", [
     ({"map": "scan.red,scan.green"}, "map= needs three rasters"),
     ({"map": "scan.red,scan.green,nothere"}, "nothere"),
@@ -87,3 +97,38 @@ def test_a_bad_map_is_one_error_and_leaves_nothing(drawn_map, options, message):
     assert len(errors) == 1 and message in errors[0] and "Traceback" not in err
     assert not gs.find_file("fp", element="vector")["name"]
     assert not gs.list_grouped("vector", pattern="tmp_histo_*")[gs.gisenv()["MAPSET"]]
+
+
+def matched_share(found, truth):
+    """Share of the true units matched one to one by a footprint at IoU >= 0.5."""
+    tree = shapely.STRtree(found)
+    hits = 0
+    for t in truth:
+        ious = [found[i].intersection(t).area / found[i].union(t).area
+                for i in tree.query(t, predicate="intersects")]
+        hits += bool(ious) and max(ious) >= 0.5
+    return hits / len(truth)
+
+
+@pytest.mark.parametrize("style, least", [("insurance", 0.95), ("cadaster", 0.7)])
+def test_the_synthetic_styles_units_read_from_their_lines(mapset, style, least):
+    # the chain's last steps on the synthetic styles' true blocks: every drawn
+    # building (insurance) one footprint; the cadaster's parcels (whose lines stop
+    # short of the outline at a third of their ends) matched at 80 % on seed 1
+    # today (the issue's goal is 95 %): the test guards what is reached
+    import synthetic_map as sm
+
+    from reconstruction import grassio
+
+    smap = sm.generate(seed=1, size=600, style=style)
+    names = sm.write_map_to_grass(smap, "syn")
+    code, _, err = run_module("v.histo.subdivide", flags="d", input=names["plots"], output="fp",
+                              map=",".join(names[b] for b in ("red", "green", "blue")))
+    assert code == 0, err
+    geoms, columns = grassio.read_features("fp")
+    assert set(columns[SOURCE]) == {SOURCE_DRAWN}
+    assert matched_share([single(g) for g in geoms], smap.parcels) >= least
+
+
+def single(geom):
+    return geom.geoms[0] if geom.geom_type == "MultiPolygon" and len(geom.geoms) == 1 else geom

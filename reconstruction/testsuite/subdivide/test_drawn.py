@@ -149,3 +149,11 @@ def test_drawn_parcels_are_valid_disjoint_and_inside_their_plot(cuts, noise):
         for b in parcels[i + 1:]:
             assert a.intersection(b).area < 1e-9
     assert len(parcels) <= len(cuts) + 1
+
+
+def test_a_map_that_draws_every_unit_makes_an_undivided_plot_one_footprint():
+    rgb, extent, block, _ = cadaster(cuts=(), fills=(PINK,))
+    found = drawn.read_divisions(rgb, extent, [block], [1], whole=True)
+    assert found.parcels == {1: [block]} and found.whole == 1
+    result = subdivide([block], [1], seed=1, drawn=found.parcels)
+    assert result.source == [SOURCE_DRAWN] and result.geometries[0].equals(block)
