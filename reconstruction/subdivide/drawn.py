@@ -251,13 +251,16 @@ def grow(labels, within):
     return np.where(within, labels[row, col], 0)
 
 
-def _cells_polygon(mask, west, north, cell):
+def _cells_polygon(mask, west, north, cell, row0=0, col0=0):
     """The cells of a boolean mask as one (multi)polygon: each row's runs of cells
-    as rectangles, merged (``cell``: the cells' width and height)."""
+    as rectangles, merged (``cell``: the cells' width and height; the mask's first
+    cell is cell ``row0``, ``col0`` of the grid whose corner is ``west``,
+    ``north``: neighbours' edges get the same coordinates)."""
     padded = np.pad(mask, ((0, 0), (1, 1))).astype(np.int8)
     step = np.diff(padded, axis=1)
     r0, c0 = np.nonzero(step == 1)
     _, c1 = np.nonzero(step == -1)
+    r0, c0, c1 = r0 + row0, c0 + col0, c1 + col0
     boxes = shapely.box(west + c0 * cell[0], north - (r0 + 1) * cell[1],
                         west + c1 * cell[0], north - r0 * cell[1])
     return shapely.union_all(boxes)
@@ -275,7 +278,8 @@ def plot_parcels(polygon, contrast, west, north, cell, scale):
     # every cell goes to the nearest region, one cell beyond the plot too, so
     # that the parcels cut to the plot cover it
     labels = grow(labels, ndimage.binary_dilation(inside, iterations=1))
-    cells = [_cells_polygon(labels == k, west, north, cell) for k in range(1, count + 1)]
+    cells = [_cells_polygon(labels[box] == k, west, north, cell, box[0].start, box[1].start)
+             for k, box in enumerate(ndimage.find_objects(labels, count), 1)]
     simple = shapely.coverage_simplify(np.asarray(cells, dtype=object), max(cell))
     out = []
     for g in shapely.intersection(simple, polygon):
