@@ -30,6 +30,28 @@ def object_thickness(mask):
     return float(2 * distance.max() - 1)
 
 
+def _ridge(mask):
+    """The distance of each cell of ``mask`` to its edge (the map's border
+    counts as outside), and its ridge: the cells no neighbour of which lies
+    farther inside (the objects' median lines)."""
+    distance = ndimage.distance_transform_edt(np.pad(mask, 1))[1:-1, 1:-1]
+    return distance, mask & (distance >= ndimage.maximum_filter(distance, size=3))
+
+
+def typical_thickness(mask):
+    """The typical thickness (cells) of the objects of a boolean mask, as
+    :func:`object_thickness` measures it (a one-cell line is 1, a three-cell
+    stroke 3; a two-cell one 1, like a line between two cells) but the
+    median over their median lines (:func:`_ridge`) instead of the largest:
+    the few places where lines meet or letters touch do not change it. 0 for
+    an empty mask."""
+    mask = np.asarray(mask, dtype=bool)
+    if not mask.any():
+        return 0.0
+    distance, ridge = _ridge(mask)
+    return float(2 * np.median(distance[ridge]) - 1)
+
+
 def line_classes(classes, remove):
     """The ``remove`` labels drawn as lines (the outlines of the blocks), not
     as letters or symbols: the objects holding most of their cells are long,
@@ -44,8 +66,7 @@ def line_classes(classes, remove):
         objects, n = ndimage.label(mask, _EIGHT)
         if not n:
             continue
-        distance = ndimage.distance_transform_edt(np.pad(mask, 1))[1:-1, 1:-1]
-        ridge = mask & (distance >= ndimage.maximum_filter(distance, size=3))
+        distance, ridge = _ridge(mask)
         ids = np.arange(1, n + 1)
         width = 2 * np.asarray(ndimage.median(distance, objects * ridge, ids))
         area = np.bincount(objects.ravel(), minlength=n + 1)[1:]
@@ -53,6 +74,19 @@ def line_classes(classes, remove):
         if long_cells * 2 > area.sum():
             lines.append(label)
     return tuple(lines)
+
+
+def removed_thickness(classes, remove):
+    """The thickness (cells, :func:`object_thickness`) of the thickest
+    letter or symbol of the ``remove`` classes: of those not drawn as lines
+    (:func:`line_classes`; all of them when every one is). Where a block's
+    outline strokes meet or touch the letters they make knots thicker than
+    any letter, which would set a larger window and minimum mapping unit
+    (on a 0.1 m map of Venice with its outline class removed: 18 cells)."""
+    classes = np.asarray(classes)
+    lines = line_classes(classes, remove)
+    letters = [label for label in remove if label not in lines] or list(remove)
+    return object_thickness(np.isin(classes, letters))
 
 
 def removal_window(mask):
@@ -506,8 +540,8 @@ def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, m
        the 3 x 3 neighbourhood); with
        ``iterations``, only as far as that many passes of the window would
        reach (``iterations`` x ``window // 2`` cells). The window is computed
-       from the thickness of the removed objects (:func:`removal_window`)
-       unless given.
+       from the thickness of the removed letters and symbols
+       (:func:`removed_thickness`) unless given.
     3. For the ``separate`` labels (e.g. buildings): where the fill of a
        hole joins two regions of such a class that were apart within
        :data:`FACING` windows (a street name printed across a narrow street
@@ -533,7 +567,7 @@ def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, m
     classes = np.asarray(classes)
     removed = np.isin(classes, list(remove)) if len(remove) else np.zeros(classes.shape, bool)
     if window is None:
-        window = removal_window(removed)
+        window = window_for_thickness(removed_thickness(classes, remove)) if len(remove) else 3
     if image is not None and len(separate):
         classes = letter_gaps(classes, image, removed, separate, min_width, nodata)
     base = np.where(removed, nodata, classes)

@@ -581,3 +581,18 @@ def test_a_removed_outline_class_does_not_join_the_blocks_across_a_street():
     only_name, _ = removal.remove_classes(np.where(classes == 6, 4, classes), [2])
     assert not removal.line_classes(classes, [2])
     assert (only_name[16:25, 25:28] == 4).all()
+
+
+def test_a_knot_of_removed_outline_strokes_does_not_set_the_window():
+    """Issue 50, item 3: the window and minimum mapping unit follow the
+    removed letters' thickness; where the outline strokes (removed too) meet
+    in a knot, its thickness made them larger (a 0.1 m map: 18 cells)."""
+    classes = _outlined_blocks_and_a_street_name()
+    classes[16:25, 25:28] = 4               # no name across the street
+    classes[14:23, 1:10] = 6                # a knot where the strokes meet, 9 cells thick
+    classes[20:23, 10:19] = 2               # a name 3 cells thick over the block
+    assert removal.object_thickness(np.isin(classes, [2, 6])) == 9
+    assert removal.removed_thickness(classes, [2, 6]) == 3
+    out, window = removal.remove_classes(classes, [2, 6])
+    assert window == 3
+    assert (out[20:23, 10:19] == 1).all()   # the name over the block refilled by it
