@@ -133,7 +133,9 @@ def derive(config, facts):
                 _number(by_cells), _number(MIN_AREA_CELLS), cells))
     if "fit" in config.methods and config.reach is None:
         base = REACH[config.outline]
-        by_stroke = REACH_STROKES * stroke / cell if stroke else 0.0
+        # to a tenth of a cell: the profiles are sampled from -reach, and a
+        # reach a hair off REACH would move every sample
+        by_stroke = round(REACH_STROKES * stroke / cell, 1) if stroke else 0.0
         if by_stroke > base:
             derived["reach"] = Scaled(_exact(by_stroke), "{} cells ({} stroke widths of {})".format(
                 _number(by_stroke), _number(REACH_STROKES), _number(stroke)))

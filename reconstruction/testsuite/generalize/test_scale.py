@@ -43,6 +43,10 @@ def test_wide_strokes_raise_the_minimum_area_and_the_fit_reach():
     config = GeneralizeConfig(methods=("alpha", "lines", "fit"), **UNSET)
     thin = scale.derive(config, scale.MapFacts(1.0, stroke=0.9)).apply(config)
     assert (thin.min_area, thin.reach) == (20, 1.5)  # the synthetic maps' 0.9 m lines
+    # lines a cell wide, measured on a map whose cells are not quite square:
+    # REACH itself, not a hair beside it (every profile sample would move)
+    delft = scale.derive(config, scale.MapFacts(0.9030, stroke=0.90307)).apply(config)
+    assert delft.reach == 1.5
     wide = scale.derive(config, scale.MapFacts(0.1, stroke=0.4)).apply(config)
     assert wide.min_area == pytest.approx(2.56)      # a square 4 strokes wide
     assert wide.reach == pytest.approx(6.0)          # 1.5 strokes of 4 cells
