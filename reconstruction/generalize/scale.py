@@ -48,15 +48,6 @@ INK_SHARE = 0.35
 
 
 @dataclass(frozen=True)
-class MapFacts:
-    """What the map says about its scale: ``cell`` its cell size (map units),
-    ``stroke`` the width of the lines it draws (map units; None: unknown)."""
-
-    cell: float
-    stroke: Optional[float] = None
-
-
-@dataclass(frozen=True)
 class Scaled:
     """A derived parameter: its ``value`` and why (``reason``)."""
 
@@ -90,6 +81,18 @@ class ScaledParameters:
         return [(name, getattr(self, name))
                 for name in ("alpha", "distance", "tolerance", "min_area", "reach")
                 if getattr(self, name) is not None]
+
+
+@dataclass(frozen=True)
+class MapFacts:
+    """What the map says about its scale, read from GRASS by the module.
+
+    ``cell``: its cell size (map units); ``stroke``: the width of the lines
+    it draws (map units; None: unknown, e.g. without map= and stroke=).
+    """
+
+    cell: float
+    stroke: Optional[float] = None
 
 
 def _number(value):
