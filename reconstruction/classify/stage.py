@@ -250,7 +250,7 @@ class RemovalRule:
 
     window: refill window (odd); min_cells: minimum mapping unit (0: none);
     width_cells: parts narrower than this are refilled (0: none);
-    thickness: of the thickest removed object (cells); derived: the names of
+    thickness: of the thickest removed letter or symbol (cells); derived: the names of
     the values derived from the data rather than given.
     """
 

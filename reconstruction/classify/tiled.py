@@ -132,7 +132,7 @@ def classify_tiles(tiles, read_bands, read_segments, training, config, grid, pai
     timing = [("classification", time.perf_counter() - start)]
     start = time.perf_counter()
 
-    # 3. the removal, by the rule of the thickest removed object of the whole map
+    # 3. the removal, by the rule of the thickest removed letter or symbol of the whole map
     rule = removal_rule(thickness, config, grid)
     check_tiles(side, rule.window)
     printed = outlines.printed_cells(classes, config)
