@@ -38,7 +38,9 @@ g.region raster=delft.red
 
 classify_stage delft.red,delft.green,delft.blue delft_training delft_classes remove=$REMOVE \
     separate=$BUILDING
-generalize_stage delft_classes $BUILDING gt_points=delft_gt_points gt_polygons=delft_gt_polygons
+# the thesis's minimum area, in m² (the module's default follows the cell size)
+generalize_stage delft_classes $BUILDING min_area=20 gt_points=delft_gt_points \
+    gt_polygons=delft_gt_polygons
 align_stage current $YEAR buffer=10 overlap=0.6
 subdivide_stage length=5,5 depth=12,16 area_threshold=100
 # the ranges are not used: the heights come from the aligned footprints

@@ -35,7 +35,7 @@ for year in ${YEARS//,/ }; do
         min_width=3 separate=1 outline=inside nprocs=2 seed=$SEED --quiet
     # min_area as demo/chain.sh's MIN_AREA: the classification's minimum mapping unit;
     # the edges fitted to the outline strokes the map draws inside its plots
-    v.histo.generalize raster=classes_$year class=1 output=plots_$year alpha=12 distance=5 \
+    v.histo.generalize raster=classes_$year class=1 output=plots_$year alpha=12 distance=5 tolerance=1 \
         angle=180 min_area=50 method=alpha,lines,fit \
         map=${TOWN}_$year.red,${TOWN}_$year.green,${TOWN}_$year.blue outline=inside --quiet
     v.histo.align input=plots_$year footprints=${TOWN}_current year=$year \

@@ -75,7 +75,8 @@ classify_stage() {
 }
 
 # Generalised building plots <plots> from one class of the classified map,
-# by default with the thesis's alpha 12, distance 5 and angle 180 (its Table B.3);
+# by default with the thesis's alpha 12, distance 5 and angle 180 (its Table B.3)
+# and tolerance 1, in metres, given: the module's defaults follow the cell size;
 # OUT/generalize.json and OUT/generalize_metrics.csv:
 # generalize_stage CLASSES BUILDING_CLASS [OPTION=VALUE...] (e.g. gt_points=, gt_polygons=)
 generalize_stage() {
@@ -84,6 +85,7 @@ generalize_stage() {
     have raster "$classes" && implemented v.histo.generalize || return 0
     stage generalize v.histo.generalize raster="$classes" class="$class" output=plots \
         alpha="${ALPHA:-12}" distance="${DISTANCE:-5}" angle="${ANGLE:-180}" \
+        tolerance="${TOLERANCE:-1}" \
         metrics="$OUT/generalize_metrics.csv" \
         report="$OUT/generalize.json" "$@"
 }

@@ -123,7 +123,7 @@
 # %option
 # % key: window
 # % type: integer
-# % description: Refill window size (odd; reach of a pass, half the distance of separate=; default: from the thickness of the removed objects)
+# % description: Refill window size (odd; reach of a pass, half the distance of separate=; default: from the thickness of the removed letters and symbols, in cells)
 # % guisection: Removal
 # %end
 # %option
@@ -136,7 +136,7 @@
 # % key: min_area
 # % type: double
 # % label: Minimum mapping unit: regions of one class smaller than this (square map units) are refilled from their surroundings
-# % description: Default with remove=: a square as thick as the thickest removed object; 0: none
+# % description: Default with remove=: a square as thick as the thickest removed letter or symbol (cells; removed outline strokes do not count); 0: none
 # % guisection: Removal
 # %end
 # %option

@@ -57,15 +57,15 @@
 # %option
 # % key: alpha
 # % type: double
-# % description: Alpha radius of the alpha-shape step (map units)
-# % answer: 12
+# % label: Alpha radius of the alpha-shape step (map units)
+# % description: Default: 12 cells (from the cell size)
 # % guisection: Method
 # %end
 # %option
 # % key: distance
 # % type: double
-# % description: Epsilon distance of the buffered-lines step (map units)
-# % answer: 5
+# % label: Epsilon distance of the buffered-lines step (map units)
+# % description: Default: 5 cells (from the cell size)
 # % guisection: Method
 # %end
 # %option
@@ -102,15 +102,15 @@
 # %option
 # % key: tolerance
 # % type: double
-# % description: Tolerance of the simplify and douglas steps (map units)
-# % answer: 1
+# % label: Tolerance of the simplify and douglas steps (map units)
+# % description: Default: 1 cell (from the cell size)
 # % guisection: Method
 # %end
 # %option
 # % key: min_area
 # % type: double
-# % description: Raw areas smaller than this are dropped before generalising (square map units)
-# % answer: 20
+# % label: Raw areas smaller than this are dropped before generalising (square map units)
+# % description: Default: 20 cells, or a square 4 stroke widths wide when the drawn lines are wider (from the cell size and stroke= or map=)
 # % guisection: Method
 # %end
 # %option
@@ -222,6 +222,13 @@ def _raster_plots(raster, category):
     return areas
 
 
+def _cell_size():
+    """The current region's cell size (map units): the scale the parameters
+    not given follow (the raster= map is vectorised in it)."""
+    region = gs.region()
+    return (float(region["nsres"]) + float(region["ewres"])) / 2.0
+
+
 def main(options, flags):
     from reconstruction import generalize, grassio
     from reconstruction.core import safefile
@@ -249,7 +256,7 @@ def main(options, flags):
         gt_polygons=(grassio.read_features(options["gt_polygons"], "area")[0]
                      if options["gt_polygons"] else None),
         image=grassio.read_region_image(config.maps) if config.maps else None,
-        say=grassio.say)
+        say=grassio.say, cell=_cell_size())
     result = generalize.run(inputs, config)
 
     with safefile.together() as files:      # the files appear with the map, or none

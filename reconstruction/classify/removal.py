@@ -30,6 +30,65 @@ def object_thickness(mask):
     return float(2 * distance.max() - 1)
 
 
+def _ridge(mask):
+    """The distance of each cell of ``mask`` to its edge (the map's border
+    counts as outside), and its ridge: the cells no neighbour of which lies
+    farther inside (the objects' median lines)."""
+    distance = ndimage.distance_transform_edt(np.pad(mask, 1))[1:-1, 1:-1]
+    return distance, mask & (distance >= ndimage.maximum_filter(distance, size=3))
+
+
+def typical_thickness(mask):
+    """The typical thickness (cells) of the objects of a boolean mask, as
+    :func:`object_thickness` measures it (a one-cell line is 1, a three-cell
+    stroke 3; a two-cell one 1, like a line between two cells) but the
+    median over their median lines (:func:`_ridge`) instead of the largest:
+    the few places where lines meet or letters touch do not change it. 0 for
+    an empty mask."""
+    mask = np.asarray(mask, dtype=bool)
+    if not mask.any():
+        return 0.0
+    distance, ridge = _ridge(mask)
+    return float(2 * np.median(distance[ridge]) - 1)
+
+
+def line_classes(classes, remove):
+    """The ``remove`` labels drawn as lines (the outlines of the blocks), not
+    as letters or symbols: the objects holding most of their cells are long,
+    their area at least :data:`LINE_ELONGATION` times the square of their
+    width (twice the median distance from their median line to their edge).
+    A block's outline stroke is a long ring; a letter, a symbol, or a name
+    whose paper between the letters was read as ink, a short blob."""
+    classes = np.asarray(classes)
+    lines = []
+    for label in remove:
+        mask = classes == label
+        objects, n = ndimage.label(mask, _EIGHT)
+        if not n:
+            continue
+        distance, ridge = _ridge(mask)
+        ids = np.arange(1, n + 1)
+        width = 2 * np.asarray(ndimage.median(distance, objects * ridge, ids))
+        area = np.bincount(objects.ravel(), minlength=n + 1)[1:]
+        long_cells = area[area >= LINE_ELONGATION * width ** 2].sum()
+        if long_cells * 2 > area.sum():
+            lines.append(label)
+    return tuple(lines)
+
+
+def removed_thickness(classes, remove):
+    """The thickness (cells, :func:`object_thickness`) of the thickest
+    letter or symbol of the ``remove`` classes: of those not drawn as lines
+    (:func:`line_classes`; all of them when every one is). Where a block's
+    outline strokes meet or touch the letters they make knots thicker than
+    any letter, which would set a larger window and minimum mapping unit
+    (on a 0.1 m map of Venice with its outline class removed: 18 cells)."""
+    classes = np.asarray(classes)
+    lines = line_classes(classes, remove)
+    letters = [label for label in remove if label not in lines] or list(remove)
+    return object_thickness(np.isin(classes, letters))
+
+
 def removal_window(mask):
     """Moving window size from the objects to remove: thickness / 2 + 1, odd, >= 3."""
     return window_for_thickness(object_thickness(mask))
@@ -215,6 +274,12 @@ OUTLINE = 1.0
 #: windows apart (a label can cover a street twice as wide as its letters are
 #: thick: a 10-cell street under a 5-cell window in the synthetic town's 1880 map).
 FACING = 2
+#: A removed class is drawn as lines when most of its cells lie in objects at
+#: least this many times as large as the square of their width
+#: (:func:`line_classes`): a 2-cell outline stroke round a 10 x 15-cell plot
+#: is 25 times; a solid 5 x 10-cell name 2 times, a letter H drawn with a
+#: 3-cell pen 15 x 21 cells large 10 times.
+LINE_ELONGATION = 20
 
 
 def _facing_gaps(regions, ids, hole, distance, share=0.1):
@@ -475,15 +540,20 @@ def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, m
        the 3 x 3 neighbourhood); with
        ``iterations``, only as far as that many passes of the window would
        reach (``iterations`` x ``window // 2`` cells). The window is computed
-       from the thickness of the removed objects (:func:`removal_window`)
-       unless given.
+       from the thickness of the removed letters and symbols
+       (:func:`removed_thickness`) unless given.
     3. For the ``separate`` labels (e.g. buildings): where the fill of a
        hole joins two regions of such a class that were apart within
        :data:`FACING` windows (a street name printed across a narrow street
        between two plots, :func:`bridges`), or grows such a class out into
        the hole (a street name printed beside a plot, :func:`outgrowths`),
        that class is refused there and the hole is refilled from the
-       nearest of the other classes around.
+       nearest of the other classes around. When a removed class is drawn
+       as lines (:func:`line_classes`: the blocks' outline strokes), every
+       class is refused where it would join two of its regions so: with
+       the strokes removed, nothing but the street name is left between two
+       blocks across a narrow street, and the blocks are nearer to it than
+       the street beyond the name.
     4. Regions left smaller than ``min_cells`` are refilled once more (the
        modal class of their 3 x 3 surroundings, :func:`fill_from_surroundings`).
 
@@ -497,7 +567,7 @@ def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, m
     classes = np.asarray(classes)
     removed = np.isin(classes, list(remove)) if len(remove) else np.zeros(classes.shape, bool)
     if window is None:
-        window = removal_window(removed)
+        window = window_for_thickness(removed_thickness(classes, remove)) if len(remove) else 3
     if image is not None and len(separate):
         classes = letter_gaps(classes, image, removed, separate, min_width, nodata)
     base = np.where(removed, nodata, classes)
@@ -510,9 +580,14 @@ def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, m
     before = np.where(holes, nodata, classes)
     reach = None if iterations is None else iterations * (window // 2)
     out, left = fill_from_nearest(classes, holes, reach=reach, nodata=nodata)
-    for label in separate:
+    kept_apart = list(separate)
+    if line_classes(classes, remove):
+        kept_apart += [label for label in np.unique(out[holes])
+                       if label != nodata and label not in separate]
+    for label in kept_apart:
         joined = bridges(before, out, holes, min_cells, FACING * window, nodata, labels=(label,))
-        joined |= outgrowths(before, out, holes, label, nodata)
+        if label in separate:
+            joined |= outgrowths(before, out, holes, label, nodata)
         if joined.any():
             refilled, still = fill_from_nearest(out, joined, reach=reach, nodata=nodata,
                                                 exclude=(label,))

@@ -29,8 +29,15 @@ def rule_message(rule, config, grid):
     cell_area = grid.nsres * grid.ewres
     resolution = min(grid.nsres, grid.ewres)
 
+    reasons = {
+        "window": "derived from the thickest removed letter or symbol: {:g} cells of {:g} "
+                  "map units".format(round(rule.thickness, 1), round(resolution, 3)),
+        "min_area": "derived: a square as thick",
+        "min_width": "derived: {} cells, the mixed cells along a scan's edges".format(
+            rule.width_cells)}
+
     def how(name):
-        return " (derived)" if name in rule.derived else ""
+        return " ({})".format(reasons[name]) if name in rule.derived else ""
 
     parts = []
     if config.remove:

@@ -250,7 +250,7 @@ class RemovalRule:
 
     window: refill window (odd); min_cells: minimum mapping unit (0: none);
     width_cells: parts narrower than this are refilled (0: none);
-    thickness: of the thickest removed object (cells); derived: the names of
+    thickness: of the thickest removed letter or symbol (cells); derived: the names of
     the values derived from the data rather than given.
     """
 
@@ -266,7 +266,8 @@ class RemovalRule:
 
 def removal_rule(thickness, config, grid):
     """The cleaning rule for removed objects ``thickness`` cells thick (the
-    thickest object of the ``remove`` classes, :func:`classification.object_thickness`).
+    thickest letter or symbol of the ``remove`` classes,
+    :func:`~reconstruction.classify.removal.removed_thickness`).
 
     Explicit options win. When something is removed, what is not given is
     derived from the data: the refill window from the thickness (thickness / 2 + 1,
@@ -305,8 +306,7 @@ def _remove(classes, config, grid, image=None):
     RemovalRule or None)``; with the map's ``image`` (rows, cols, bands), the
     cells between the removed letters are first given the class of their
     colour (:func:`~reconstruction.classify.removal.letter_gaps`)."""
-    removed = np.isin(classes, list(config.remove)) if config.remove else None
-    thickness = removal.object_thickness(removed) if removed is not None else 0.0
+    thickness = removal.removed_thickness(classes, config.remove) if config.remove else 0.0
     rule = removal_rule(thickness, config, grid)
     if not rule.active(config.remove):
         return classes, None

@@ -118,7 +118,7 @@ def classify_tiles(tiles, read_bands, read_segments, training, config, grid, pai
                                                                    config.features))
         tile_classes = cl.class_raster(index, voted.astype(np.int32))
         if config.remove:
-            thickness = max(thickness, removal.object_thickness(np.isin(tile_classes, config.remove)))
+            thickness = max(thickness, removal.removed_thickness(tile_classes, config.remove))
         classes[tile.core] = tile_classes[tile.core_in_outer]
         core_index = index[tile.core_in_outer]
         present = np.unique(core_index[core_index >= 0])
@@ -132,7 +132,7 @@ def classify_tiles(tiles, read_bands, read_segments, training, config, grid, pai
     timing = [("classification", time.perf_counter() - start)]
     start = time.perf_counter()
 
-    # 3. the removal, by the rule of the thickest removed object of the whole map
+    # 3. the removal, by the rule of the thickest removed letter or symbol of the whole map
     rule = removal_rule(thickness, config, grid)
     check_tiles(side, rule.window)
     printed = outlines.printed_cells(classes, config)

@@ -57,7 +57,7 @@ def check_alpha(polygons, alpha, limit=MAX_ALPHA_POINTS):
     raise InputError(
         "alpha={} asks for about {:,.0f} sample points in the {} plots (at most {:,}; "
         "a million take about half a minute): use alpha >= {} "
-        "(the default is 12)".format(_fmt(alpha), points, len(polygons), limit,
+        "(the default is 12 cells)".format(_fmt(alpha), points, len(polygons), limit,
                                      _fmt(1.001 / u)))
 
 

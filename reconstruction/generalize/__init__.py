@@ -23,7 +23,7 @@ writes the plots and files and prints :func:`report`.
 - ``report``: the messages after the run (:func:`report`, :func:`shell_figures`).
 """
 
-from . import assessment, config, lines, operators, pipeline, shape_metrics, stage
+from . import assessment, config, lines, operators, pipeline, scale, shape_metrics, stage
 from .config import GeneralizeConfig, read_config
 from .pipeline import GeneralizeInputs, run
 from .report import report, shell_figures

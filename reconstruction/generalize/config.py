@@ -23,17 +23,23 @@ class GeneralizeConfig:
     the map draws the plots' outlines, for the fit step (map=), and
     ``stroke`` the width of an outline drawn inside them (None: measured);
     ``maps``: the scanned map's red, green and blue rasters (map=);
+    ``reach``: how far from an edge (cells) the fit step looks for the
+    drawn line. ``alpha``, ``distance``, ``tolerance``, ``min_area`` and
+    ``reach`` are None when read from options not given: the module derives
+    them from the map's scale (:mod:`~reconstruction.generalize.scale`); a
+    record made in code has the thesis's values (those on 1 m cells) and
+    the fit's :data:`~reconstruction.generalize.fitting.REACH`.
     ``register``: flag -b, they are registered to each other before the
     fit reads them (:mod:`~reconstruction.geom.registration`).
     """
 
     methods: tuple = ("alpha", "lines")
-    alpha: float = 12.0
-    distance: float = 5.0
+    alpha: Optional[float] = 12.0
+    distance: Optional[float] = 5.0
     angle: float = 180.0
     orthogonal: bool = False
-    tolerance: float = 1.0
-    min_area: float = 20.0
+    tolerance: Optional[float] = 1.0
+    min_area: Optional[float] = 20.0
     gt_buffer: float = 2.0
     seed: int = 1
     category: Optional[int] = None
@@ -42,6 +48,7 @@ class GeneralizeConfig:
     stroke: Optional[float] = None
     maps: tuple = ()
     register: bool = False
+    reach: Optional[float] = None
 
 
 def read_config(options, flags):
@@ -49,6 +56,10 @@ def read_config(options, flags):
     booleans, as g.parser gives them) as a :class:`GeneralizeConfig`."""
     def positive(key, allow_zero=False):
         return parse_number(options[key], key, minimum=0, allow_minimum=allow_zero)
+
+    def scaled(key, allow_zero=False):
+        """None when not given: derived from the map's scale."""
+        return positive(key, allow_zero) if options.get(key) not in (None, "") else None
 
     methods = tuple(parse_list(options["method"]))
     scan = bool(options.get("map"))
@@ -61,11 +72,11 @@ def read_config(options, flags):
         raise InputError("Option outline= must be one of {}, not '{}'".format(
             ", ".join(OUTLINES), outline))
     return GeneralizeConfig(
-        methods=methods,
-        alpha=positive("alpha"), distance=positive("distance"),
+        methods=methods, reach=None,
+        alpha=scaled("alpha"), distance=scaled("distance"),
         angle=parse_number(options["angle"], "angle", minimum=0, maximum=180),
-        orthogonal=bool(flags["r"]), tolerance=positive("tolerance"),
-        min_area=positive("min_area", allow_zero=True), gt_buffer=positive("gt_buffer"),
+        orthogonal=bool(flags["r"]), tolerance=scaled("tolerance"),
+        min_area=scaled("min_area", allow_zero=True), gt_buffer=positive("gt_buffer"),
         seed=parse_number(options["seed"], "seed", int),
         category=(parse_number(options["class"], "class", int) if options.get("raster")
                   else None),

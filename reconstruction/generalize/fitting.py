@@ -447,12 +447,19 @@ class _Reading:
     edges: np.ndarray
 
 
-def _read(polygons, bands, place, cell, outline, stroke):
+def _reach(outline, reach):
+    """How far from an edge the line is looked for (cells): ``reach``, or
+    :data:`REACH` of the ``outline`` convention when None."""
+    return REACH[outline] if reach is None else float(reach)
+
+
+def _read(polygons, bands, place, cell, outline, stroke, reach=None):
     """The :class:`_Reading` of the plots ``polygons`` on the map ``bands``, or
-    None when none of their edges is long enough."""
+    None when none of their edges is long enough; the line is looked for
+    within ``reach`` cells of the edges (:func:`_reach`)."""
     rings = [_rings(p) for p in polygons]
     flat = [r for plot in rings for r in plot]
-    reach = REACH[outline]
+    reach = _reach(outline, reach)
     profiles, index = _edge_profiles(flat, bands, place, cell, reach)
     if not len(profiles.edge):
         return None
@@ -470,9 +477,9 @@ def _read(polygons, bands, place, cell, outline, stroke):
     return _Reading(rings, profiles, index, lines, width, edges)
 
 
-def _fit_once(polygons, bands, place, cell, outline, stroke):
+def _fit_once(polygons, bands, place, cell, outline, stroke, reach=None):
     """One pass of :func:`fit_outlines` over the plots ``polygons``."""
-    reading = _read(polygons, bands, place, cell, outline, stroke)
+    reading = _read(polygons, bands, place, cell, outline, stroke, reach)
     if reading is None:
         return OutlineFit(list(polygons), 0, 0, None)
     profiles, lines, width, centre = reading.profiles, reading.lines, reading.width, reading.edges
@@ -480,7 +487,7 @@ def _fit_once(polygons, bands, place, cell, outline, stroke):
         colour = np.median(lines.colour[~np.isnan(lines.centre)], axis=0)
         share = _shares(profiles.colours, lines.outside, colour[None] - lines.outside)
         centre = _drawn_edges(profiles, share, place, width, centre, cell)
-    fits = _edge_offsets(profiles, centre, REACH[outline] * cell + (width or 0.0) / 2.0)
+    fits = _edge_offsets(profiles, centre, _reach(outline, reach) * cell + (width or 0.0) / 2.0)
     out, first = [], 0
     for polygon, plot in zip(polygons, reading.rings):
         new_rings = []
@@ -508,13 +515,15 @@ def _check(outline):
         raise ValueError("unknown outline '{}' (one of {})".format(outline, ", ".join(OUTLINES)))
 
 
-def fit_outlines(polygons, image, outline="centre", stroke=None):
+def fit_outlines(polygons, image, outline="centre", stroke=None, reach=None):
     """The plots ``polygons`` with their edges moved onto the boundary line
     that ``image`` (a :class:`~reconstruction.geom.grid.MapImage`, the scanned
     map) draws: on its centre (``outline="centre"``) or on the outer edge of a
     stroke drawn inside the plots (``"inside"``), ``stroke`` map units wide
     (None: measured on the map, :func:`stroke_width`; a stroke narrower than
-    a cell is measured too wide).
+    a cell is measured too wide); the line is looked for within ``reach``
+    cells of each edge (None: :data:`REACH`; a map drawing strokes several
+    cells wide needs more, :mod:`~reconstruction.generalize.scale`).
 
     :data:`PASSES` passes: an edge a cell off the line has the line's inner
     flank in its inside reference; from where the first pass put it, the
@@ -528,19 +537,20 @@ def fit_outlines(polygons, image, outline="centre", stroke=None):
     for _ in range(PASSES):
         if not fit.plots:
             break
-        fit = _fit_once(fit.plots, bands, place, cell, outline, stroke)
+        fit = _fit_once(fit.plots, bands, place, cell, outline, stroke, reach)
     return fit
 
 
-def edge_support(polygons, image, outline="centre", stroke=None):
+def edge_support(polygons, image, outline="centre", stroke=None, reach=None):
     """Where the map draws a line along each plot's edges: per plot, per ring
     (exterior first, counter-clockwise; holes clockwise), ``(ring, shares)``:
     the ring's vertices (k, 2) and, for the edge from each vertex to the
     next, the share (0-1) of its profiles that find the line within
-    :data:`ON_LINE` cells of the edge (NaN: too short to read)."""
+    :data:`ON_LINE` cells of the edge (NaN: too short to read); ``reach``
+    as :func:`fit_outlines`'s."""
     _check(outline)
     bands, place, cell = _bands(image)
-    reading = _read(polygons, bands, place, cell, outline, stroke)
+    reading = _read(polygons, bands, place, cell, outline, stroke, reach)
     if reading is None:
         return [[(ring, np.full(len(ring), np.nan)) for ring in _rings(p)] for p in polygons]
     profiles = reading.profiles
@@ -558,13 +568,13 @@ def edge_support(polygons, image, outline="centre", stroke=None):
     return result
 
 
-def outline_support(polygons, image, outline="centre", stroke=None):
+def outline_support(polygons, image, outline="centre", stroke=None, reach=None):
     """How much of each plot's outline the map draws a line on: the share
     (0-1, (n,) array) of its perimeter along edges whose profiles find the
     line within :data:`ON_LINE` cells of the edge (the share of the edge's
     profiles that do; edges too short to read count as unsupported)."""
     support = np.zeros(len(polygons))
-    for k, rings in enumerate(edge_support(polygons, image, outline, stroke)):
+    for k, rings in enumerate(edge_support(polygons, image, outline, stroke, reach)):
         supported = perimeter = 0.0
         for ring, shares in rings:
             length = np.hypot(*(np.roll(ring, -1, axis=0) - ring).T)

@@ -479,7 +479,7 @@ def _centre_lines(polygons):
 
 def generalize_plots(polygons, methods=("alpha", "lines"), alpha=12.0, distance=5.0,
                      angle=180.0, orthogonal=False, tolerance=1.0, seed=1, image=None,
-                     outline="centre", stroke=None):
+                     outline="centre", stroke=None, reach=None):
     """Generalise building plots, one output polygon per input polygon.
 
     ``polygons``: valid shapely Polygons (see :func:`explode_plots`);
@@ -490,7 +490,8 @@ def generalize_plots(polygons, methods=("alpha", "lines"), alpha=12.0, distance=
     stratified and random samplings; ``image``: the scanned map (a
     :class:`~reconstruction.geom.grid.MapImage`) whose drawn boundary lines the
     ``fit`` step moves the edges onto, by the map's ``outline`` convention and
-    ``stroke`` width (:func:`~reconstruction.generalize.fitting.fit_outlines`). Returns a
+    ``stroke`` width, looking for the line within ``reach`` cells of the edges
+    (:func:`~reconstruction.generalize.fitting.fit_outlines`). Returns a
     :class:`Generalization`.
     """
     for method in methods:
@@ -540,7 +541,7 @@ def generalize_plots(polygons, methods=("alpha", "lines"), alpha=12.0, distance=
                 if acceptable(out, poly):
                     new[i], labels[i] = out, "douglas"
         elif method == "fit":
-            outline_fit = fitting.fit_outlines(current, image, outline, stroke)
+            outline_fit = fitting.fit_outlines(current, image, outline, stroke, reach)
             kept = 0
             for i, (poly, out) in enumerate(zip(current, outline_fit.plots)):
                 fitted = acceptable(out, poly)
@@ -550,9 +551,10 @@ def generalize_plots(polygons, methods=("alpha", "lines"), alpha=12.0, distance=
                 fallbacks[step_name] = kept
             if outline == "inside":
                 for i, plain in _better_supported(new, steps[0][1], image,
-                                                  outline_fit.stroke_width, tolerance):
+                                                  outline_fit.stroke_width, tolerance, reach):
                     new[i], labels[i] = plain, "fit/douglas"
-                for i, squared in _corners_restored(new, image, outline_fit.stroke_width):
+                for i, squared in _corners_restored(new, image, outline_fit.stroke_width,
+                                                    reach):
                     new[i], labels[i] = squared, labels[i] + "/corner"
         failed = [i for i in range(len(current)) if new[i] is None]
         for i in failed:
@@ -579,12 +581,12 @@ def generalize_plots(polygons, methods=("alpha", "lines"), alpha=12.0, distance=
                           outline_fit)
 
 
-def _better_supported(fitted, raw, image, width, tolerance):
+def _better_supported(fitted, raw, image, width, tolerance, reach=None):
     """(index, outline) of the plots whose raw cells' outline, simplified and
     fitted, a map that draws its outlines ``width`` wide inside the plots
     draws its line along more of than their ``fitted`` outline (see
     :data:`SUPPORT_GAIN`)."""
-    support = fitting.outline_support(fitted, image, "inside", width)
+    support = fitting.outline_support(fitted, image, "inside", width, reach)
     # only a plot whose outline the map supports along less than all but
     # SUPPORT_GAIN of it can gain
     simplified = ((int(i), douglas(raw[i], tolerance))
@@ -593,8 +595,8 @@ def _better_supported(fitted, raw, image, width, tolerance):
     if not candidates:
         return
     room, plain = zip(*candidates)
-    plain = fitting.fit_outlines(list(plain), image, "inside", width).plots
-    plain_support = fitting.outline_support(plain, image, "inside", width)
+    plain = fitting.fit_outlines(list(plain), image, "inside", width, reach).plots
+    plain_support = fitting.outline_support(plain, image, "inside", width, reach)
     for i, new, new_support in zip(room, plain, plain_support):
         old = fitted[i]
         if (new_support >= support[i] + SUPPORT_GAIN and new.is_valid
@@ -603,12 +605,12 @@ def _better_supported(fitted, raw, image, width, tolerance):
             yield i, new
 
 
-def _corners_restored(plots, image, width):
+def _corners_restored(plots, image, width, reach=None):
     """(index, outline) of the plots with a corner the generalisation cut and
     the map draws (fitting.restore_corners), where the restored outline is
     valid, within CORNER_AREA of the plot's area and no less supported."""
     changed = {}
-    for i, rings in enumerate(fitting.edge_support(plots, image, "inside", width)):
+    for i, rings in enumerate(fitting.edge_support(plots, image, "inside", width, reach)):
         restored = [fitting.restore_corners(ring, shares) for ring, shares in rings]
         if any(len(new) != len(ring) for new, (ring, _) in zip(restored, rings)):
             outline = shapely.Polygon(restored[0], restored[1:])
@@ -617,8 +619,8 @@ def _corners_restored(plots, image, width):
                 changed[i] = shapely.orient_polygons(outline)
     if not changed:
         return
-    before = fitting.outline_support([plots[i] for i in changed], image, "inside", width)
-    after = fitting.outline_support(list(changed.values()), image, "inside", width)
+    before = fitting.outline_support([plots[i] for i in changed], image, "inside", width, reach)
+    after = fitting.outline_support(list(changed.values()), image, "inside", width, reach)
     for (i, outline), old, new in zip(changed.items(), before, after):
         if new >= old:
             yield i, outline

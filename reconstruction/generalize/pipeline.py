@@ -17,6 +17,7 @@ from ..core.messages import note, verbose
 from ..geom.grid import MapImage
 from ..geom.registration import image_shifts, register_image
 from .config import GeneralizeConfig
+from .scale import MapFacts, derive, line_width
 from .stage import GeneralizedPlots, generalize_map, raw_plots
 
 
@@ -35,7 +36,10 @@ class GeneralizeInputs:
     plots (None when not given); ``image``: the scanned map for the fit step
     (a :class:`~reconstruction.geom.grid.MapImage`, None without map=);
     ``say(messages)``: prints progress
-    :class:`~reconstruction.core.messages.Message` s as they happen.
+    :class:`~reconstruction.core.messages.Message` s as they happen;
+    ``cell``: the cell size of the map the plots come from (map units; the
+    parameters the user did not give follow it,
+    :mod:`~reconstruction.generalize.scale`).
     """
 
     geometries: list
@@ -45,11 +49,20 @@ class GeneralizeInputs:
     gt_polygons: Optional[list] = None
     image: Optional[MapImage] = None
     say: Callable[[list], None] = _silent
+    cell: float = 1.0
 
 
 def run(inputs, config: GeneralizeConfig) -> GeneralizedPlots:
     """Generalise the raw areas of ``inputs`` as ``config`` says: a
-    :class:`~reconstruction.generalize.stage.GeneralizedPlots`."""
+    :class:`~reconstruction.generalize.stage.GeneralizedPlots`; the
+    parameters ``config`` leaves None are derived from the map's scale
+    (:func:`~reconstruction.generalize.scale.derive`, said in a note)."""
+    stroke = config.stroke
+    if stroke is None and inputs.image is not None:
+        stroke = line_width(inputs.image)
+    scaled = derive(config, MapFacts(inputs.cell, stroke))
+    config = scaled.apply(config)
+    inputs.say(scaled.messages())
     raw = raw_plots(inputs.geometries, config.min_area, inputs.source_map, cats=inputs.cats)
     if raw.dropped:
         inputs.say([verbose("{} raw areas smaller than {} dropped".format(raw.dropped,

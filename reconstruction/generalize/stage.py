@@ -213,7 +213,8 @@ def generalize_map(raw, config, gt_points=None, gt_polygons=None, image=None):
     result = generalization.generalize_plots(
         raw.polygons, config.methods, alpha=config.alpha, distance=config.distance,
         angle=config.angle, orthogonal=config.orthogonal, tolerance=config.tolerance,
-        seed=config.seed, image=image, outline=config.outline, stroke=config.stroke)
+        seed=config.seed, image=image, outline=config.outline, stroke=config.stroke,
+        reach=config.reach)
     fit = result.outline_fit
     metrics = shape_metrics.plot_metrics(result.plots)
     columns = {RAW_CATEGORY: raw.cats} if raw.cats is not None else {}

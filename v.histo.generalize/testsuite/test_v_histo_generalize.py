@@ -346,7 +346,7 @@ def test_acceptance_delft_1961(mapset, shared_data, tmp_path):
     metrics = str(tmp_path / "metrics.csv")
     report = str(tmp_path / "report.json")
     rc, out, err = run(flags="g", input="raw", output="plots", alpha=12, distance=5, angle=180,
-                       min_area=20, metrics=metrics, report=report, gt_polygons="gt",
+                       tolerance=1, min_area=20, metrics=metrics, report=report, gt_polygons="gt",
                        gt_points="points")
     assert rc == 0, err
     raw_geoms, _ = grassio.read_features("raw", "area")
@@ -409,7 +409,7 @@ def test_acceptance_delft_1961(mapset, shared_data, tmp_path):
     gs.run_command("g.region", raster="delft.red", quiet=True)
     fitted_report = str(tmp_path / "fitted.json")
     rc, out, err = run(input="raw", output="fitted", alpha=12, distance=5, angle=180,
-                       min_area=20, method="alpha,lines,fit",
+                       tolerance=1, min_area=20, method="alpha,lines,fit",
                        map="delft.red,delft.green,delft.blue",
                        report=fitted_report, gt_polygons="gt")
     assert rc == 0, err

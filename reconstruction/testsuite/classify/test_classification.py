@@ -549,3 +549,50 @@ def test_outgrowths_are_filled_cells_of_the_class_away_from_it(seed):
     from scipy import ndimage
     own = ~holes & (classes == 1)
     assert not (grown & ndimage.binary_dilation(own)).any()
+
+
+def _outlined_blocks_and_a_street_name():
+    """Two building blocks (1) 3 cells apart across a street (4), each outlined
+    by a 2-cell stroke of a removed outline class (6), and the street's name
+    (2; the paper between its letters read as ink) printed across the street
+    from stroke to stroke."""
+    classes = np.full((40, 53), 4)
+    for c0 in (5, 28):                      # the blocks' outer columns
+        classes[5:35, c0:c0 + 20] = 6
+        classes[7:33, c0 + 2:c0 + 18] = 1
+    classes[16:25, 25:28] = 2               # the name, over the whole street
+    return classes
+
+
+def test_a_removed_outline_class_does_not_join_the_blocks_across_a_street():
+    """Issue 50, item 2: with the blocks' outline strokes removed too, the
+    name's nearest known cells are the blocks', and its refill joined them."""
+    from scipy import ndimage
+
+    classes = _outlined_blocks_and_a_street_name()
+    assert removal.line_classes(classes, [2, 6]) == (6,)
+    for remove in ([2, 6], [6, 2]):
+        out, _ = removal.remove_classes(classes, remove, min_width=3)
+        assert ndimage.label(out == 1, removal.FOUR)[1] == 2
+        assert (out[:, 26] == 4).all()      # the street's middle stays street
+        # each stroke split along its middle: the inner half to the block
+        assert (out[7:33, 6] == 1).all() and (out[7:33, 5] == 4).all()
+    # a block's text alone (no outline removed) is refilled as before
+    only_name, _ = removal.remove_classes(np.where(classes == 6, 4, classes), [2])
+    assert not removal.line_classes(classes, [2])
+    assert (only_name[16:25, 25:28] == 4).all()
+
+
+def test_a_knot_of_removed_outline_strokes_does_not_set_the_window():
+    """Issue 50, item 3: the window and minimum mapping unit follow the
+    removed letters' thickness; where the outline strokes (removed too) meet
+    in a knot, its thickness made them larger (a 0.1 m map: 18 cells)."""
+    classes = _outlined_blocks_and_a_street_name()
+    classes[16:25, 25:28] = 4               # no name across the street
+    classes[14:23, 1:10] = 6                # a knot where the strokes meet, 9 cells thick
+    classes[20:23, 10:19] = 2               # a name 3 cells thick over the block
+    assert removal.object_thickness(np.isin(classes, [2, 6])) == 9
+    assert removal.removed_thickness(classes, [2, 6]) == 3
+    out, window = removal.remove_classes(classes, [2, 6])
+    assert window == 3
+    assert (out[20:23, 10:19] == 1).all()   # the name over the block refilled by it

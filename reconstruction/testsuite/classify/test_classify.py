@@ -133,8 +133,10 @@ def test_removal_rule_derives_what_is_not_given_from_the_removed_objects():
     assert (rule.window, rule.min_cells, rule.width_cells) == (9, 225, 3)
     assert rule.derived == ("window", "min_area", "min_width")
     assert rule_message(rule, read_config(options(remove="2")), grid) == (
-        "Removed classes 2 with a 9x9 moving window (derived); minimum mapping unit 56.25 "
-        "square map units (derived); minimum width 1.5 map units (derived)")
+        "Removed classes 2 with a 9x9 moving window (derived from the thickest removed letter "
+        "or symbol: 15 cells of 0.5 map units); minimum mapping unit 56.25 square map units "
+        "(derived: a square as thick); minimum width 1.5 map units (derived: 3 cells, the mixed "
+        "cells along a scan's edges)")
     # explicit values win, 0 turns a rule off
     config = read_config(options(remove="2", window="5", min_area="10", min_width="0"))
     rule = classify.removal_rule(15.0, config, grid)

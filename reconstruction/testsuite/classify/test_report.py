@@ -30,8 +30,10 @@ def test_the_cleaning_rule_in_map_units_before_the_timing():
     config = ClassifyConfig((0.1,), (5,), remove=(2,))
     messages = report(_result(rule), config)
     assert [(m.level, m.text) for m in messages] == [
-        ("message", "Removed classes 2 with a 9x9 moving window (derived); minimum mapping unit "
-                    "56.25 square map units (derived); minimum width 1.5 map units (derived)"),
+        ("message", "Removed classes 2 with a 9x9 moving window (derived from the thickest "
+                    "removed letter or symbol: 15 cells of 0.5 map units); minimum mapping unit "
+                    "56.25 square map units (derived: a square as thick); minimum width 1.5 map "
+                    "units (derived: 3 cells, the mixed cells along a scan's edges)"),
         ("verbose", "Timing (s): segmentation 1.2, classification 0.5")]
 
 

@@ -8,8 +8,8 @@ from reconstruction.generalize.config import GeneralizeConfig, read_config
 
 #: every option of the module's g.parser header with its default (input= given)
 DEFAULTS = {"input": "raw", "raster": "", "class": "", "output": "plots",
-            "method": "alpha,lines", "alpha": "12", "distance": "5", "angle": "180",
-            "tolerance": "1", "min_area": "20", "seed": "1", "metrics": "", "gt_points": "",
+            "method": "alpha,lines", "alpha": "", "distance": "", "angle": "180",
+            "tolerance": "", "min_area": "", "seed": "1", "metrics": "", "gt_points": "",
             "gt_polygons": "", "gt_buffer": "2", "report": ""}
 FLAGS = {"r": False, "g": False}
 
@@ -19,7 +19,9 @@ def options(**changes):
 
 
 def test_default_options_give_the_default_config():
-    assert read_config(options(), FLAGS) == GeneralizeConfig()
+    # the sizes not given are derived from the map's scale (generalize.scale)
+    assert read_config(options(), FLAGS) == GeneralizeConfig(alpha=None, distance=None,
+                                                             tolerance=None, min_area=None)
     config = read_config(options(method="douglas", min_area="0"), {"r": True, "g": True})
     assert config.methods == ("douglas",) and config.min_area == 0 and config.orthogonal
     assert config.shell and config.category is None
