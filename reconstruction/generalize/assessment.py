@@ -213,9 +213,10 @@ def blocks_from_parcels(parcels, radius):
     The raster form of buffering the parcels' union by +``radius`` and then
     by -``radius`` (cells; e.g. 0.6 m on a 0.1 m grid: 6): a morphological
     closing by a disk, computed on a grid padded with the edge cells'
-    values: a block or a line cut by the map's edge goes on beyond it. Returns the blocks as a label raster (4-connected
-    regions of the closed union, 1, 2, ... in raster order). Courtyards
-    wider than 2 ``radius`` stay holes in their block.
+    values: a block or a line cut by the map's edge goes on beyond it.
+    Returns the blocks as a label raster (4-connected regions of the closed
+    union, 1, 2, ... in raster order). Courtyards wider than 2 ``radius``
+    stay holes in their block.
     """
     union = np.asarray(parcels) > 0
     r = int(np.ceil(radius)) + 1

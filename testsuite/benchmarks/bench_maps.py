@@ -64,8 +64,8 @@ def synthetic_seconds(size, runs):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=3)
-    parser.add_argument("--synthetic", type=int, default=0,
-                        help="also the synthetic map of this many cells a side (e.g. 2000)")
+    parser.add_argument("--synthetic", type=int, metavar="SIZE",
+                        help="also the synthetic map of SIZE cells a side (e.g. 2000)")
     args = parser.parse_args()
     problem = maps_chain.missing(os.path.join(maps_chain.MAPS, maps_chain.VENICE_SCAN))
     if problem:

@@ -137,13 +137,14 @@ def test_blocks_close_the_lines_between_parcels_but_not_streets_or_courtyards():
 def test_parcel_scores_share_matched_and_count_ratio():
     parcels = _labels((20, 40), (0, 10, 0, 10), (0, 10, 10, 20), (10, 20, 0, 20))
     blocks = (parcels > 0).astype(int)
-    # the first parcel found, the second split in two (neither half matches at
-    # >= 0.5 IoU: 0.5 exactly does), the third missed by one footprint over
-    # all of it; one footprint out in the street (not counted)
+    # the first parcel found; the second split in two halves (IoU 0.5 each:
+    # one pairs, at >= 0.5); the third missed (a footprint over a quarter of
+    # it); one footprint out in the street (not counted)
     footprints = _labels((20, 40), (0, 10, 0, 10), (0, 10, 10, 15), (0, 10, 15, 20),
                          (10, 20, 0, 20), (0, 10, 30, 40))
     footprints[10:20, 0:20] = 0
     footprints[10:20, 0:5] = 4
     scores = parcel_scores(footprints, parcels, blocks)
     assert scores == ParcelScores(parcels=3, footprints=4, matched=2,
-                                  matched_share=pytest.approx(2 / 3), count_ratio=pytest.approx(4 / 3))
+                                  matched_share=pytest.approx(2 / 3),
+                                  count_ratio=pytest.approx(4 / 3))
