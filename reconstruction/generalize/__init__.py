@@ -19,7 +19,8 @@ writes the plots and files and prints :func:`report`.
   (:func:`~.operators.generalize_plots`);
 - ``lines``: the buffered lines (:func:`~.lines.buffered_lines`);
 - ``shape_metrics``: shape metrics and turning-function distances;
-- ``assessment``: precision, recall and F-score against ground truth;
+- ``assessment``: precision, recall and F-score against ground truth points;
+  objects (blocks, parcels) matched one-to-one by IoU: F-score, panoptic quality;
 - ``report``: the messages after the run (:func:`report`, :func:`shell_figures`).
 """
 

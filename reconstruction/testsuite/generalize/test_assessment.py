@@ -52,3 +52,99 @@ def test_scores_within_bounds_and_f_between(corners, points):
     # a point in every polygon gives precision 1
     centres = [g.centroid.coords[0] for g in polygons]
     assert point_detection_scores(polygons, centres).precision == 1.0
+
+
+# ---------------------------------------------------------------------------
+# Objects on a grid (issue 50's acceptance measure)
+# ---------------------------------------------------------------------------
+
+from reconstruction.generalize.assessment import (  # noqa: E402
+    ObjectScores, ParcelScores, blocks_from_parcels, matched_pairs, object_scores,
+    parcel_scores, parcels_from_mask)
+
+
+def _labels(shape, *boxes):
+    """A label raster with box i (row0, row1, col0, col1) labelled i + 1."""
+    out = np.zeros(shape, dtype=np.int32)
+    for i, (r0, r1, c0, c1) in enumerate(boxes):
+        out[r0:r1, c0:c1] = i + 1
+    return out
+
+
+def test_objects_matched_one_to_one_above_half_iou():
+    true = _labels((20, 40), (0, 10, 0, 10), (0, 10, 20, 30), (12, 20, 0, 8))
+    # the first found exactly, the second by a box of IoU 60/100 (> 0.5), the
+    # third by half of it: IoU 32/64 = 0.5 (not > 0.5), plus a false positive
+    predicted = _labels((20, 40), (0, 10, 0, 10), (0, 6, 20, 30), (12, 20, 0, 4),
+                        (0, 5, 35, 40))
+    scores = object_scores(predicted, true)
+    assert (scores.predicted, scores.true, scores.matched) == (4, 3, 2)
+    assert scores.iou_sum == pytest.approx(1.0 + 0.6)
+    assert scores.precision == pytest.approx(2 / 4) and scores.recall == pytest.approx(2 / 3)
+    assert scores.f_score == pytest.approx(2 * 0.5 * (2 / 3) / (0.5 + 2 / 3))
+    # PQ = sum of IoUs / (TP + FP / 2 + FN / 2) = 1.6 / (2 + 1 + 0.5)
+    assert scores.pq == pytest.approx(1.6 / 3.5)
+    # at IoU >= 0.5 the third pairs too
+    assert object_scores(predicted, true, strict=False).matched == 3
+
+
+def test_one_object_pairs_once_and_the_better_pair_wins():
+    # two predictions over one true object, IoU 0.6 and 0.4: one pair (0.6);
+    # with threshold 0.3 still one, the larger
+    true = _labels((10, 10), (0, 10, 0, 10))
+    predicted = _labels((10, 10), (0, 6, 0, 10), (6, 10, 0, 10))
+    assert matched_pairs(predicted, true, 0.3) == [(1, 1, pytest.approx(0.6))]
+
+
+def test_perfect_and_empty_scores():
+    true = _labels((10, 10), (0, 5, 0, 5), (5, 10, 5, 10))
+    assert object_scores(true * 7, true) == ObjectScores(2, 2, 2, 2.0, 1.0, 1.0, 1.0, 1.0)
+    empty = np.zeros_like(true)
+    assert object_scores(empty, true) == ObjectScores(0, 2, 0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    assert object_scores(empty, empty).pq == 0.0
+    with pytest.raises(ValueError, match="shapes"):
+        object_scores(empty, np.zeros((3, 3)))
+
+
+def test_parcels_are_four_connected_white_regions_of_50_cells():
+    mask = np.zeros((30, 30), dtype=np.uint8)
+    mask[0:10, 0:10] = 200          # 100 cells: a parcel
+    mask[10:20, 10:20] = 255        # touches the first only at a corner: another
+    mask[25:29, 25:29] = 255        # 16 cells: too small
+    mask[0:10, 12:17] = 127         # below the threshold: no parcel
+    parcels = parcels_from_mask(mask)
+    assert parcels.max() == 2 and set(np.unique(parcels)) == {0, 1, 2}
+    assert (parcels[0:10, 0:10] == 1).all() and (parcels[10:20, 10:20] == 2).all()
+    assert (parcels[25:29, 25:29] == 0).all()
+
+
+def test_blocks_close_the_lines_between_parcels_but_not_streets_or_courtyards():
+    # two blocks 20 cells apart; the first of two parcels split by a 2-cell
+    # line, the second a ring around a 16 x 16 courtyard; all on the map's edge
+    parcels = np.zeros((40, 70), dtype=np.int32)
+    parcels[0:40, 0:14] = 1
+    parcels[0:40, 16:30] = 2
+    parcels[0:40, 50:70] = 3
+    parcels[12:28, 52:68] = 0
+    blocks = blocks_from_parcels(parcels, 6)
+    assert blocks.max() == 2
+    assert (blocks[:, 0:30] == 1).all()             # the line closed, the edge kept
+    assert (blocks[:, 31:49] == 0).all()            # the street stays open
+    assert (blocks[16:24, 56:64] == 0).all()        # the courtyard stays a hole
+    assert (blocks[parcels == 3] == 2).all()
+
+
+def test_parcel_scores_share_matched_and_count_ratio():
+    parcels = _labels((20, 40), (0, 10, 0, 10), (0, 10, 10, 20), (10, 20, 0, 20))
+    blocks = (parcels > 0).astype(int)
+    # the first parcel found; the second split in two halves (IoU 0.5 each:
+    # one pairs, at >= 0.5); the third missed (a footprint over a quarter of
+    # it); one footprint out in the street (not counted)
+    footprints = _labels((20, 40), (0, 10, 0, 10), (0, 10, 10, 15), (0, 10, 15, 20),
+                         (10, 20, 0, 20), (0, 10, 30, 40))
+    footprints[10:20, 0:20] = 0
+    footprints[10:20, 0:5] = 4
+    scores = parcel_scores(footprints, parcels, blocks)
+    assert scores == ParcelScores(parcels=3, footprints=4, matched=2,
+                                  matched_share=pytest.approx(2 / 3),
+                                  count_ratio=pytest.approx(4 / 3))
