@@ -14,6 +14,8 @@ Arrays are (rows, cols) of class labels; pure numpy and scipy, no GRASS.
 import numpy as np
 from scipy import ndimage
 
+from ..geom.strokes import ridge, typical_thickness
+
 
 def object_thickness(mask):
     """Largest thickness (in cells) over the objects of a boolean mask.
@@ -30,28 +32,6 @@ def object_thickness(mask):
     return float(2 * distance.max() - 1)
 
 
-def _ridge(mask):
-    """The distance of each cell of ``mask`` to its edge (the map's border
-    counts as outside), and its ridge: the cells no neighbour of which lies
-    farther inside (the objects' median lines)."""
-    distance = ndimage.distance_transform_edt(np.pad(mask, 1))[1:-1, 1:-1]
-    return distance, mask & (distance >= ndimage.maximum_filter(distance, size=3))
-
-
-def typical_thickness(mask):
-    """The typical thickness (cells) of the objects of a boolean mask, as
-    :func:`object_thickness` measures it (a one-cell line is 1, a three-cell
-    stroke 3; a two-cell one 1, like a line between two cells) but the
-    median over their median lines (:func:`_ridge`) instead of the largest:
-    the few places where lines meet or letters touch do not change it. 0 for
-    an empty mask."""
-    mask = np.asarray(mask, dtype=bool)
-    if not mask.any():
-        return 0.0
-    distance, ridge = _ridge(mask)
-    return float(2 * np.median(distance[ridge]) - 1)
-
-
 def line_classes(classes, remove):
     """The ``remove`` labels drawn as lines (the outlines of the blocks), not
     as letters or symbols: the objects holding most of their cells are long,
@@ -66,9 +46,9 @@ def line_classes(classes, remove):
         objects, n = ndimage.label(mask, _EIGHT)
         if not n:
             continue
-        distance, ridge = _ridge(mask)
+        distance, median_line = ridge(mask)
         ids = np.arange(1, n + 1)
-        width = 2 * np.asarray(ndimage.median(distance, objects * ridge, ids))
+        width = 2 * np.asarray(ndimage.median(distance, objects * median_line, ids))
         area = np.bincount(objects.ravel(), minlength=n + 1)[1:]
         long_cells = area[area >= LINE_ELONGATION * width ** 2].sum()
         if long_cells * 2 > area.sum():

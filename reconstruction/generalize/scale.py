@@ -30,8 +30,8 @@ from typing import Optional
 
 import numpy as np
 
-from ..classify.removal import typical_thickness
 from ..core.messages import note
+from ..geom.strokes import typical_thickness
 from .fitting import REACH, _bands
 
 #: alpha radius, buffered-lines distance and simplification tolerance, in cells
@@ -154,7 +154,7 @@ def line_width(image):
     ``image`` draws (a :class:`~reconstruction.geom.grid.MapImage`), or None
     when it has none: the cells within :data:`INK_SHARE` of the way from its
     darkest to its paper's brightness (the mean of the bands), their
-    :func:`~reconstruction.classify.removal.typical_thickness`."""
+    :func:`~reconstruction.geom.strokes.typical_thickness`."""
     rgb = np.asarray(image.rgb, dtype=float)
     brightness = rgb.mean(axis=-1) if rgb.ndim == 3 else rgb
     valid = np.isfinite(brightness)

@@ -9,14 +9,15 @@
   covers (:class:`Extent`);
 - ``registration``: a scan's colour planes moved back by the whole cells
   one lies off the others (:func:`~reconstruction.geom.registration.band_shifts`);
+- ``strokes``: the width of a map's drawn strokes from a mask of its ink;
 - ``solidset``: many LoD2 solids as flat numpy arrays (:class:`SolidSet`) and
   their semantic surfaces.
 """
 
-from . import grid, overlaps, polygons, registration, rings, solidset
+from . import grid, overlaps, polygons, registration, rings, solidset, strokes
 from .grid import Extent, Grid, MapImage
 from .overlaps import OverlapRule, resolve_overlaps
 from .solidset import SolidSet
 
 __all__ = ["Extent", "Grid", "MapImage", "OverlapRule", "SolidSet", "grid", "overlaps",
-           "polygons", "registration", "resolve_overlaps", "rings", "solidset"]
+           "polygons", "registration", "resolve_overlaps", "rings", "solidset", "strokes"]

@@ -49,6 +49,7 @@ import shapely
 from scipy import ndimage
 
 from ..geom.polygons import polygon_parts
+from ..geom.strokes import stroke_widths
 from .plots import OVERLAP_TOLERANCE
 
 #: a cell is ink where its contrast exceeds the plot's median by this many
@@ -129,18 +130,6 @@ def _otsu(values):
     with np.errstate(divide="ignore", invalid="ignore"):
         between = (grand * weight - total * mean) ** 2 / (weight * (total - weight))
     return float(np.nanargmax(between[:-1])) if total else 128.0
-
-
-def stroke_widths(dark):
-    """The widths (cells) of the strokes of a boolean ``dark`` mask along their median
-    lines (the cells whose distance to the stroke's edge is a local maximum): twice
-    that distance less the centre cell, rounded up to a whole cell (a line two cells
-    wide is 2 wide); [1.0] when there is none."""
-    if not np.any(dark):
-        return np.array([1.0])
-    distance = ndimage.distance_transform_edt(np.pad(dark, 1))[1:-1, 1:-1]
-    ridge = dark & (distance >= ndimage.maximum_filter(distance, size=3))
-    return np.maximum(1.0, np.ceil(2 * distance[ridge] - 0.5))
 
 
 def stroke_scale(rgb, cell, stroke=None, min_area=None):
