@@ -51,7 +51,7 @@ from shapely.geometry import Polygon
 from ..geom.overlaps import OverlapRule, resolve_overlaps
 
 # one home for the polygons of a geometry; both names stay importable from here
-from ..geom.polygons import centre_line, clean_polygon, stair_step
+from ..geom.polygons import centre_line, clean_polygon, overlay, stair_step
 from ..geom.polygons import explode as explode_plots, largest_polygon  # noqa: F401
 from . import fitting
 from .lines import buffered_lines
@@ -235,8 +235,8 @@ def _without_corner_fills(shape, polygon, reach):
     if not len(beyond):
         return shape
     rim = shapely.buffer(closed.boundary, 1e-6)
-    opening = shapely.length(beyond) - shapely.length(shapely.intersection(
-        shapely.boundary(beyond), rim))
+    opening = shapely.length(beyond) - shapely.length(overlay(
+        shapely.intersection, shapely.boundary(beyond), rim))
     area, span2 = shapely.area(beyond), np.maximum(opening, 0) ** 2
     shallow = area < NOTCH * span2
     yards = (~shapely.is_empty(shapely.buffer(beyond, -YARD * reach, join_style="mitre"))
@@ -245,7 +245,7 @@ def _without_corner_fills(shape, polygon, reach):
     dropped = [piece for piece, yard, low in zip(beyond, yards, shallow)
                if yard or (low and _wall_share(_walls(piece, rim, reach / 4), edges,
                                                reach / 4) < DENT_WALLS)]
-    return shapely.difference(shape, shapely.union_all(dropped)) if dropped else shape
+    return overlay(shapely.difference, shape, shapely.union_all(dropped)) if dropped else shape
 
 
 def _walls(piece, rim, thin):
@@ -253,7 +253,8 @@ def _walls(piece, rim, thin):
     little) where the piece is thicker than ``2 x thin``: the alpha shape's slivers
     along the outline, joined to a piece, are not its walls."""
     thick = shapely.buffer(shapely.buffer(piece, -thin, join_style="mitre"), 1.5 * thin)
-    return shapely.intersection(shapely.intersection(shapely.boundary(piece), rim), thick)
+    return overlay(shapely.intersection,
+                   overlay(shapely.intersection, shapely.boundary(piece), rim), thick)
 
 
 def _edges(polygon, tolerance):

@@ -233,3 +233,14 @@ def centre_line(polygon, step, passes=3):
     except (ValueError, shapely.errors.GEOSException):
         return polygon
     return smooth if smooth.is_valid and smooth.area > 0 else polygon
+
+
+def overlay(operation, a, b, grid_size=1e-6):
+    """A shapely overlay (``operation``: ``shapely.intersection``, ``difference``,
+    ...) that falls back to snap-rounding on a grid of ``grid_size`` map units when
+    GEOS's floating one fails (``TopologyException``, "Unable to determine overlay
+    result geometry dimension" on nearly degenerate input)."""
+    try:
+        return operation(a, b)
+    except shapely.errors.GEOSException:
+        return operation(a, b, grid_size=grid_size)

@@ -14,7 +14,7 @@ import shapely
 from shapely.geometry import MultiPolygon
 
 from ..geom.overlaps import OverlapRule, group_conflicts, resolve_overlaps
-from ..geom.polygons import polygon_parts, repair
+from ..geom.polygons import overlay as polygons_overlay, polygon_parts, repair
 from ..geom.rings import offsets as ring_offsets
 from .convex_rings import SNAP, is_sliver
 
@@ -41,11 +41,9 @@ class PlotRepairs:
 
 
 def overlay(operation, a, b):
-    """A shapely overlay that falls back to snap-rounding when GEOS's floating one fails."""
-    try:
-        return operation(a, b)
-    except shapely.errors.GEOSException:
-        return operation(a, b, grid_size=CHECK_GRID)
+    """A shapely overlay that falls back to snap-rounding on :data:`CHECK_GRID` when
+    GEOS's floating one fails (:func:`~reconstruction.geom.polygons.overlay`)."""
+    return polygons_overlay(operation, a, b, CHECK_GRID)
 
 
 def polygonal(parts):

@@ -168,3 +168,25 @@ def test_the_same_outline_with_a_run_of_nearly_straight_vertices():
         "84057.95 446560.716, 84056.95 446563.89, 84055.871 446567.329))")
     assert polygons.same_outline(drawn, model, 0.002)
     assert not polygons.same_outline(drawn, model, 0.0002)
+
+
+def test_an_overlay_that_geos_cannot_float_is_snap_rounded():
+    # v.histo.generalize's alpha step on Venice 1808 ended in a traceback ("Unable to
+    # determine overlay result geometry dimension"): the overlay retries on a grid
+    import shapely
+    from shapely.geometry import box
+
+    from reconstruction.geom.polygons import overlay
+
+    calls = []
+
+    def fragile(a, b, grid_size=None):
+        calls.append(grid_size)
+        if grid_size is None:
+            raise shapely.errors.GEOSException("Unable to determine overlay result geometry "
+                                               "dimension")
+        return shapely.intersection(a, b, grid_size=grid_size)
+
+    out = overlay(fragile, box(0, 0, 2, 2), box(1, 1, 3, 3), grid_size=1e-3)
+    assert calls == [None, 1e-3] and out.equals(box(1, 1, 2, 2))
+    assert overlay(shapely.intersection, box(0, 0, 2, 2), box(1, 1, 3, 3)).equals(box(1, 1, 2, 2))
