@@ -56,7 +56,8 @@ BUILDING = 1
 CLASSIFY = {"venice": {"remove": "2,6", "separate": "1"},
             "sanborn": {"remove": "6", "separate": "1"}}
 GENERALIZE = {"venice": {}, "sanborn": {}}
-SUBDIVIDE = {"venice": {}, "sanborn": {}}
+#: both maps draw every unit (parcels, buildings): a plot without inner lines is one (-d)
+SUBDIVIDE = {"venice": {"flags": "d"}, "sanborn": {"flags": "d"}}
 
 
 def missing(path):

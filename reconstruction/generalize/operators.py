@@ -242,9 +242,10 @@ def _without_corner_fills(shape, polygon, reach):
     yards = (~shapely.is_empty(shapely.buffer(beyond, -YARD * reach, join_style="mitre"))
              & (area >= YARD_DEPTH * span2))
     edges = _edges(closed, reach / 4) if shallow.any() else None
+    tree = shapely.STRtree(edges) if edges is not None else None
     dropped = [piece for piece, yard, low in zip(beyond, yards, shallow)
                if yard or (low and _wall_share(_walls(piece, rim, reach / 4), edges,
-                                               reach / 4) < DENT_WALLS)]
+                                               reach / 4, tree) < DENT_WALLS)]
     return overlay(shapely.difference, shape, shapely.union_all(dropped)) if dropped else shape
 
 
@@ -267,11 +268,15 @@ def _edges(polygon, tolerance):
     return shapely.linestrings(ends)
 
 
-def _wall_share(walls, edges, tolerance):
+def _wall_share(walls, edges, tolerance, tree=None):
     """How much of the ``edges`` (:func:`_edges`) that ``walls`` (a piece's boundary
     on the polygon) lie along, within ``tolerance``, they cover: 1 for a dent between
-    whole edges, less for a corner."""
-    shared = shapely.length(shapely.intersection(edges, shapely.buffer(walls, tolerance)))
+    whole edges, less for a corner. ``tree``: an STRtree of the edges, so that only
+    the edges near the walls are cut (a large plot on a fine grid has thousands)."""
+    zone = shapely.buffer(walls, tolerance)
+    if tree is not None:
+        edges = edges[tree.query(zone, predicate="intersects")]
+    shared = shapely.length(shapely.intersection(edges, zone))
     along = shared > 2 * tolerance
     if not along.any():
         return 0.0
