@@ -156,6 +156,23 @@ def chain(style, bands, training, args):
     return figures
 
 
+def lines_in_blocks(bands, blocks, args):
+    """v.histo.subdivide map= -d alone, in the published blocks (``blocks``: their
+    labels on the grid) as the plots: how well the lines the map draws are read,
+    apart from how well the classification finds the blocks."""
+    from reconstruction import grassio
+
+    grassio.write_raster("blocks_true", np.where(blocks > 0, blocks, 0).astype(np.int32),
+                         null=0)
+    run("r.to.vect", input="blocks_true", output="plots", type="area", quiet=True)
+    opts = dict(SUBDIVIDE["venice"], **dict(args.subdivide))
+    opts.setdefault("map", ",".join(bands[:3]))
+    seconds = run("v.histo.subdivide", input="plots", output="footprints", seed=1, quiet=True,
+                  **opts)
+    return {"options": {"subdivide": opts}, "drawn_lines": True, "plots": "published blocks",
+            "subdivide_seconds": seconds}
+
+
 def venice(args):
     """The chain on Venice 1808 sample 3, scored against the published parcels."""
     import grass.script as gs
@@ -167,15 +184,19 @@ def venice(args):
     truth_bands = import_bands(os.path.join(args.data, VENICE_TRUTH), "truth")
     gs.run_command("g.region", raster=bands[0], quiet=True)
     rgb, truth = read_stack(bands[:3]), read_stack(truth_bands[:1])[..., 0]
-    cells = venice_training_cells(rgb, truth, seed=args.seed, per_class=args.per_class)
-    figures = chain("venice", bands, write_training(cells), args)
     radius = CLOSE_METRES / gs.region()["ewres"]
     parcels = assessment.parcels_from_mask(truth)
     blocks = assessment.blocks_from_parcels(parcels, radius)
+    if args.published_blocks:
+        figures = lines_in_blocks(bands, blocks, args)
+        cells = None
+    else:
+        cells = venice_training_cells(rgb, truth, seed=args.seed, per_class=args.per_class)
+        figures = chain("venice", bands, write_training(cells), args)
     plots, footprints = rasterised("plots"), rasterised("footprints")
     figures["blocks"] = assessment.object_scores(plots, blocks).__dict__
     figures["parcels"] = assessment.parcel_scores(footprints, parcels, blocks).__dict__
-    figures["training_points"] = int(len(cells.labels))
+    figures["training_points"] = int(len(cells.labels)) if cells is not None else 0
     figures["megapixels"] = rgb.shape[0] * rgb.shape[1] / 1e6
     if args.picture:
         picture(rgb, footprints, args.picture)
@@ -233,6 +254,9 @@ def parse(argv):
                         help="sanborn: COL,ROW,SIZE in cells of the 0.25 m warp")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--per-class", type=int, default=15)
+    parser.add_argument("--published-blocks", action="store_true",
+                        help="venice: the published blocks as the plots, v.histo.subdivide "
+                        "map= alone (the lines read, apart from the classification)")
     parser.add_argument("--picture", help="a PNG of the footprints over the scan (outside the "
                         "repository)")
     for stage in ("classify", "generalize", "subdivide"):
