@@ -235,27 +235,29 @@ def _without_corner_fills(shape, polygon, reach):
     if not len(beyond):
         return shape
     rim = shapely.buffer(closed.boundary, 1e-6)
-    opening = shapely.length(beyond) - shapely.length(overlay(
-        shapely.intersection, shapely.boundary(beyond), rim))
+    on_rim = overlay(shapely.intersection, shapely.boundary(beyond), rim)
+    opening = shapely.length(beyond) - shapely.length(on_rim)
     area, span2 = shapely.area(beyond), np.maximum(opening, 0) ** 2
     shallow = area < NOTCH * span2
-    yards = (~shapely.is_empty(shapely.buffer(beyond, -YARD * reach, join_style="mitre"))
-             & (area >= YARD_DEPTH * span2))
-    edges = _edges(closed, reach / 4) if shallow.any() else None
-    tree = shapely.STRtree(edges) if edges is not None else None
-    dropped = [piece for piece, yard, low in zip(beyond, yards, shallow)
-               if yard or (low and _wall_share(_walls(piece, rim, reach / 4), edges,
-                                               reach / 4, tree) < DENT_WALLS)]
-    return overlay(shapely.difference, shape, shapely.union_all(dropped)) if dropped else shape
+    dropped = (~shapely.is_empty(shapely.buffer(beyond, -YARD * reach, join_style="mitre"))
+               & (area >= YARD_DEPTH * span2))                     # the yards
+    low = np.flatnonzero(shallow & ~dropped)
+    if len(low):
+        thin = reach / 4
+        walls = _walls(beyond[low], on_rim[low], thin)
+        dropped[low] = _wall_shares(walls, _edges(closed, thin), thin) < DENT_WALLS
+    if not dropped.any():
+        return shape
+    return overlay(shapely.difference, shape, shapely.union_all(beyond[dropped]))
 
 
-def _walls(piece, rim, thin):
-    """The boundary of ``piece`` on the polygon (``rim``: its outline, buffered a
-    little) where the piece is thicker than ``2 x thin``: the alpha shape's slivers
-    along the outline, joined to a piece, are not its walls."""
-    thick = shapely.buffer(shapely.buffer(piece, -thin, join_style="mitre"), 1.5 * thin)
-    return overlay(shapely.intersection,
-                   overlay(shapely.intersection, shapely.boundary(piece), rim), thick)
+def _walls(pieces, on_rim, thin):
+    """The boundary of each of ``pieces`` on the polygon (``on_rim``: the part of
+    its boundary on the polygon's outline) where the piece is thicker than
+    ``2 x thin``: the alpha shape's slivers along the outline, joined to a piece,
+    are not its walls."""
+    thick = shapely.buffer(shapely.buffer(pieces, -thin, join_style="mitre"), 1.5 * thin)
+    return overlay(shapely.intersection, on_rim, thick)
 
 
 def _edges(polygon, tolerance):
@@ -268,19 +270,21 @@ def _edges(polygon, tolerance):
     return shapely.linestrings(ends)
 
 
-def _wall_share(walls, edges, tolerance, tree=None):
-    """How much of the ``edges`` (:func:`_edges`) that ``walls`` (a piece's boundary
-    on the polygon) lie along, within ``tolerance``, they cover: 1 for a dent between
-    whole edges, less for a corner. ``tree``: an STRtree of the edges, so that only
-    the edges near the walls are cut (a large plot on a fine grid has thousands)."""
-    zone = shapely.buffer(walls, tolerance)
-    if tree is not None:
-        edges = edges[tree.query(zone, predicate="intersects")]
-    shared = shapely.length(shapely.intersection(edges, zone))
+def _wall_shares(walls, edges, tolerance):
+    """For each of ``walls`` (a piece's boundary on the polygon), how much of the
+    ``edges`` (:func:`_edges`) it lies along, within ``tolerance``, it covers: 1 for
+    a dent between whole edges, less for a corner, 0 along none. Only the edges
+    near each wall are cut (an STRtree: a large plot on a fine grid has thousands)."""
+    zones = shapely.buffer(walls, tolerance)
+    if not len(edges):
+        return np.zeros(len(walls))
+    piece, edge = shapely.STRtree(edges).query(zones, predicate="intersects")
+    shared = shapely.length(shapely.intersection(edges[edge], zones[piece]))
     along = shared > 2 * tolerance
-    if not along.any():
-        return 0.0
-    return float(shared[along].sum() / shapely.length(edges[along]).sum())
+    covered = np.bincount(piece[along], weights=shared[along], minlength=len(walls))
+    total = np.bincount(piece[along], weights=shapely.length(edges[edge[along]]),
+                        minlength=len(walls))
+    return np.divide(covered, total, out=np.zeros(len(walls)), where=total > 0)
 
 
 def alpha_generalize(polygon, alpha, sampling="regular", spacing=None, rng=None):
