@@ -19,6 +19,7 @@ import numpy as np
 import shapely
 from scipy import ndimage
 
+from ..geom.strokes import disk
 
 @dataclass(frozen=True)
 class DetectionScores:
@@ -198,13 +199,6 @@ def parcels_from_mask(mask, threshold=128, min_cells=50):
     renumber = np.zeros(len(sizes), dtype=np.int32)
     renumber[keep] = np.arange(1, keep.sum() + 1)
     return renumber[labels]
-
-
-def disk(radius):
-    """A disk of ``radius`` cells as a boolean structuring element."""
-    r = int(np.ceil(radius))
-    y, x = np.mgrid[-r:r + 1, -r:r + 1]
-    return x * x + y * y <= radius * radius
 
 
 def blocks_from_parcels(parcels, radius):

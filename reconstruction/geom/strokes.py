@@ -10,6 +10,13 @@ import numpy as np
 from scipy import ndimage
 
 
+def disk(radius):
+    """A disk of ``radius`` cells as a boolean structuring element."""
+    r = int(np.ceil(radius))
+    y, x = np.mgrid[-r:r + 1, -r:r + 1]
+    return x * x + y * y <= radius * radius
+
+
 def ridge(mask):
     """The distance of each cell of ``mask`` to its edge (the map's border counts
     as outside), and its ridge: the cells no neighbour of which lies farther

@@ -49,7 +49,7 @@ import shapely
 from scipy import ndimage
 
 from ..geom.polygons import polygon_parts
-from ..geom.strokes import stroke_widths
+from ..geom.strokes import disk, stroke_widths
 from .plots import OVERLAP_TOLERANCE
 
 #: a cell is ink where its contrast exceeds the plot's median by this many
@@ -116,11 +116,6 @@ def brightness(rgb):
     return rgb.max(axis=2).astype(np.float32) if rgb.ndim == 3 else rgb.astype(np.float32)
 
 
-def _disk(radius):
-    r = np.arange(-radius, radius + 1)
-    return (r[:, None] ** 2 + r[None, :] ** 2) <= radius * radius
-
-
 def _otsu(values):
     """Otsu's threshold of ``values`` (0-255)."""
     hist = np.bincount(np.clip(values, 0, 255).astype(np.int64).ravel(), minlength=256)
@@ -156,7 +151,7 @@ def ink_contrast(rgb, radius):
     """How much darker each cell is than the paper around it: the brightness closed
     over a disk of ``radius`` cells minus the brightness (float32, >= 0)."""
     level = brightness(rgb)
-    paper = ndimage.grey_closing(level, footprint=_disk(radius))
+    paper = ndimage.grey_closing(level, footprint=disk(radius))
     return paper - level
 
 
@@ -210,7 +205,7 @@ def regions(contrast, inside, scale):
     barrier = line | ~inside
     reach = max(1, int(np.ceil(GAP_STROKES * scale.stroke / 2)))
     padded = np.pad(barrier, reach + 1, constant_values=True)
-    barrier = ndimage.binary_closing(padded, structure=_disk(reach))[
+    barrier = ndimage.binary_closing(padded, structure=disk(reach))[
         reach + 1:-reach - 1, reach + 1:-reach - 1]
     edge = EDGE_STROKES * scale.stroke
     if edge and line.any():
