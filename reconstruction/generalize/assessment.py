@@ -21,6 +21,7 @@ from scipy import ndimage
 
 from ..geom.strokes import disk
 
+
 @dataclass(frozen=True)
 class DetectionScores:
     """Point-based detection scores (each in [0, 1])."""
