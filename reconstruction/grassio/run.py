@@ -110,6 +110,33 @@ def _unheard(unraisable):
     """Drop an exception raised where it cannot propagate (a ``__del__``)."""
 
 
+#: an interruption swallowed where exceptions cannot propagate, to raise again
+_PENDING = []
+
+
+def _raise_pending(signum, frame):
+    """SIGALRM handler put in place by :func:`_redeliver`: raise the swallowed
+    interruption."""
+    signal.signal(signal.SIGALRM, signal.SIG_DFL)
+    raise _PENDING.pop()
+
+
+def _redeliver(unraisable, previous):
+    """``sys.unraisablehook`` while a module runs: an interruption (Ctrl-C,
+    SIGTERM) that arrived where Python can only print an exception, such as
+    the callbacks that run after a fork (``logging``'s lock release when a
+    process pool starts its workers), is raised again in the main thread at
+    the next instruction that can raise it, instead of being lost with the
+    module running on to the end. Anything else goes to ``previous``."""
+    interrupted = isinstance(unraisable.exc_value, KeyboardInterrupt)
+    if interrupted and _MODULE_PID and os.getpid() == _MODULE_PID[-1] and not _PENDING:
+        _PENDING.append(unraisable.exc_value)
+        signal.signal(signal.SIGALRM, _raise_pending)
+        signal.setitimer(signal.ITIMER_REAL, 0.001)
+        return
+    previous(unraisable)
+
+
 def run_main(main, *args):
     """Run a module's ``main(*args)``: the one place where failures become ``gs.fatal``.
 
@@ -134,6 +161,8 @@ def run_main(main, *args):
         signal.signal(signal.SIGTERM, _terminate)
         # Ctrl-C is a KeyboardInterrupt again (the script's start-up handler exits at once)
         signal.signal(signal.SIGINT, signal.default_int_handler)
+        previous = sys.unraisablehook
+        sys.unraisablehook = lambda unraisable: _redeliver(unraisable, previous)
     RUNNING.append(main)
     try:
         return main(*args)

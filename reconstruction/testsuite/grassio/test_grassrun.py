@@ -98,6 +98,36 @@ def test_an_object_an_interruption_caught_half_made_prints_nothing(run, grass_se
     assert "Traceback" not in out.stdout and "Exception ignored" not in out.stdout, out.stdout
 
 
+@pytest.mark.parametrize("interruption, said", [("grassio.run.Terminated", "Terminated"),
+                                                  ("KeyboardInterrupt", "Interrupted")])
+def test_an_interruption_that_arrives_while_a_process_forks_still_ends_the_module(
+        run, grass_session, interruption, said):
+    """SIGTERM or Ctrl-C arriving in the callbacks that run after a fork
+    (logging's lock release as a process pool starts its workers): Python
+    printed "Exception ignored" and v.histo.lod2 ran on to the end, replacing
+    the old model (CI, test_robustness). The interruption is raised again:
+    the module ends with its one ERROR: line and never reaches its end."""
+    script = ("import os, sys, time\n"
+              "from reconstruction import grassio\n"
+              "def interrupted():\n"
+              "    raise {}()\n"
+              "def main():\n"
+              "    os.register_at_fork(after_in_parent=interrupted)\n"
+              "    child = os.fork()\n"
+              "    if child == 0:\n"
+              "        os._exit(0)\n"
+              "    os.waitpid(child, 0)\n"
+              "    for _ in range(100):\n"
+              "        time.sleep(0.01)\n"
+              "    print('ran to the end')\n"
+              "    return 0\n"
+              "sys.exit(grassio.run_main(main))\n").format(interruption)
+    out = _run_script(script, grass_session)
+    assert out.returncode == 1, out.stdout
+    assert "ERROR: " + said in out.stdout, out.stdout
+    assert "ran to the end" not in out.stdout and "Traceback" not in out.stdout, out.stdout
+
+
 def test_input_error_is_one_error_line(run, capfd):
     from reconstruction.core.errors import InputError
 
