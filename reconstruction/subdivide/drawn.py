@@ -48,49 +48,15 @@ import numpy as np
 import shapely
 from scipy import ndimage
 
+from ..geom.ink import (GAP_STROKES, LINE_STROKES, MIN_CONTRAST, SPREAD, THIN,
+                       StrokeScale, cells_polygon, grow, ink_contrast, stroke_scale)
 from ..geom.polygons import polygon_parts
-from ..geom.strokes import disk, stroke_widths
+from ..geom.strokes import disk
 from .plots import OVERLAP_TOLERANCE
 
-#: a cell is ink where its contrast exceeds the plot's median by this many
-#: (scaled) median absolute deviations ...
-SPREAD = 3.0
-#: ... and by at least this much (0-255 brightness)
-MIN_CONTRAST = 24.0
-#: the least region, in stroke widths squared (a parcel is at least this many
-#: stroke widths on a side)
-REGION_STROKES = 6
-#: the disk of the paper's closing, in stroke widths (radius)
-CLOSING_STROKES = 1.5
-#: ink apart from the plot's outline is a line when at least this many stroke
-#: widths long ...
-LINE_STROKES = 12
-#: ... and thin: its cells at most this many widths times its length
-THIN = 2.0
-#: gaps in the lines up to this many stroke widths are closed (two cells at
-#: least): wider closings join the numbers written across narrow parcels to
-#: their lines (Venice 1808: 0.5 widths keeps the parcels matched as without,
-#: 1 or 2 widths lose 1.3 % of them)
-GAP_STROKES = 0.5
 #: a line that stops at most this many stroke widths short of the plot's edge
 #: meets it: the cells that near both the edge and a line are a line
 EDGE_STROKES = 3.0
-
-
-@dataclass(frozen=True)
-class StrokeScale:
-    """The map's own scale for reading its lines: ``stroke`` the median stroke width
-    (cells), ``radius`` of the closing disk (cells), ``min_cells`` the least region
-    (cells) and ``cell`` the cell size (map units)."""
-    stroke: float
-    radius: int
-    min_cells: int
-    cell: float
-
-    @property
-    def min_area(self):
-        """The least region in square map units."""
-        return self.min_cells * self.cell * self.cell
 
 
 @dataclass(frozen=True)
@@ -108,51 +74,6 @@ class DrawnDivisions:
     @property
     def count(self):
         return sum(len(p) for p in self.parcels.values())
-
-
-def brightness(rgb):
-    """Each cell's largest band (float32): washes stay bright, ink does not."""
-    rgb = np.asarray(rgb)
-    return rgb.max(axis=2).astype(np.float32) if rgb.ndim == 3 else rgb.astype(np.float32)
-
-
-def _otsu(values):
-    """Otsu's threshold of ``values`` (0-255)."""
-    hist = np.bincount(np.clip(values, 0, 255).astype(np.int64).ravel(), minlength=256)
-    weight = np.cumsum(hist).astype(float)
-    mean = np.cumsum(hist * np.arange(256)).astype(float)
-    total, grand = weight[-1], mean[-1]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        between = (grand * weight - total * mean) ** 2 / (weight * (total - weight))
-    return float(np.nanargmax(between[:-1])) if total else 128.0
-
-
-def stroke_scale(rgb, cell, stroke=None, min_area=None):
-    """The :class:`StrokeScale` of a scanned map ``rgb`` with cells ``cell`` map
-    units wide: the median stroke width measured on the cells at most as bright
-    as Otsu's threshold of the brightness (or ``stroke`` map units given), the
-    closing's radius :data:`CLOSING_STROKES` times the widths of the thickest
-    strokes (their 90th percentile: block outlines are thicker than parcel
-    lines; at least 2 cells) and the least region :data:`REGION_STROKES` median
-    widths on a side (or ``min_area`` square map units)."""
-    if stroke is None:
-        level = brightness(rgb)
-        widths = stroke_widths(level <= _otsu(level))
-        width, thick = float(np.median(widths)), float(np.percentile(widths, 90))
-    else:
-        width = thick = max(1.0, stroke / cell)
-    radius = max(2, int(np.ceil(CLOSING_STROKES * thick)))
-    cells = (int(np.ceil(min_area / (cell * cell))) if min_area is not None
-             else int(np.ceil((REGION_STROKES * width) ** 2)))
-    return StrokeScale(stroke=width, radius=radius, min_cells=max(4, cells), cell=cell)
-
-
-def ink_contrast(rgb, radius):
-    """How much darker each cell is than the paper around it: the brightness closed
-    over a disk of ``radius`` cells minus the brightness (float32, >= 0)."""
-    level = brightness(rgb)
-    paper = ndimage.grey_closing(level, footprint=disk(radius))
-    return paper - level
 
 
 def _plot_mask(polygon, west, north, cell, rows, cols):
@@ -228,28 +149,6 @@ def regions(contrast, inside, scale):
     return renumber[labels], count
 
 
-def grow(labels, within):
-    """Every cell of ``within`` given the label of the nearest labelled cell (0
-    elsewhere)."""
-    _, (row, col) = ndimage.distance_transform_edt(labels == 0, return_indices=True)
-    return np.where(within, labels[row, col], 0)
-
-
-def _cells_polygon(mask, west, north, cell, row0=0, col0=0):
-    """The cells of a boolean mask as one (multi)polygon: each row's runs of cells
-    as rectangles, merged (``cell``: the cells' width and height; the mask's first
-    cell is cell ``row0``, ``col0`` of the grid whose corner is ``west``,
-    ``north``: neighbours' edges get the same coordinates)."""
-    padded = np.pad(mask, ((0, 0), (1, 1))).astype(np.int8)
-    step = np.diff(padded, axis=1)
-    r0, c0 = np.nonzero(step == 1)
-    _, c1 = np.nonzero(step == -1)
-    r0, c0, c1 = r0 + row0, c0 + col0, c1 + col0
-    boxes = shapely.box(west + c0 * cell[0], north - (r0 + 1) * cell[1],
-                        west + c1 * cell[0], north - r0 * cell[1])
-    return shapely.union_all(boxes)
-
-
 def plot_parcels(polygon, contrast, west, north, cell, scale):
     """The parcels one plot's drawn lines make (Polygons, at least two), or [] when the
     map draws no division in it. ``contrast``: the window's ink contrast, its
@@ -262,7 +161,7 @@ def plot_parcels(polygon, contrast, west, north, cell, scale):
     # every cell goes to the nearest region, one cell beyond the plot too, so
     # that the parcels cut to the plot cover it
     labels = grow(labels, ndimage.binary_dilation(inside, iterations=1))
-    cells = [_cells_polygon(labels[box] == k, west, north, cell, box[0].start, box[1].start)
+    cells = [cells_polygon(labels[box] == k, west, north, cell, box[0].start, box[1].start)
              for k, box in enumerate(ndimage.find_objects(labels, count), 1)]
     simple = shapely.coverage_simplify(np.asarray(cells, dtype=object), max(cell))
     out = []

@@ -3,7 +3,7 @@
 
 from ..core import contract
 from ..core.messages import note, verbose, warning
-from .drawn import REGION_STROKES
+from ..geom.ink import REGION_STROKES
 
 
 def announce(inputs, config):
