@@ -227,3 +227,18 @@ def import_features(feats, name, tmp_path):
         json.dump({"type": "FeatureCollection", "features": feats}, f)
     gs.run_command("v.in.ogr", input=path, output=name, flags="o", quiet=True)
     return name
+
+
+def matched_share(found, truth, above=False):
+    """Share of the ``truth`` polygons matched by one of ``found`` at IoU >= 0.5
+    (``above``: > 0.5, as the object scores match)."""
+    import shapely
+
+    tree = shapely.STRtree(found)
+    hits = 0
+    for t in truth:
+        ious = [found[i].intersection(t).area / found[i].union(t).area
+                for i in tree.query(t, predicate="intersects")]
+        best = max(ious) if ious else 0.0
+        hits += best > 0.5 if above else best >= 0.5
+    return hits / len(truth)

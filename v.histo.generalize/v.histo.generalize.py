@@ -164,6 +164,12 @@
 # % guisection: Method
 # %end
 # %flag
+# % key: d
+# % label: Read the plots from the outlines drawn on map=: the classified areas only decide which regions they close are built
+# % description: For maps that outline every block (cadasters, atlases): the regions between the map's lines, built where at least half of their cells lie in the raw areas, become the raw plots that method= generalises
+# % guisection: Method
+# %end
+# %flag
 # % key: g
 # % description: Print the assessment figures in shell script style (key=value)
 # % guisection: Assessment

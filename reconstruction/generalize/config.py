@@ -30,7 +30,10 @@ class GeneralizeConfig:
     record made in code has the thesis's values (those on 1 m cells) and
     the fit's :data:`~reconstruction.generalize.fitting.REACH`.
     ``register``: flag -b, they are registered to each other before the
-    fit reads them (:mod:`~reconstruction.geom.registration`).
+    fit reads them (:mod:`~reconstruction.geom.registration`). ``drawn``:
+    flag -d, the raw plots are the regions the outlines drawn on map= close,
+    the classified areas deciding which are built
+    (:mod:`~reconstruction.generalize.drawn`).
     """
 
     methods: tuple = ("alpha", "lines")
@@ -49,6 +52,7 @@ class GeneralizeConfig:
     maps: tuple = ()
     register: bool = False
     reach: Optional[float] = None
+    drawn: bool = False
 
 
 def read_config(options, flags):
@@ -63,10 +67,13 @@ def read_config(options, flags):
 
     methods = tuple(parse_list(options["method"]))
     scan = bool(options.get("map"))
-    if ("fit" in methods) != scan:
-        raise InputError("method=fit moves the plots' edges onto the lines of the scanned map: "
-                         "give both, or neither (method={}, map={})".format(
-                             options["method"], options.get("map") or "not given"))
+    drawn = bool(flags.get("d"))
+    if ("fit" in methods or drawn) != scan:
+        raise InputError("method=fit moves the plots' edges onto the lines of the scanned map "
+                         "and -d reads the plots from them: give map= with one of them, or "
+                         "none (method={}, -d {}, map={})".format(
+                             options["method"], "given" if drawn else "not given",
+                             options.get("map") or "not given"))
     outline = options.get("outline") or "centre"
     if outline not in OUTLINES:
         raise InputError("Option outline= must be one of {}, not '{}'".format(
@@ -82,4 +89,5 @@ def read_config(options, flags):
                   else None),
         shell=bool(flags.get("g")), outline=outline,
         stroke=positive("stroke") if options.get("stroke") else None,
-        maps=tuple(parse_list(options["map"])) if scan else (), register=bool(flags.get("b")))
+        maps=tuple(parse_list(options["map"])) if scan else (), register=bool(flags.get("b")),
+        drawn=drawn)

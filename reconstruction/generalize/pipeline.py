@@ -17,6 +17,7 @@ from ..core.messages import note, verbose
 from ..geom.grid import MapImage
 from ..geom.registration import image_shifts, register_image
 from .config import GeneralizeConfig
+from .drawn import building_cells, drawn_plots
 from .scale import MapFacts, derive, line_width
 from .stage import GeneralizedPlots, generalize_map, raw_plots
 
@@ -52,6 +53,20 @@ class GeneralizeInputs:
     cell: float = 1.0
 
 
+def _drawn(inputs, config):
+    """The plots the outlines drawn on the map close (flag -d), the raw areas
+    deciding which are built (:func:`~reconstruction.generalize.drawn.drawn_plots`)."""
+    image = inputs.image
+    building = building_cells(inputs.geometries, image.extent, image.rgb.shape[:2])
+    read = drawn_plots(image.rgb, image.extent, building, config.stroke)
+    inputs.say([note("{} plots read from the lines drawn on the map: {} of the {} regions they "
+                     "close are built (at least half of their cells in the raw areas; "
+                     "regions of at least {:g} square map units, strokes {:g} cells "
+                     "wide)".format(len(read.polygons), read.built, read.regions,
+                                    read.scale.min_area, read.scale.stroke))])
+    return read.polygons
+
+
 def run(inputs, config: GeneralizeConfig) -> GeneralizedPlots:
     """Generalise the raw areas of ``inputs`` as ``config`` says: a
     :class:`~reconstruction.generalize.stage.GeneralizedPlots`; the
@@ -63,7 +78,10 @@ def run(inputs, config: GeneralizeConfig) -> GeneralizedPlots:
     scaled = derive(config, MapFacts(inputs.cell, stroke))
     config = scaled.apply(config)
     inputs.say(scaled.messages())
-    raw = raw_plots(inputs.geometries, config.min_area, inputs.source_map, cats=inputs.cats)
+    geometries, cats = inputs.geometries, inputs.cats
+    if config.drawn:
+        geometries, cats = _drawn(inputs, config), None
+    raw = raw_plots(geometries, config.min_area, inputs.source_map, cats=cats)
     if raw.dropped:
         inputs.say([verbose("{} raw areas smaller than {} dropped".format(raw.dropped,
                                                                           config.min_area))])

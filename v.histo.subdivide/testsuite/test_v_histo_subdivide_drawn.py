@@ -3,10 +3,9 @@ the map draws inside its plots (issue 50), and the errors of a bad map=."""
 
 import numpy as np
 import pytest
-import shapely
 from shapely.geometry import box
 
-from histo_testing import run_module
+from histo_testing import matched_share, run_module
 from reconstruction.core.contract import SOURCE, SOURCE_DRAWN, SOURCE_PROCEDURAL
 
 pytestmark = pytest.mark.grass
@@ -97,17 +96,6 @@ def test_a_bad_map_is_one_error_and_leaves_nothing(drawn_map, options, message):
     assert len(errors) == 1 and message in errors[0] and "Traceback" not in err
     assert not gs.find_file("fp", element="vector")["name"]
     assert not gs.list_grouped("vector", pattern="tmp_histo_*")[gs.gisenv()["MAPSET"]]
-
-
-def matched_share(found, truth):
-    """Share of the true units matched one to one by a footprint at IoU >= 0.5."""
-    tree = shapely.STRtree(found)
-    hits = 0
-    for t in truth:
-        ious = [found[i].intersection(t).area / found[i].union(t).area
-                for i in tree.query(t, predicate="intersects")]
-        hits += bool(ious) and max(ious) >= 0.5
-    return hits / len(truth)
 
 
 @pytest.mark.parametrize("style, least", [("insurance", 0.95), ("cadaster", 0.7)])

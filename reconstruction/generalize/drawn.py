@@ -1,0 +1,130 @@
+"""Plots read from the outlines a map draws (v.histo.generalize map= -d).
+
+A cadaster outlines every block and every parcel in ink; the classification
+tells which cells are built, but its edges wander and a few wrongly
+classified cells in a narrow street join the blocks on both sides (Venice
+1808: the chain's blocks F 0.24). Here the map's lines decide where a plot
+ends and the classification only which of the regions they close are built
+(pure numpy, scipy and shapely; the ink as read in
+:mod:`reconstruction.geom.ink`):
+
+1. **The lines.** A cell is ink where it is darker than the paper around it
+   by more than the map's own spread (median + :data:`~reconstruction.geom.ink.SPREAD`
+   median absolute deviations, at least :data:`~reconstruction.geom.ink.MIN_CONTRAST`);
+   the ink of lines is the 8-connected ink at least
+   :data:`~reconstruction.geom.ink.LINE_STROKES` stroke widths long (its box's
+   diagonal): numbers written over a parcel are no line.
+2. **The regions they close** are the 4-connected cells between the lines.
+   A region is built when at least :data:`BUILDING_SHARE` of its cells are
+   classified building and it is at least the map's least unit
+   (:func:`~reconstruction.geom.ink.stroke_scale`: a square
+   :data:`~reconstruction.geom.ink.REGION_STROKES` stroke widths wide): the
+   pieces of a street that the letters of its name cut off are smaller, and
+   a few of their cells classified building no longer join two blocks.
+3. **The plots.** Every line cell takes the decision of the nearest region
+   (a line between two built parcels is built, the outline between a block
+   and its street is split along its middle); the built cells' 4-connected
+   parts are the plots, polygonised row runs simplified as one coverage.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from scipy import ndimage
+
+from ..geom.ink import (LINE_STROKES, MIN_CONTRAST, SPREAD, StrokeScale, cells_polygon,
+                        ink_contrast, stroke_scale)
+from ..geom.polygons import polygon_parts
+
+#: a region the lines close is built when at least this share of its cells is
+#: classified building
+BUILDING_SHARE = 0.5
+
+
+@dataclass(frozen=True)
+class DrawnPlots:
+    """What :func:`drawn_plots` read: ``polygons`` the plots (Polygons),
+    ``regions`` how many regions of at least the least unit the lines close,
+    ``built`` how many of them are built, ``scale`` the map's
+    :class:`~reconstruction.geom.ink.StrokeScale`."""
+    polygons: list
+    regions: int
+    built: int
+    scale: StrokeScale
+
+
+def building_cells(polygons, extent, shape):
+    """The cells of a grid of ``shape`` (rows, cols) over ``extent`` (west, east,
+    south, north) whose centres lie in one of ``polygons``."""
+    rows, cols = shape
+    west, east, south, north = (float(v) for v in extent)
+    x = west + (np.arange(cols) + 0.5) * (east - west) / cols
+    y = north - (np.arange(rows) + 0.5) * (north - south) / rows
+    mask = np.zeros(shape, bool)
+    for polygon in polygons:
+        if polygon is None or polygon.is_empty:
+            continue
+        x0, y0, x1, y1 = polygon.bounds
+        c = np.flatnonzero((x >= x0) & (x <= x1))
+        r = np.flatnonzero((y >= y0) & (y <= y1))
+        if c.size and r.size:
+            inside = shapely.contains_xy(polygon, x[c][None, :], y[r][:, None])
+            mask[r[0]:r[-1] + 1, c[0]:c[-1] + 1] |= inside
+    return mask
+
+
+def line_cells(contrast, stroke):
+    """The ink of lines (bool): cells darker than the paper beyond the map's own
+    spread, in 8-connected parts at least :data:`LINE_STROKES` stroke widths long."""
+    median = float(np.median(contrast))
+    spread = 1.4826 * float(np.median(np.abs(contrast - median)))
+    ink = contrast > max(median + SPREAD * spread, MIN_CONTRAST)
+    labels, n = ndimage.label(ink, structure=np.ones((3, 3), bool))
+    keep = np.zeros(n + 1, bool)
+    for k, box in enumerate(ndimage.find_objects(labels), 1):
+        if box is not None:
+            length = np.hypot(box[0].stop - box[0].start, box[1].stop - box[1].start)
+            keep[k] = length >= LINE_STROKES * stroke
+    return keep[labels]
+
+
+def built_cells(line, building, min_cells):
+    """Which cells are built (bool): the regions between the ``line`` cells of at
+    least ``min_cells`` cells whose share of ``building`` cells is at least
+    :data:`BUILDING_SHARE`, each line cell as its nearest region. Returns the
+    mask, the count of such regions and of the built ones."""
+    regions, n = ndimage.label(~line)
+    cells = np.bincount(regions.ravel(), minlength=n + 1)
+    built = np.bincount(regions.ravel(), weights=building.ravel(), minlength=n + 1)
+    big = cells >= min_cells
+    big[0] = False
+    decided = big & (built >= BUILDING_SHARE * np.maximum(cells, 1))
+    _, (row, col) = ndimage.distance_transform_edt(line, return_indices=True)
+    return decided[regions][row, col], int(big.sum()), int(decided.sum())
+
+
+def drawn_plots(rgb, extent, building, stroke=None, min_area=None):
+    """The plots a map's drawn outlines close, the built ones: a :class:`DrawnPlots`.
+
+    ``rgb`` (rows, cols, 3) uint8, north-up, over ``extent`` (west, east,
+    south, north); ``building`` (rows, cols) bool: the cells classified
+    building; ``stroke`` (map units) and ``min_area`` (square map units)
+    override what is measured on the map (the least unit).
+    """
+    rgb = np.asarray(rgb)
+    west, east, south, north = (float(v) for v in extent)
+    rows, cols = rgb.shape[:2]
+    cell = ((east - west) / cols, (north - south) / rows)
+    scale = stroke_scale(rgb, float(np.sqrt(cell[0] * cell[1])), stroke, min_area)
+    line = line_cells(ink_contrast(rgb, scale.radius), scale.stroke)
+    mask, regions, built = built_cells(line, np.asarray(building, bool), scale.min_cells)
+    labels, count = ndimage.label(mask)
+    cells = [cells_polygon(labels[box] == k, west, north, cell, box[0].start, box[1].start)
+             for k, box in enumerate(ndimage.find_objects(labels, count), 1)]
+    polygons = []
+    if cells:
+        for g in shapely.coverage_simplify(np.asarray(cells, dtype=object), max(cell)):
+            parts = [p for p in polygon_parts(g) if p.area >= scale.min_area]
+            polygons.extend(parts)
+    return DrawnPlots(polygons, regions, built, scale)
