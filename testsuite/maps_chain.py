@@ -55,7 +55,9 @@ BUILDING = 1
 #: the modules' options on each map; the options given on the command line replace them
 CLASSIFY = {"venice": {"remove": "2,6", "separate": "1"},
             "sanborn": {"remove": "6", "separate": "1"}}
-GENERALIZE = {"venice": {}, "sanborn": {}}
+#: Venice outlines every block and parcel: the plots are read from its lines (-d), the
+#: classification deciding which regions are built; simplify keeps the drawn outline
+GENERALIZE = {"venice": {"flags": "d", "method": "simplify"}, "sanborn": {}}
 #: both maps draw every unit (parcels, buildings): a plot without inner lines is one (-d)
 SUBDIVIDE = {"venice": {"flags": "d"}, "sanborn": {"flags": "d"}}
 
@@ -144,6 +146,8 @@ def chain(style, bands, training, args):
     seconds, per_mp = classify(bands, training, opts)
     figures["classify_seconds"], figures["classify_s_per_mp"] = seconds, per_mp
     opts = dict(GENERALIZE[style], **dict(args.generalize))
+    if "d" in opts.get("flags", ""):
+        opts.setdefault("map", ",".join(bands[:3]))
     figures["options"]["generalize"] = opts
     run("v.histo.generalize", raster="classes", **{"class": BUILDING}, output="plots", quiet=True,
         **opts)

@@ -13,7 +13,10 @@ ends and the classification only which of the regions they close are built
    median absolute deviations, at least :data:`~reconstruction.geom.ink.MIN_CONTRAST`);
    the ink of lines is the 8-connected ink at least
    :data:`~reconstruction.geom.ink.LINE_STROKES` stroke widths long (its box's
-   diagonal): numbers written over a parcel are no line.
+   diagonal): numbers written over a parcel are no line. Gaps of half a
+   stroke width (a cell at least) are closed, as inside the plots (wider
+   closings join the letters of a narrow street's name to the outlines on
+   both sides and close the street).
 2. **The regions they close** are the 4-connected cells between the lines.
    A region is built when at least :data:`BUILDING_SHARE` of its cells are
    classified building and it is at least the map's least unit
@@ -33,9 +36,10 @@ import numpy as np
 import shapely
 from scipy import ndimage
 
-from ..geom.ink import (LINE_STROKES, MIN_CONTRAST, SPREAD, StrokeScale, cells_polygon,
-                        ink_contrast, stroke_scale)
+from ..geom.ink import (GAP_STROKES, LINE_STROKES, MIN_CONTRAST, SPREAD, StrokeScale,
+                        cells_polygon, ink_contrast, stroke_scale)
 from ..geom.polygons import polygon_parts
+from ..geom.strokes import disk
 
 #: a region the lines close is built when at least this share of its cells is
 #: classified building
@@ -76,7 +80,8 @@ def building_cells(polygons, extent, shape):
 
 def line_cells(contrast, stroke):
     """The ink of lines (bool): cells darker than the paper beyond the map's own
-    spread, in 8-connected parts at least :data:`LINE_STROKES` stroke widths long."""
+    spread, in 8-connected parts at least :data:`LINE_STROKES` stroke widths long,
+    gaps up to :data:`~reconstruction.geom.ink.GAP_STROKES` widths closed."""
     median = float(np.median(contrast))
     spread = 1.4826 * float(np.median(np.abs(contrast - median)))
     ink = contrast > max(median + SPREAD * spread, MIN_CONTRAST)
@@ -86,7 +91,10 @@ def line_cells(contrast, stroke):
         if box is not None:
             length = np.hypot(box[0].stop - box[0].start, box[1].stop - box[1].start)
             keep[k] = length >= LINE_STROKES * stroke
-    return keep[labels]
+    reach = max(1, int(np.ceil(GAP_STROKES * stroke / 2)))
+    padded = np.pad(keep[labels], reach + 1)
+    return ndimage.binary_closing(padded, structure=disk(reach))[reach + 1:-reach - 1,
+                                                                 reach + 1:-reach - 1]
 
 
 def built_cells(line, building, min_cells):
