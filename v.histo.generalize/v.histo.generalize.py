@@ -165,8 +165,8 @@
 # %end
 # %flag
 # % key: d
-# % label: Read the plots from the outlines drawn on map=: the classified areas only decide which regions they close are built
-# % description: For maps that outline every block (cadasters, atlases): the regions between the map's lines, built where at least half of their cells lie in the raw areas, become the raw plots that method= generalises
+# % label: Read the plots from the outlines drawn on map=: the classified areas decide which regions they close are built
+# % description: For maps that outline every block (cadasters, atlases): the regions between the map's lines, built whole where 80 % of their cells lie in the raw areas (as classified where fewer than 80 % agree), become the raw plots that method= generalises
 # % guisection: Method
 # %end
 # %flag

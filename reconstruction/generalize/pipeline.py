@@ -17,7 +17,7 @@ from ..core.messages import note, verbose
 from ..geom.grid import MapImage
 from ..geom.registration import image_shifts, register_image
 from .config import GeneralizeConfig
-from .drawn import building_cells, drawn_plots
+from .drawn import UNIFORM, building_cells, drawn_plots
 from .scale import MapFacts, derive, line_width
 from .stage import GeneralizedPlots, generalize_map, raw_plots
 
@@ -60,9 +60,9 @@ def _drawn(inputs, config):
     building = building_cells(inputs.geometries, image.extent, image.rgb.shape[:2])
     read = drawn_plots(image.rgb, image.extent, building, config.stroke)
     inputs.say([note("{} plots read from the lines drawn on the map: {} of the {} regions they "
-                     "close are built (at least half of their cells in the raw areas; "
+                     "close are built whole ({:.0%} of their cells in the raw areas; "
                      "regions of at least {:g} square map units, strokes {:g} cells "
-                     "wide)".format(len(read.polygons), read.built, read.regions,
+                     "wide)".format(len(read.polygons), read.built, read.regions, UNIFORM,
                                     read.scale.min_area, read.scale.stroke))])
     return read.polygons
 

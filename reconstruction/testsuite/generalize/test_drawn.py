@@ -29,11 +29,25 @@ def test_the_lines_decide_where_a_plot_ends_the_classification_which_regions_are
     assert all(abs(a - 41 * 57) < 0.05 * 41 * 57 for a in areas), areas
 
 
+def test_a_region_the_classification_splits_keeps_its_cells_as_classified():
+    """A map that draws no outline between its blocks and streets: plain paper,
+    buildings filled (lighter than ink) -- one region, a third of it built.
+    The plots are the classified cells, not the whole region nor nothing."""
+    rgb = np.full((80, 120, 3), 235, np.uint8)
+    building = np.zeros(rgb.shape[:2], bool)
+    for c0, c1 in ((10, 50), (70, 110)):
+        rgb[20:60, c0:c1] = (230, 120, 120)
+        building[20:60, c0:c1] = True
+    found = drawn.drawn_plots(rgb, (0, 120, 0, 80), building, stroke=3, min_area=100)
+    assert found.built == 0 and len(found.polygons) == 2
+    assert sorted(round(p.area) for p in found.polygons) == [1600, 1600]
+
+
 def test_a_region_mostly_unclassified_is_no_plot_and_small_regions_never_are():
     rgb = _two_blocks()
     building = np.zeros(rgb.shape[:2], bool)
     building[13:67, 13:51] = True    # the first block
-    building[13:30, 69:107] = True   # under a third of the second
+    building[13:20, 69:107] = True   # an eighth of the second
     found = drawn.drawn_plots(rgb, (0, 120, 0, 80), building, stroke=3, min_area=100)
     assert len(found.polygons) == 1 and found.polygons[0].bounds[2] < 60
     line = np.zeros((20, 20), bool)
