@@ -57,10 +57,15 @@ from .plots import OVERLAP_TOLERANCE
 #: a line that stops at most this many stroke widths short of the plot's edge
 #: meets it: the cells that near both the edge and a line are a line
 EDGE_STROKES = 3.0
-#: a line's end is read over this many stroke widths of its median line: its
-#: direction (the principal axis of those cells), and an end whose branch is
-#: shorter (a spur of the thinning, a letter's stroke touching a line) is no end
+#: a line's end is read over at least this many stroke widths of its median
+#: line (an end whose branch is shorter, a spur of the thinning or a letter's
+#: stroke touching a line, is no end) ...
 TRACE_STROKES = 3.0
+#: ... and at most this many: its direction is the principal axis of those
+#: cells, and they keep within :data:`STRAIGHT` widths of it (a digit touching a
+#: line curves away: Venice 1808 loses a parcel to a 6 drawn on at 0.4 or 0.5)
+STRAIGHT_STROKES = 6.0
+STRAIGHT = 0.3
 #: a line's end is drawn on straight, over at most this many stroke widths of
 #: paper, when it meets another line or the plot's edge there: the ends that
 #: stop short of the line they join (1-3 cells on the synthetic cadaster), the
@@ -110,8 +115,8 @@ def thin(mask):
 
 
 def _trace(skeleton, junction, start, length):
-    """The cells of the skeleton's branch from the end ``start``, at most ``length``
-    of them; None when the branch is shorter (it meets a junction or ends)."""
+    """The cells of the skeleton's branch from the end ``start`` up to a junction or
+    its other end, at most ``length`` of them (from ``start`` on)."""
     rows, cols = skeleton.shape
     path, seen = [start], {start}
     r, c = start
@@ -120,9 +125,9 @@ def _trace(skeleton, junction, start, length):
                if 0 <= r + dr < rows and 0 <= c + dc < cols and skeleton[r + dr, c + dc]
                and (r + dr, c + dc) not in seen]
         if not nxt or any(junction[q] for q in nxt):
-            return None
+            break
         if any(max(abs(a[0] - b[0]), abs(a[1] - b[1])) > 1 for a in nxt for b in nxt):
-            return None                      # two ways on: a junction
+            break                            # two ways on: a junction
         seen.update(nxt)
         r, c = max(nxt, key=lambda q: abs(q[0] - r) + abs(q[1] - c))
         path.append((r, c))
@@ -143,16 +148,18 @@ def extend_ends(line, inside, stroke):
         return extended
     junction = skeleton & (_CROSSINGS[codes] >= 3)
     barrier = line | ~inside
-    rows, cols = line.shape
     length = max(3, int(round(TRACE_STROKES * stroke)))
+    longest = max(length, int(round(STRAIGHT_STROKES * stroke)))
     reach = EXTEND_STROKES * stroke
     for start in zip(*np.nonzero(ends)):
-        path = _trace(skeleton, junction, (int(start[0]), int(start[1])), length)
-        if path is None:
+        path = _trace(skeleton, junction, (int(start[0]), int(start[1])), longest)
+        if len(path) < length:
             continue
         points = np.asarray(path, float)
         centred = points - points.mean(axis=0)
         direction = np.linalg.svd(centred, full_matrices=False)[2][0]
+        if np.abs(centred @ (direction[1], -direction[0])).max() > STRAIGHT * stroke:
+            continue                         # a curve: a letter's stroke
         if direction @ centred[0] < 0:
             direction = -direction
         cells = _ray(barrier, points[0], direction, reach, stroke)
