@@ -64,14 +64,14 @@ TRACE_STROKES = 3.0
 #: ... and at most this many: its direction is the principal axis of those
 #: cells, and they keep within :data:`STRAIGHT` widths of it (a digit touching a
 #: line curves away: Venice 1808 loses a parcel to a 6 drawn on at 0.4 or 0.5)
-STRAIGHT_STROKES = 6.0
+STRAIGHT_STROKES = 8.0
 STRAIGHT = 0.3
 #: a line's end is drawn on straight, over at most this many stroke widths of
 #: paper, when it meets another line or the plot's edge there: the ends that
 #: stop short of the line they join (1-3 cells on the synthetic cadaster), the
 #: gaps of two to four cells in a line; a wider closing of every line would join
 #: the numbers written across narrow parcels to their lines
-EXTEND_STROKES = 3.0
+EXTEND_STROKES = 4.0
 
 
 def _neighbour_tables():
@@ -158,7 +158,7 @@ def extend_ends(line, inside, stroke):
         points = np.asarray(path, float)
         centred = points - points.mean(axis=0)
         direction = np.linalg.svd(centred, full_matrices=False)[2][0]
-        if np.abs(centred @ (direction[1], -direction[0])).max() > STRAIGHT * stroke:
+        if np.abs(centred @ (direction[1], -direction[0])).max() > max(STRAIGHT * stroke, 1.0):
             continue                         # a curve: a letter's stroke
         if direction @ centred[0] < 0:
             direction = -direction
