@@ -25,8 +25,16 @@ scipy and shapely):
    cells at least) are closed, and the plot's edge is read
    :data:`EDGE_STROKES` widths wide, so that a line stopping that short of
    the block's outline still meets it (wider closings would join the
-   numbers written across narrow parcels to their lines); a line broken by
-   a wider gap joins the two sides (one footprint where the map has two:
+   numbers written across narrow parcels to their lines). A line's end is
+   then drawn on straight (:func:`extend_ends`): the lines are thinned to
+   their median lines (:func:`thin`), and an end whose last
+   :data:`TRACE_STROKES` to :data:`STRAIGHT_STROKES` widths run straight goes
+   on along them, across at most :data:`EXTEND_STROKES` widths of paper,
+   when it meets another line or the plot's edge there: the gaps of one to
+   two strokes in a line, the ends stopping short of the line they join. An
+   end that meets nothing stays as it is, and writing is never met (it is no
+   line) nor drawn on (a letter's strokes are short or curved); a line broken
+   by a wider gap joins the two sides (one footprint where the map has two:
    the safe side). The plot's other cells fall into 4-connected regions; a
    region smaller than the least area (:func:`stroke_scale`: in the map's
    own scale, from the stroke width) is no unit of the map.
