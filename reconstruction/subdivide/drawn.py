@@ -70,8 +70,9 @@ EDGE_STROKES = 3.0
 #: stroke touching a line, is no end) ...
 TRACE_STROKES = 3.0
 #: ... and at most this many: its direction is the principal axis of those
-#: cells, and they keep within :data:`STRAIGHT` widths of it (a digit touching a
-#: line curves away: Venice 1808 loses a parcel to a 6 drawn on at 0.4 or 0.5)
+#: cells, and they keep within :data:`STRAIGHT` widths of it, or one cell (a
+#: sloping line steps by one; a digit touching a line curves away: Venice 1808
+#: loses a parcel to a 6 drawn on at 0.4 or 0.5)
 STRAIGHT_STROKES = 8.0
 STRAIGHT = 0.3
 #: a line's end is drawn on straight, over at most this many stroke widths of
