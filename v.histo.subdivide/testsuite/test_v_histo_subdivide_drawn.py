@@ -98,12 +98,13 @@ def test_a_bad_map_is_one_error_and_leaves_nothing(drawn_map, options, message):
     assert not gs.list_grouped("vector", pattern="tmp_histo_*")[gs.gisenv()["MAPSET"]]
 
 
-@pytest.mark.parametrize("style, least", [("insurance", 0.95), ("cadaster", 0.7)])
+@pytest.mark.parametrize("style, least", [("insurance", 0.95), ("cadaster", 0.97)])
 def test_the_synthetic_styles_units_read_from_their_lines(mapset, style, least):
     # the chain's last steps on the synthetic styles' true blocks: every drawn
     # building (insurance) one footprint; the cadaster's parcels (whose lines stop
-    # short of the outline at a third of their ends) matched at 80 % on seed 1
-    # today (the issue's goal is 95 %): the test guards what is reached
+    # short of the outline at a third of their ends, one line in eight broken by a
+    # gap) matched at 98 % on seed 1 (80 % before the line ends were drawn on;
+    # the issue's goal is 95 %): the test guards what is reached
     import synthetic_map as sm
 
     from reconstruction import grassio

@@ -157,3 +157,58 @@ def test_a_map_that_draws_every_unit_makes_an_undivided_plot_one_footprint():
     assert found.parcels == {1: [block]} and found.whole == 1
     result = subdivide([block], [1], seed=1, drawn=found.parcels)
     assert result.source == [SOURCE_DRAWN] and result.geometries[0].equals(block)
+
+
+def two_parcels(**kwargs):
+    """The cadaster block cut once, at cell 100 (its strokes: four cells wide)."""
+    return cadaster(cuts=(100,), fills=(PINK, WHITE), **kwargs)
+
+
+def parcels_of(rgb, extent, block):
+    return drawn.read_divisions(rgb, extent, [block], [1]).parcels.get(1, [])
+
+
+def test_a_line_broken_by_a_gap_of_one_and_a_half_strokes_still_divides():
+    rgb, extent, block, truth = two_parcels()
+    rgb[118:124, 99:101] = PINK                      # six cells of the line left out
+    parcels = parcels_of(rgb, extent, block)
+    assert len(parcels) == 2 and min(best_iou(parcels, truth)) > 0.95
+
+
+def test_a_line_stopping_short_of_the_line_it_joins_meets_it():
+    rgb, extent, block, truth = two_parcels()
+    rgb[129:131, 24:94] = LINE                       # from the outline to six cells short
+    parcels = parcels_of(rgb, extent, block)
+    assert len(parcels) == 3
+    left = [box(2.0, 2.0, 10.0, 7.0), box(2.0, 7.0, 10.0, 18.0)]
+    assert min(best_iou(parcels, left)) > 0.9
+
+
+def test_a_line_ending_farther_than_its_reach_from_any_line_stays_as_it_is():
+    rgb, extent, block, truth = two_parcels()
+    rgb[129:131, 24:80] = LINE                       # twenty cells short: five strokes
+    parcels = parcels_of(rgb, extent, block)
+    assert len(parcels) == 2 and min(best_iou(parcels, truth)) > 0.95
+
+
+def test_a_number_beyond_a_line_end_is_not_joined_to_it():
+    # a line from the outline ends three cells before a number written in its
+    # parcel: it is not drawn on into the number, which stays in the parcel
+    rgb, extent, block, truth = two_parcels(numbers=False)
+    rgb[139:141, 24:40] = LINE
+    for k in range(3):                               # "111", strokes two cells wide
+        rgb[133:147, 44 + 6 * k:46 + 6 * k] = INK
+    parcels = parcels_of(rgb, extent, block)
+    assert len(parcels) == 2 and min(best_iou(parcels, truth)) > 0.95
+
+
+def test_the_ends_drawn_on_are_straight_and_stop_at_the_line_they_meet():
+    inside = np.zeros((40, 60), bool)
+    inside[1:-1, 1:-1] = True
+    line = np.zeros_like(inside)
+    line[:, 40:42] = True                             # a vertical line ...
+    line[19:21, 1:34] = True                          # ... and one stopping six cells short
+    line[5:7, 1:20] = True                            # one stopping far from anything
+    extended = drawn.extend_ends(line & inside, inside, 2.0)
+    rows, cols = np.nonzero(extended)
+    assert set(rows) <= {19, 20} and set(cols) == set(range(34, 40))
