@@ -40,6 +40,7 @@ from ..core.errors import InputError
 # construction_years and PLACEHOLDER_YEAR: importable from here as before core.register
 from ..core.register import PLACEHOLDER_YEAR, construction_years  # noqa: F401
 from ..core.work_limits import check_alignment
+from ..geom.polygons import cells_inside
 # AlignmentConfig and buffer_from_resolution: importable from here as before config.py
 from .config import AlignmentConfig, buffer_from_resolution, matching_options  # noqa: F401
 
@@ -135,23 +136,6 @@ def _translate(geoms, dx, dy):
 # Offset correction
 # ---------------------------------------------------------------------------
 
-def _rasterise(geoms, x0, y1, nx, ny, cell):
-    """Boolean raster (rows from the north) of the pixel centres inside ``geoms``."""
-    mask = np.zeros((ny, nx), dtype=bool)
-    for geom in geoms:
-        minx, miny, maxx, maxy = geom.bounds
-        c0 = max(int(math.floor((minx - x0) / cell)), 0)
-        c1 = min(int(math.ceil((maxx - x0) / cell)), nx)
-        r0 = max(int(math.floor((y1 - maxy) / cell)), 0)
-        r1 = min(int(math.ceil((y1 - miny) / cell)), ny)
-        if c0 >= c1 or r0 >= r1:
-            continue
-        xs = x0 + (np.arange(c0, c1) + 0.5) * cell
-        ys = y1 - (np.arange(r0, r1) + 0.5) * cell
-        mask[r0:r1, c0:c1] |= shapely.contains_xy(geom, xs[None, :], ys[:, None])
-    return mask
-
-
 def _fast_length(n):
     """The smallest length >= n with no prime factor above 5 (fast for an FFT)."""
     best = 1 << max(int(n - 1).bit_length(), 0)
@@ -227,8 +211,8 @@ def _local_shifts(plots, footprints, radius, window, cell, min_gain):
     cell = max(cell, math.sqrt((x1 - x0) * (y1 - y0) / MAX_SHIFT_CELLS))
     nx, ny = int(math.ceil((x1 - x0) / cell)), int(math.ceil((y1 - y0) / cell))
     near = shapely.STRtree(footprints).query(shapely.box(x0, y0, x1, y1))
-    plot_mask = _rasterise(plots[plot_ok], x0, y1, nx, ny, cell)
-    foot_mask = _rasterise(footprints[near], x0, y1, nx, ny, cell)
+    plot_mask = cells_inside(plots[plot_ok], x0, y1, (cell, cell), (ny, nx))
+    foot_mask = cells_inside(footprints[near], x0, y1, (cell, cell), (ny, nx))
     reach = int(math.ceil(radius / cell))
     pad = int(math.ceil(window / cell))
     bounds = shapely.bounds(plots)

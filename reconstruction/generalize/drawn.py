@@ -35,13 +35,11 @@ ends and the classification only which of the regions they close are built
 from dataclasses import dataclass
 
 import numpy as np
-import shapely
 from scipy import ndimage
 
-from ..geom.ink import (GAP_STROKES, LINE_STROKES, MIN_CONTRAST, SPREAD, StrokeScale,
-                        cells_polygon, ink_contrast, stroke_scale)
-from ..geom.polygons import polygon_parts
-from ..geom.strokes import disk
+from ..geom.ink import (LINE_STROKES, StrokeScale, close_gaps, ink_contrast, ink_threshold,
+                        labels_coverage, stroke_scale)
+from ..geom.polygons import cells_inside, polygon_parts
 
 #: a region the lines close is decided whole when at least this share of its
 #: cells agree (built when classified building, open when not); between, the
@@ -70,38 +68,22 @@ def building_cells(polygons, extent, shape):
     south, north) whose centres lie in one of ``polygons``."""
     rows, cols = shape
     west, east, south, north = (float(v) for v in extent)
-    x = west + (np.arange(cols) + 0.5) * (east - west) / cols
-    y = north - (np.arange(rows) + 0.5) * (north - south) / rows
-    mask = np.zeros(shape, bool)
-    for polygon in polygons:
-        if polygon is None or polygon.is_empty:
-            continue
-        x0, y0, x1, y1 = polygon.bounds
-        c = np.flatnonzero((x >= x0) & (x <= x1))
-        r = np.flatnonzero((y >= y0) & (y <= y1))
-        if c.size and r.size:
-            inside = shapely.contains_xy(polygon, x[c][None, :], y[r][:, None])
-            mask[r[0]:r[-1] + 1, c[0]:c[-1] + 1] |= inside
-    return mask
+    return cells_inside(polygons, west, north, ((east - west) / cols, (north - south) / rows),
+                        shape)
 
 
 def line_cells(contrast, stroke):
     """The ink of lines (bool): cells darker than the paper beyond the map's own
     spread, in 8-connected parts at least :data:`LINE_STROKES` stroke widths long,
     gaps up to :data:`~reconstruction.geom.ink.GAP_STROKES` widths closed."""
-    median = float(np.median(contrast))
-    spread = 1.4826 * float(np.median(np.abs(contrast - median)))
-    ink = contrast > max(median + SPREAD * spread, MIN_CONTRAST)
+    ink = contrast > ink_threshold(contrast)
     labels, n = ndimage.label(ink, structure=np.ones((3, 3), bool))
     keep = np.zeros(n + 1, bool)
     for k, box in enumerate(ndimage.find_objects(labels), 1):
         if box is not None:
             length = np.hypot(box[0].stop - box[0].start, box[1].stop - box[1].start)
             keep[k] = length >= LINE_STROKES * stroke
-    reach = max(1, int(np.ceil(GAP_STROKES * stroke / 2)))
-    padded = np.pad(keep[labels], reach + 1)
-    return ndimage.binary_closing(padded, structure=disk(reach))[reach + 1:-reach - 1,
-                                                                 reach + 1:-reach - 1]
+    return close_gaps(keep[labels], stroke)
 
 
 def built_cells(line, building, min_cells):
@@ -139,11 +121,8 @@ def drawn_plots(rgb, extent, building, stroke=None, min_area=None):
     line = line_cells(ink_contrast(rgb, scale.radius), scale.stroke)
     mask, regions, built = built_cells(line, np.asarray(building, bool), scale.min_cells)
     labels, count = ndimage.label(mask)
-    cells = [cells_polygon(labels[box] == k, west, north, cell, box[0].start, box[1].start)
-             for k, box in enumerate(ndimage.find_objects(labels, count), 1)]
     polygons = []
-    if cells:
-        for g in shapely.coverage_simplify(np.asarray(cells, dtype=object), max(cell)):
-            parts = [p for p in polygon_parts(g) if p.area >= scale.min_area]
-            polygons.extend(parts)
+    if count:
+        for g in labels_coverage(labels, count, west, north, cell):
+            polygons.extend(p for p in polygon_parts(g) if p.area >= scale.min_area)
     return DrawnPlots(polygons, regions, built, scale)

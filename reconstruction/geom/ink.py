@@ -102,6 +102,24 @@ def ink_contrast(rgb, radius):
     return paper - level
 
 
+def ink_threshold(contrast):
+    """The contrast above which a cell is ink: the median of ``contrast`` (the
+    cells read) plus :data:`SPREAD` scaled median absolute deviations, at least
+    :data:`MIN_CONTRAST`."""
+    median = float(np.median(contrast))
+    spread = 1.4826 * float(np.median(np.abs(contrast - median)))
+    return max(median + SPREAD * spread, MIN_CONTRAST)
+
+
+def close_gaps(lines, stroke, beyond=False):
+    """``lines`` (bool) with gaps up to :data:`GAP_STROKES` stroke widths (a cell
+    at least) closed, the cells beyond the window taken as ``beyond``."""
+    reach = max(1, int(np.ceil(GAP_STROKES * stroke / 2)))
+    padded = np.pad(lines, reach + 1, constant_values=beyond)
+    return ndimage.binary_closing(padded, structure=disk(reach))[reach + 1:-reach - 1,
+                                                                 reach + 1:-reach - 1]
+
+
 def grow(labels, within):
     """Every cell of ``within`` given the label of the nearest labelled cell (0
     elsewhere)."""
@@ -122,3 +140,12 @@ def cells_polygon(mask, west, north, cell, row0=0, col0=0):
     boxes = shapely.box(west + c0 * cell[0], north - (r0 + 1) * cell[1],
                         west + c1 * cell[0], north - r0 * cell[1])
     return shapely.union_all(boxes)
+
+
+def labels_coverage(labels, count, west, north, cell):
+    """The regions ``labels`` 1 to ``count`` as polygons that share their edges:
+    each one's cells (:func:`cells_polygon`), simplified as one coverage by a
+    cell (an array of geometries, in label order)."""
+    cells = [cells_polygon(labels[box] == k, west, north, cell, box[0].start, box[1].start)
+             for k, box in enumerate(ndimage.find_objects(labels, count), 1)]
+    return shapely.coverage_simplify(np.asarray(cells, dtype=object), max(cell))

@@ -244,3 +244,26 @@ def overlay(operation, a, b, grid_size=1e-6):
         return operation(a, b)
     except shapely.errors.GEOSException:
         return operation(a, b, grid_size=grid_size)
+
+
+def cells_inside(geometries, west, north, cell, shape):
+    """Boolean raster of ``shape`` (rows, cols; row 0 at the north) whose cells
+    ``cell`` (width, height) wide from the corner (``west``, ``north``) have their
+    centres inside one of ``geometries`` (each tested in the cells of its box only;
+    None and empty ones skipped)."""
+    rows, cols = shape
+    mask = np.zeros((rows, cols), dtype=bool)
+    for geom in geometries:
+        if geom is None or geom.is_empty:
+            continue
+        minx, miny, maxx, maxy = geom.bounds
+        c0 = max(int(np.floor((minx - west) / cell[0])), 0)
+        c1 = min(int(np.ceil((maxx - west) / cell[0])), cols)
+        r0 = max(int(np.floor((north - maxy) / cell[1])), 0)
+        r1 = min(int(np.ceil((north - miny) / cell[1])), rows)
+        if c0 >= c1 or r0 >= r1:
+            continue
+        xs = west + (np.arange(c0, c1) + 0.5) * cell[0]
+        ys = north - (np.arange(r0, r1) + 0.5) * cell[1]
+        mask[r0:r1, c0:c1] |= shapely.contains_xy(geom, xs[None, :], ys[:, None])
+    return mask

@@ -15,9 +15,11 @@ scipy and shapely):
    brightness closed (grey-level dilation then erosion) over a disk wider
    than any stroke, and a cell's ink contrast is how much darker it is than
    that. A cell is ink where its contrast stands out from the plot's own
-   spread (median + :data:`SPREAD` median absolute deviations, at least
-   :data:`MIN_CONTRAST`): the threshold follows the plot's wash and the
-   scan's noise, not a colour trained on another map.
+   spread (:func:`~reconstruction.geom.ink.ink_threshold`: median +
+   :data:`~reconstruction.geom.ink.SPREAD` median absolute deviations, at
+   least :data:`~reconstruction.geom.ink.MIN_CONTRAST`): the threshold
+   follows the plot's wash and the scan's noise, not a colour trained on
+   another map.
 2. **Regions are what the lines leave.** Letters and numbers written over
    a parcel are no lines: only the ink connected to the plot's outline, or
    drawn as a thin long stroke, is a line (:func:`lines`); writing stays a
@@ -56,10 +58,9 @@ import numpy as np
 import shapely
 from scipy import ndimage
 
-from ..geom.ink import (GAP_STROKES, LINE_STROKES, MIN_CONTRAST, SPREAD, THIN,
-                       StrokeScale, cells_polygon, grow, ink_contrast, stroke_scale)
-from ..geom.polygons import polygon_parts
-from ..geom.strokes import disk
+from ..geom.ink import (LINE_STROKES, THIN, StrokeScale, close_gaps, grow, ink_contrast,
+                        ink_threshold, labels_coverage, stroke_scale)
+from ..geom.polygons import cells_inside, polygon_parts
 from .plots import OVERLAP_TOLERANCE
 
 #: a line that stops at most this many stroke widths short of the plot's edge
@@ -230,14 +231,6 @@ class DrawnDivisions:
         return sum(len(p) for p in self.parcels.values())
 
 
-def _plot_mask(polygon, west, north, cell, rows, cols):
-    """The cells of a (rows, cols) window whose centres lie in ``polygon`` (``cell``:
-    the cells' width and height)."""
-    x = west + (np.arange(cols) + 0.5) * cell[0]
-    y = north - (np.arange(rows) + 0.5) * cell[1]
-    return shapely.contains_xy(polygon, x[None, :], y[:, None])
-
-
 def lines(ink, inside, stroke):
     """The ink of lines, not of writing: the ink connected (8 ways) to what lies
     outside the plot (its outline and the lines that meet it), and the ink apart
@@ -265,23 +258,17 @@ def regions(contrast, inside, scale):
     """The regions of one plot: ``inside`` its cells (bool), ``contrast`` their ink
     contrast, ``scale`` the map's :class:`StrokeScale`. The plot's ink is read
     (its threshold from the plot's own spread), its lines kept (:func:`lines`),
-    and gaps in them up to :data:`GAP_STROKES` stroke widths closed (a closing
-    of the lines and what lies outside the plot). Returns labels (int32, 0
+    and gaps in them closed (:func:`~reconstruction.geom.ink.close_gaps`, on
+    the lines and what lies outside the plot). Returns labels (int32, 0
     elsewhere) of the 4-connected regions of at least ``scale.min_cells`` cells
     between the lines, and their count (0 or 1: the plot is not divided, and
     the labels are all 0)."""
     values = contrast[inside]
     if values.size == 0:
         return np.zeros(inside.shape, np.int32), 0
-    median = float(np.median(values))
-    spread = 1.4826 * float(np.median(np.abs(values - median)))
-    ink = contrast > max(median + SPREAD * spread, MIN_CONTRAST)
+    ink = contrast > ink_threshold(values)
     line = lines(ink, inside, scale.stroke)
-    barrier = line | ~inside
-    reach = max(1, int(np.ceil(GAP_STROKES * scale.stroke / 2)))
-    padded = np.pad(barrier, reach + 1, constant_values=True)
-    barrier = ndimage.binary_closing(padded, structure=disk(reach))[
-        reach + 1:-reach - 1, reach + 1:-reach - 1]
+    barrier = close_gaps(line | ~inside, scale.stroke, beyond=True)
     barrier |= extend_ends(barrier & inside, inside, scale.stroke)
     edge = EDGE_STROKES * scale.stroke
     if edge and line.any():
@@ -309,16 +296,14 @@ def plot_parcels(polygon, contrast, west, north, cell, scale):
     map draws no division in it. ``contrast``: the window's ink contrast, its
     north-west corner at (``west``, ``north``), cells ``cell`` (width, height)."""
     rows, cols = contrast.shape
-    inside = _plot_mask(polygon, west, north, cell, rows, cols)
+    inside = cells_inside([polygon], west, north, cell, (rows, cols))
     labels, count = regions(contrast, inside, scale)
     if count < 2:
         return []
     # every cell goes to the nearest region, one cell beyond the plot too, so
     # that the parcels cut to the plot cover it
     labels = grow(labels, ndimage.binary_dilation(inside, iterations=1))
-    cells = [cells_polygon(labels[box] == k, west, north, cell, box[0].start, box[1].start)
-             for k, box in enumerate(ndimage.find_objects(labels, count), 1)]
-    simple = shapely.coverage_simplify(np.asarray(cells, dtype=object), max(cell))
+    simple = labels_coverage(labels, count, west, north, cell)
     out = []
     for g in shapely.intersection(simple, polygon):
         parts = [p for p in polygon_parts(g) if p.area >= 0.5 * scale.min_area]
