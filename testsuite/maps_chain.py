@@ -11,9 +11,10 @@ path (testsuite/test_maps_venice.py runs it in a fresh EPSG:32633 location):
 ``venice``: Venice 1808 sample 3 imported with its published parcels;
 training points derived from them at run time (testsuite/real_maps.py: a
 stand-in for a user's points by eye, never stored); r.histo.classify,
-v.histo.generalize on the building class, v.histo.subdivide, with
-``map=`` the scan's bands when v.histo.subdivide has that option (footprints
-that follow the lines drawn inside each plot). The plots and footprints are
+v.histo.generalize on the building class (on Venice ``-d map=`` the scan's
+bands: the plots the drawn outlines close), v.histo.subdivide with ``map=``
+the scan's bands when it has that option (footprints that follow the lines
+drawn inside each plot). The plots and footprints are
 rasterised on the scan's grid and scored
 (reconstruction.generalize.assessment): blocks (the parcels' union closed by
 0.6 m) against the plots as objects matched one-to-one at IoU > 0.5 (F-score,
