@@ -107,9 +107,9 @@
 # % key: features
 # % type: string
 # % multiple: yes
-# % options: spectral,size,shape
-# % description: Object features the classifiers use: band statistics, log area and perimeter, shape indices
-# % descriptions: spectral;mean, median, variance, first and third quartile of each band;size;logarithm of area and perimeter;shape;compact square, compact circle, fractal dimension
+# % options: spectral,lab,size,shape
+# % description: Object features the classifiers use: band statistics (of the bands, of their CIELAB colour), log area and perimeter, shape indices
+# % descriptions: spectral;mean, median, variance, first and third quartile of each band;lab;the same of the CIELAB lightness L* and colour a*, b* of the red, green, blue bands (pale washes apart from white paper);size;logarithm of area and perimeter;shape;compact square, compact circle, fractal dimension
 # % answer: spectral,size
 # % guisection: Classification
 # %end

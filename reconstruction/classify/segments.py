@@ -7,8 +7,9 @@ The thesis's first stage (Morlighem 2021, Section 3.2.1, after Gobbi et al.
   area-weighted intra-segment variance (VW) and inter-segment spatial
   autocorrelation (Moran's I), their normalisation over all tried parameter
   pairs and the F-function combining them;
-- object features per segment (band statistics and shape indices), computed
-  for all segments at once with ``np.bincount`` and one sort per band;
+- object features per segment (band statistics, also of the CIELAB
+  lightness and colour of an RGB scan, and shape indices), computed for all
+  segments at once with ``np.bincount`` and one sort per band;
 - an ensemble of random forest, k-nearest-neighbours and SVM classifiers with
   a majority vote;
 - the segments' classes as a raster (:func:`class_raster`).
@@ -28,8 +29,14 @@ import numpy as np
 BAND_STATISTICS = ("mean", "median", "variance", "q1", "q3")
 SHAPE_FEATURES = ("area", "perimeter", "compact_square", "compact_circle", "fractal_dimension")
 CLASSIFIERS = ("rf", "knn", "svm")
-#: Feature groups a classification can use: band statistics, size, shape indices.
-FEATURE_GROUPS = ("spectral", "size", "shape")
+#: Feature groups a classification can use: band statistics, the same of the
+#: CIELAB L*, a*, b* of the first three bands (red, green, blue), size, shape indices.
+FEATURE_GROUPS = ("spectral", "lab", "size", "shape")
+#: CIELAB's reference white (D65) in XYZ, and sRGB's linear RGB -> XYZ matrix
+_WHITE = np.array([0.95047, 1.0, 1.08883])
+_SRGB_TO_XYZ = np.array([[0.4124564, 0.3575761, 0.1804375],
+                         [0.2126729, 0.7151522, 0.0721750],
+                         [0.0193339, 0.1191920, 0.9503041]])
 
 
 @dataclass(frozen=True)
@@ -262,22 +269,54 @@ def segment_features(segments, bands):
     return ids, features
 
 
+def cielab(red, green, blue):
+    """CIELAB lightness L* and colour a*, b* (D65) of 8-bit sRGB bands (0-255;
+    arrays of one shape, no data NaN): three arrays.
+
+    A wash of colour thinned on white paper keeps its hue in a*, b* while its
+    RGB values approach the paper's: the pale pink of a parcel and the white
+    of a courtyard are 10 apart in green and 6 in a* (from 0), the pink
+    parcels 12 (Venice 1808).
+    """
+    rgb = np.stack([np.asarray(b, dtype=float) for b in (red, green, blue)], axis=-1) / 255.0
+    rgb = np.clip(rgb, 0.0, 1.0)
+    linear = np.where(rgb > 0.04045, ((rgb + 0.055) / 1.055) ** 2.4, rgb / 12.92)
+    xyz = linear @ _SRGB_TO_XYZ.T / _WHITE
+    f = np.where(xyz > (6 / 29) ** 3, np.cbrt(xyz), xyz / (3 * (6 / 29) ** 2) + 4 / 29)
+    return 116 * f[..., 1] - 16, 500 * (f[..., 0] - f[..., 1]), 200 * (f[..., 1] - f[..., 2])
+
+
+def object_features(segments, bands, groups=("spectral", "size")):
+    """The features the classifiers use for every segment: ``(ids, features)``,
+    the sorted segment ids present and their :func:`select_features` for
+    ``groups`` (``lab``: statistics of :func:`cielab` of the first three bands,
+    which must be red, green and blue)."""
+    bands = list(_band_stack(bands))
+    extra = list(cielab(*bands[:3])) if "lab" in groups else []
+    ids, features = segment_features(segments, bands + extra)
+    return ids, select_features(features, len(bands), groups)
+
+
 def select_features(features, n_bands, groups=("spectral", "size")):
     """Columns of :func:`segment_features` for the chosen feature groups.
 
-    ``spectral``: the band statistics; ``size``: area and perimeter, as
-    logarithms (so that distances in kNN and SVM are not ruled by the few
-    very large segments); ``shape``: compact square, compact circle and
+    ``features``: of ``n_bands`` bands, followed by the three of
+    :func:`cielab` when ``groups`` has ``lab``. ``spectral``: the bands'
+    statistics; ``lab``: the statistics of L*, a*, b*; ``size``: area and
+    perimeter, as logarithms (so that distances in kNN and SVM are not ruled by
+    the few very large segments); ``shape``: compact square, compact circle and
     fractal dimension.
     """
     features = np.asarray(features, dtype=float)
     unknown = [g for g in groups if g not in FEATURE_GROUPS]
     if unknown or not groups:
         raise ValueError("feature groups must be among {}".format(", ".join(FEATURE_GROUPS)))
-    nb = 5 * n_bands
+    nb = 5 * (n_bands + 3 * ("lab" in groups))
     parts = []
     if "spectral" in groups:
-        parts.append(features[:, :nb])
+        parts.append(features[:, :5 * n_bands])
+    if "lab" in groups:
+        parts.append(features[:, 5 * n_bands:nb])
     if "size" in groups:
         with np.errstate(divide="ignore", invalid="ignore"):
             parts.append(np.log(np.maximum(features[:, nb:nb + 2], 1.0)))

@@ -212,12 +212,11 @@ def classify_map(bands, segmentations, read_segments, training, config, grid,
 
     segments = read_segments(ids[best])
     index, n_segments = cl.relabel(segments)
-    _ids, features = cl.segment_features(segments, bands)
+    _ids, model_features = cl.object_features(segments, bands, config.features)
     train_rows = index[training.rows, training.cols]
     if (train_rows < 0).any():
         raise InputError("Some training points lie outside every segment")
     message("Classifying {} segments with {}...".format(n_segments, ",".join(config.classifiers)))
-    model_features = cl.select_features(features, len(bands), config.features)
     voted, _predictions = cl.classify_segments(model_features, train_rows, training.labels,
                                                config.classifiers, config.seed, config.nprocs)
     classes = cl.class_raster(index, voted.astype(np.int32))

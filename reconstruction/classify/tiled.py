@@ -88,9 +88,8 @@ def classify_tiles(tiles, read_bands, read_segments, training, config, grid, pai
             raise InputError("Some training points lie on no-data cells of the input maps")
         segments = read_segments(tile)
         index, _n = cl.relabel(segments)
-        _ids, features = cl.segment_features(segments, bands)
-        model_features = cl.finite_features(cl.select_features(features, len(bands),
-                                                               config.features))
+        _ids, features = cl.object_features(segments, bands, config.features)
+        model_features = cl.finite_features(features)
         at = index[r, c]
         if (at < 0).any():
             raise InputError("Some training points lie outside every segment")
@@ -113,9 +112,8 @@ def classify_tiles(tiles, read_bands, read_segments, training, config, grid, pai
         bands = read_bands(tile)
         segments = read_segments(tile)
         index, n = cl.relabel(segments)
-        _ids, features = cl.segment_features(segments, bands)
-        voted, _p = cl.predict_ensemble(models, cl.select_features(features, len(bands),
-                                                                   config.features))
+        _ids, features = cl.object_features(segments, bands, config.features)
+        voted, _p = cl.predict_ensemble(models, features)
         tile_classes = cl.class_raster(index, voted.astype(np.int32))
         if config.remove:
             thickness = max(thickness, removal.removed_thickness(tile_classes, config.remove))

@@ -129,6 +129,45 @@ def test_select_features_takes_groups_and_logs_sizes():
         cl.select_features(features, 3, ("colour",))
 
 
+def test_cielab_of_known_colours():
+    # reference values of the CIE formulas (D65): white, black, sRGB red and a grey
+    red, green, blue = (np.array(v, dtype=float) for v in zip(
+        (255, 255, 255), (0, 0, 0), (255, 0, 0), (119, 119, 119)))
+    lightness, a, b = cl.cielab(red, green, blue)
+    assert lightness == pytest.approx([100.0, 0.0, 53.24, 50.0], abs=0.05)
+    assert a == pytest.approx([0.0, 0.0, 80.09, 0.0], abs=0.05)
+    assert b == pytest.approx([0.0, 0.0, 67.20, 0.0], abs=0.05)
+
+
+def test_lab_features_tell_a_pale_wash_from_white_paper_where_rgb_distances_do_not():
+    # the colours of Venice 1808 (medians of regions): pink parcels, a very pale pink
+    # parcel, a white courtyard
+    pink, pale, white = (251, 226, 236), (254, 240, 249), (253, 250, 250)
+    rgb = np.array([pink, pale, white], dtype=float)
+    assert np.linalg.norm(rgb[1] - rgb[2]) < np.linalg.norm(rgb[1] - rgb[0])
+    lightness, a, b = cl.cielab(*rgb.T)
+    assert a[1] - a[2] > 4 and a[0] > a[1] > a[2]
+    # a classifier's colour feature: a* puts the pale parcel with the pink ones
+    # relative to white, lightness puts it with white
+    assert abs(lightness[1] - lightness[2]) < abs(lightness[1] - lightness[0])
+
+
+def test_object_features_with_lab_add_the_colour_statistics_to_the_bands():
+    rng = np.random.default_rng(3)
+    segments = rng.integers(1, 4, size=(10, 12))
+    bands = [rng.uniform(0, 255, size=segments.shape) for _ in range(3)]
+    ids, plain = cl.object_features(segments, bands, ("spectral", "size"))
+    _, with_lab = cl.object_features(segments, bands, ("spectral", "lab", "size"))
+    _, lab_only = cl.object_features(segments, bands, ("lab",))
+    assert ids.tolist() == [1, 2, 3]
+    assert plain.shape == (3, 17) and with_lab.shape == (3, 32) and lab_only.shape == (3, 15)
+    np.testing.assert_array_equal(with_lab[:, :15], plain[:, :15])
+    np.testing.assert_array_equal(with_lab[:, 15:30], lab_only)
+    np.testing.assert_array_equal(with_lab[:, 30:], plain[:, 15:])
+    lightness = cl.cielab(*bands)[0]
+    assert lab_only[0, 0] == pytest.approx(lightness[segments == 1].mean())
+
+
 def test_finite_features_replaces_nan_and_inf_by_column_median():
     out = cl.finite_features([[1.0, np.inf], [3.0, 2.0], [np.nan, 4.0]])
     assert out.tolist() == [[1.0, 3.0], [3.0, 2.0], [2.0, 4.0]]
