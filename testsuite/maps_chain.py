@@ -54,7 +54,9 @@ CLOSE_METRES = 0.6
 BUILDING = 1
 
 #: the modules' options on each map; the options given on the command line replace them
-CLASSIFY = {"venice": {"remove": "2,6", "separate": "1"},
+#: Venice washes its parcels in pinks and yellows thinned to near white: their CIELAB
+#: colour (features=lab) tells them from white yards where RGB does not
+CLASSIFY = {"venice": {"remove": "2,6", "separate": "1", "features": "lab,size"},
             "sanborn": {"remove": "6", "separate": "1"}}
 #: Venice outlines every block and parcel: the plots are read from its lines (-d), the
 #: classification deciding which regions are built; simplify keeps the drawn outline

@@ -4,8 +4,8 @@
 Issue 50, item 6: the classification per megapixel on these maps no slower
 than on the synthetic benchmark's. Times r.histo.classify on
 ``../shared/data/maps/venice_1808/venice_1808_sample3.tif`` (2242 x 1744
-cells, 3.9 MP) with the acceptance's options (``remove=2,6 separate=1``) and
-training points derived at run time from the published parcels
+cells, 3.9 MP) with the acceptance's options (``remove=2,6 separate=1
+features=lab,size``) and training points derived at run time from the published parcels
 (testsuite/real_maps.py: 15 per class, seed 1; none stored); prints the
 median wall time of several runs (3 by default) in seconds per megapixel.
 ``--synthetic SIZE`` also times the synthetic map of SIZE x SIZE cells as
@@ -73,7 +73,8 @@ def main():
         return 0
     os.environ["GRASS_OVERWRITE"] = "1"
     load = os.getloadavg()[0]
-    rows = [("Venice 1808 sample 3, remove=2,6 separate=1",) + venice_seconds(args.runs)]
+    rows = [("Venice 1808 sample 3, remove=2,6 separate=1 features=lab,size",)
+            + venice_seconds(args.runs)]
     if args.synthetic:
         rows.append(("synthetic {0} x {0}, remove=2,6".format(args.synthetic),)
                     + synthetic_seconds(args.synthetic, args.runs))
