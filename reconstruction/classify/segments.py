@@ -288,35 +288,44 @@ def cielab(red, green, blue):
 
 def object_features(segments, bands, groups=("spectral", "size")):
     """The features the classifiers use for every segment: ``(ids, features)``,
-    the sorted segment ids present and their :func:`select_features` for
-    ``groups`` (``lab``: statistics of :func:`cielab` of the first three bands,
-    which must be red, green and blue)."""
+    the sorted segment ids present and, per segment, the statistics of the
+    bands (``spectral``), of their :func:`cielab` colour (``lab``: the first
+    three bands must be red, green and blue), then the size and shape columns
+    of :func:`select_features` (``size``, ``shape``); the statistics of only
+    the bands a group asks for are computed."""
+    unknown = [g for g in groups if g not in FEATURE_GROUPS]
+    if unknown or not groups:
+        raise ValueError("feature groups must be among {}".format(", ".join(FEATURE_GROUPS)))
     bands = list(_band_stack(bands))
-    extra = list(cielab(*bands[:3])) if "lab" in groups else []
-    ids, features = segment_features(segments, bands + extra)
-    return ids, select_features(features, len(bands), groups)
+    stats = (bands if "spectral" in groups else []) + (
+        list(cielab(*bands[:3])) if "lab" in groups else [])
+    # a band is needed for the shape columns alone: the segments give those
+    ids, features = segment_features(segments, stats or bands[:1])
+    n_stats = len(stats) or 1
+    parts = [features[:, :5 * len(stats)]]
+    others = tuple(g for g in groups if g in ("size", "shape"))
+    if others:
+        parts.append(select_features(features, n_stats, others))
+    return ids, np.concatenate(parts, axis=1)
 
 
 def select_features(features, n_bands, groups=("spectral", "size")):
     """Columns of :func:`segment_features` for the chosen feature groups.
 
-    ``features``: of ``n_bands`` bands, followed by the three of
-    :func:`cielab` when ``groups`` has ``lab``. ``spectral``: the bands'
-    statistics; ``lab``: the statistics of L*, a*, b*; ``size``: area and
-    perimeter, as logarithms (so that distances in kNN and SVM are not ruled by
-    the few very large segments); ``shape``: compact square, compact circle and
-    fractal dimension.
+    ``spectral``: the band statistics; ``size``: area and perimeter, as
+    logarithms (so that distances in kNN and SVM are not ruled by the few
+    very large segments); ``shape``: compact square, compact circle and
+    fractal dimension. (``lab``: see :func:`object_features`.)
     """
     features = np.asarray(features, dtype=float)
-    unknown = [g for g in groups if g not in FEATURE_GROUPS]
+    unknown = [g for g in groups if g not in FEATURE_GROUPS or g == "lab"]
     if unknown or not groups:
-        raise ValueError("feature groups must be among {}".format(", ".join(FEATURE_GROUPS)))
-    nb = 5 * (n_bands + 3 * ("lab" in groups))
+        raise ValueError("feature groups must be among {}".format(
+            ", ".join(g for g in FEATURE_GROUPS if g != "lab")))
+    nb = 5 * n_bands
     parts = []
     if "spectral" in groups:
-        parts.append(features[:, :5 * n_bands])
-    if "lab" in groups:
-        parts.append(features[:, 5 * n_bands:nb])
+        parts.append(features[:, :nb])
     if "size" in groups:
         with np.errstate(divide="ignore", invalid="ignore"):
             parts.append(np.log(np.maximum(features[:, nb:nb + 2], 1.0)))
