@@ -67,13 +67,14 @@ from shapely.ops import unary_union
 
 CLASSES = {1: "building", 2: "text", 3: "water", 4: "street", 5: "vegetation", 6: "symbol"}
 BUILDING, TEXT, WATER, STREET, VEGETATION, SYMBOL = 1, 2, 3, 4, 5, 6
-#: classes of the other styles only (synthetic_styles.py): white courtyards, drawn lines
-COURTYARD, OUTLINE = 7, 8
+#: classes of the other styles only (synthetic_styles.py): white courtyards, drawn lines;
+#: the monochrome map's paper inside the blocks and its red district limits and names
+COURTYARD, OUTLINE, BLOCK, DISTRICT = 7, 8, 9, 10
 #: the map styles :func:`generate` draws: the Delft 1961 map (the default), a colour-washed
 #: cadaster (Venice 1808) and a fire-insurance map (Sanborn 1892); see synthetic_styles.py
-STYLES = ("delft", "cadaster", "insurance")
+STYLES = ("delft", "cadaster", "insurance", "monochrome")
 #: metres per pixel of each style when none is given
-STYLE_RES = {"delft": 1.0, "cadaster": 0.2, "insurance": 0.3}
+STYLE_RES = {"delft": 1.0, "cadaster": 0.2, "insurance": 0.3, "monochrome": 0.5}
 PLOT_KINDS = ("single", "row", "double_row", "courtyard", "L", "U")
 #: the year the map shows (the demo chain's YEAR): current buildings older than it may be on it
 MAP_YEAR = 1900
@@ -195,10 +196,24 @@ class SyntheticMap:
     parcel_info: list = field(default_factory=list)
     courtyards: list = field(default_factory=list)  # shapely Polygons (cadaster)
     strokes: object = None   # synthetic_styles.Strokes: the drawn lines' widths (m)
+    #: (monochrome) the buildings drawn hatched in their own outline, shapely Polygons, and
+    #: one synthetic_styles.Hatching each (angle, spacing, line width, plot), same order
+    hatched: list = field(default_factory=list)
+    hatching: list = field(default_factory=list)
+    #: (monochrome) the water (the river band in the map), shapely Polygons, and its
+    #: Hatching (horizontal lines, wider apart than the buildings')
+    water: list = field(default_factory=list)
+    water_hatching: object = None
 
     @property
     def shape(self):
         return self.truth.shape
+
+    @property
+    def grey(self):
+        """The picture as a greyscale scan gives it: the mean of its three bands
+        (uint8 (rows, cols))."""
+        return np.rint(self.rgb.astype(np.float64).mean(axis=2)).astype(np.uint8)
 
     @property
     def current(self):
