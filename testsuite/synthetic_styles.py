@@ -1,7 +1,9 @@
-"""The synthetic map's other styles: a colour-washed cadaster and a fire-insurance map.
+"""The synthetic map's other styles: a colour-washed cadaster, a fire-insurance map and a
+monochrome map.
 
-:func:`synthetic_map.generate` draws them with ``style="cadaster"`` or
-``style="insurance"`` (this module's :func:`generate`); each comes from its
+:func:`synthetic_map.generate` draws them with ``style="cadaster"``,
+``style="insurance"`` or ``style="monochrome"`` (this module's
+:func:`generate`); each comes from its
 own random stream of the seed, so the default (Delft) map's draws are not
 changed by them. Both draw what the Delft map does not: the divisions inside
 the blocks, whose truth is written beside the picture.
@@ -30,6 +32,25 @@ black lines); a D (dwelling) or S (store) written on most houses; white
 paper around; street names; house numbers in the street along the houses'
 fronts; scan noise and JPEG compression.
 
+``monochrome`` (the Atlas municipal of Paris, 1925; default 0.5 m per
+pixel): black line work on cream paper, blocks and streets the same paper.
+Blocks (a street grid cut by a slanted avenue and a river) are outlined
+only (``strokes.outline`` = max(0.6 m, 1.8 pixels), centred on their edge);
+private buildings are not drawn. Some buildings are drawn in their own
+outline (the same stroke) and hatched: parallel lines ``strokes.line`` =
+max(0.3 m, 1.2 pixels) wide every max(2.2 m, 4 pixels), at 45 or 135
+degrees or another angle per building; most are cut from a corner of their
+block (sharing its outline), some stand inside it, and the smallest block
+and about one in eight others are a hatched building of their own. The
+river is hatched with horizontal lines every max(3.6 m, 6.5 pixels), its two
+banks outlined. Street and river names, a few building names over the
+blocks, house numbers just inside the blocks' edges (some touching the
+outline), dotted lines across some blocks (no outlines: they close
+nothing), a district limit as a red dashed line along a street with red
+district names either side; a sheet fold (a light crease with a shadow
+beside it) and one or two brownish stains, scan noise and JPEG. A
+greyscale scan of it is ``SyntheticMap.grey``.
+
 Truth (:class:`synthetic_map.SyntheticMap`, world coordinates):
 
 - ``parcels``: the cadaster's parcels (each the region between the centres of
@@ -45,6 +66,19 @@ Truth (:class:`synthetic_map.SyntheticMap`, world coordinates):
   ``block`` (cadaster); ``row`` (two buildings or more), ``single`` or
   ``outbuilding`` (insurance).
 - ``courtyards``: the cadaster's courtyards.
+- Monochrome: ``plots`` are the blocks, each the region the outline closes
+  (up to the centre of its stroke), the hatched buildings in it included;
+  ``plot_kinds``: ``block``, or ``building`` for a block that is one hatched
+  building. ``hatched``: the hatched buildings as drawn (up to the centre
+  of their outline), ``hatching``: their :class:`Hatching` (angle, spacing,
+  line width, plot); ``water``: the river in the map (between the centres
+  of its banks), ``water_hatching``. ``parcels`` is empty. ``truth``:
+  ``building`` in a hatched building (its lines and the paper between),
+  ``block`` on the blocks' other paper, ``water``, ``street`` elsewhere;
+  ``drawn``: ``outline`` on the blocks', buildings' and banks' outlines and
+  the dots, ``text`` on the black letters, ``district`` on the red lines and
+  letters, ``truth`` elsewhere (the hatching lines keep their area's class).
+  ``training``: 3-8 points per class of :data:`MONOCHROME_CLASSES`.
 - ``truth``: the class under each pixel's centre, lines and text left out:
   ``building`` inside a parcel, ``courtyard`` in a courtyard, ``water``,
   ``street`` (streets, squares and, on the insurance map, all the white
