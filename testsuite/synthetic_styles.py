@@ -694,7 +694,7 @@ def _hatched_building(rng, block):
     if rng.random() < 0.7:  # from a corner, past the block's edges
         x = minx - 5 if rng.random() < 0.5 else maxx - w
         y = miny - 5 if rng.random() < 0.5 else maxy - h
-        cut = block.intersection(box(x, y, x + w + 5, y + h + 5))
+        cut = block.intersection(box(*np.round([x, y, x + w + 5, y + h + 5], 2)))
     else:
         inner = block.buffer(-3.0, join_style="mitre")
         if inner.is_empty:
@@ -703,8 +703,8 @@ def _hatched_building(rng, block):
         if x1 - x0 <= w or y1 - y0 <= h:
             return None
         x, y = rng.uniform(x0, x1 - w), rng.uniform(y0, y1 - h)
-        cut = inner.intersection(box(x, y, x + w, y + h))
-    parts = _parts(shapely.set_precision(cut, 0.01))
+        cut = inner.intersection(box(*np.round([x, y, x + w, y + h], 2)))
+    parts = _parts(cut)
     if not parts:
         return None
     building = max(parts, key=lambda g: g.area)
@@ -834,7 +834,8 @@ def _monochrome(rng, extent, res):
                 taken.append(footprint.buffer(1.0))
                 texts.append((text, (p.x, p.y), 0.0, num_height, max(0.3, 1.0 * res)))
     # a district limit: a red dashed line along a street, red names either side
-    dry = [a for a in layout["street_anchors"] if a[0] == "v"] or layout["street_anchors"]
+    dry = [a for a in layout["street_anchors"] if a[0] == "v"] or layout["street_anchors"] \
+        or [("v", rng.uniform(0.3, 0.7) * extent, 0.0)]  # (a map of one block's width)
     direction, pos, width = dry[int(rng.integers(len(dry)))]
     limit = LineString([(pos, -1), (pos, extent + 1)] if direction == "v"
                        else [(-1, pos), (extent + 1, pos)])
