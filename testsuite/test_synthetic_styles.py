@@ -574,3 +574,39 @@ def test_monochrome_is_quick():
     start = time.process_time()
     sm.generate(seed=3, size=600, style="monochrome")
     assert time.process_time() - start < 4.0  # about 1.8 s on the development machine
+
+
+def test_png_of_the_monochrome_map_outside_grass(tmp_path):
+    env = {k: v for k, v in os.environ.items() if k != "GISRC"}
+    png = tmp_path / "m.png"
+    run = subprocess.run([sys.executable, os.path.join(HERE, "synthetic_map.py"), "--style",
+                          "monochrome", "--size", "200", "--png", str(png)], env=env,
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert png.read_bytes()[:4] == b"\x89PNG" and "written" in run.stdout
+    run = subprocess.run([sys.executable, os.path.join(HERE, "synthetic_map.py"), "--help"],
+                         env=env, capture_output=True, text=True)
+    assert "monochrome" in run.stdout
+
+
+@pytest.mark.grass
+def test_write_to_grass_writes_the_hatched_buildings_and_water(mapset):
+    from reconstruction import grassio
+
+    m = sm.generate(seed=2, size=300, style="monochrome")
+    names = sm.write_map_to_grass(m, "mono")
+    assert (names["hatched"], names["water"]) == ("mono_hatched", "mono_water")
+    assert "parcels" not in names
+    geoms, columns = grassio.read_features("mono_hatched")
+    by_cat = dict(zip(columns["cat"], zip(geoms, columns["plot"], columns["angle"],
+                                          columns["spacing"])))
+    assert len(by_cat) == len(m.hatched)
+    for cat, (p, h) in enumerate(zip(m.hatched, m.hatching), start=1):
+        back, plot, angle, spacing = by_cat[cat]
+        assert (plot, angle, spacing) == pytest.approx((h.plot, h.angle, h.spacing))
+        assert back.symmetric_difference(p).area < 1e-2
+    geoms, columns = grassio.read_features("mono_water")
+    assert len(geoms) == len(m.water) and set(columns["angle"]) == {0}
+    assert sum(g.area for g in geoms) == pytest.approx(sum(p.area for p in m.water), rel=1e-4)
+    geoms, columns = grassio.read_features("mono_plots")
+    assert sorted(columns["kind"]) == sorted(m.plot_kinds)
