@@ -444,19 +444,29 @@ def _courtyard(rng, parcel):
     return None
 
 
+def _grid_and_water(rng, extent, cuts, slant, middle, width, quay):
+    """A street grid and a straight band of water across it from west to east: the
+    grid's column and row intervals (:func:`synthetic_map._cuts` with ``cuts``), the
+    band's slant (radians, ``slant`` degrees either way), centre line (its middle at
+    ``middle`` of the map's height), width (m, drawn in ``width``), the band and its
+    quays (``quay`` m more on each side)."""
+    cols = sm._cuts(rng, extent, **cuts)
+    rows = sm._cuts(rng, extent, **cuts)
+    angle = math.radians(rng.uniform(*slant) * rng.choice([-1, 1]))
+    y_mid = rng.uniform(*middle) * extent
+    half = math.tan(angle) * (extent / 2 + 20)
+    line = LineString([(-20, y_mid - half), (extent + 20, y_mid + half)])
+    w = rng.uniform(*width)
+    band = line.buffer(w / 2, cap_style="flat")
+    quays = line.buffer(w / 2 + rng.uniform(*quay), cap_style="flat")
+    return cols, rows, angle, line, w, band, quays
+
+
 def _cadaster_layout(rng, extent):
     """Blocks (ragged), squares and the canal of a cadaster, in local metres."""
-    cols = sm._cuts(rng, extent, block=(16, 40), street=(2.2, 5.5), start=(2, 5), edge=2,
-                    last=10)
-    rows = sm._cuts(rng, extent, block=(16, 40), street=(2.2, 5.5), start=(2, 5), edge=2,
-                    last=10)
-    angle = math.radians(rng.uniform(3, 12) * rng.choice([-1, 1]))
-    y_mid = rng.uniform(0.3, 0.7) * extent
-    half = math.tan(angle) * (extent / 2 + 20)
-    canal_line = LineString([(-20, y_mid - half), (extent + 20, y_mid + half)])
-    width = rng.uniform(5, 9)
-    canal = canal_line.buffer(width / 2, cap_style="flat")
-    quays = canal_line.buffer(width / 2 + rng.uniform(0.3, 2.5), cap_style="flat")
+    cols, rows, angle, canal_line, width, canal, quays = _grid_and_water(
+        rng, extent, dict(block=(16, 40), street=(2.2, 5.5), start=(2, 5), edge=2, last=10),
+        slant=(3, 12), middle=(0.3, 0.7), width=(5, 9), quay=(0.3, 2.5))
 
     def room(intervals, i, end):
         lo = intervals[i][0] - (intervals[i - 1][1] if i else 0.0)
@@ -713,17 +723,10 @@ def _hatched_building(rng, block):
 
 def _monochrome_layout(rng, extent):
     """Blocks, the river and the avenue of a monochrome map, in local metres."""
-    cols = sm._cuts(rng, extent, block=(35, 85), street=(8, 15), start=(3, 8), edge=3,
-                    last=20)
-    rows = sm._cuts(rng, extent, block=(35, 85), street=(8, 15), start=(3, 8), edge=3,
-                    last=20)
-    angle = math.radians(rng.uniform(2, 8) * rng.choice([-1, 1]))
-    y_mid = rng.uniform(0.25, 0.75) * extent
-    half = math.tan(angle) * (extent / 2 + 20)
-    river_line = LineString([(-20, y_mid - half), (extent + 20, y_mid + half)])
-    width = rng.uniform(0.08, 0.13) * extent
-    river = river_line.buffer(width / 2, cap_style="flat")
-    quays = river_line.buffer(width / 2 + rng.uniform(6, 10), cap_style="flat")
+    cols, rows, angle, river_line, width, river, quays = _grid_and_water(
+        rng, extent, dict(block=(35, 85), street=(8, 15), start=(3, 8), edge=3, last=20),
+        slant=(2, 8), middle=(0.25, 0.75), width=(0.08 * extent, 0.13 * extent),
+        quay=(6, 10))
     # an avenue across the grid, slanted
     a = math.radians(rng.uniform(30, 60) * rng.choice([-1, 1]))
     cx, cy = rng.uniform(0.3, 0.7, size=2) * extent
