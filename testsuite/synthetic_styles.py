@@ -785,10 +785,12 @@ def _monochrome(rng, extent, res):
     hatches += [(layout["river"], water_hatching, _WATER_HATCH)]
 
     lines = []
-    # dotted lines across some blocks (not outlines: they close nothing)
+    # dotted lines across some blocks (not outlines: they close nothing), off the hatching
+    clear = unary_union(hatched).buffer(1.5) if hatched else None
     for block in blocks:
         if rng.random() < 0.25:
             inner = block.buffer(-2.0)
+            inner = inner.difference(clear) if clear is not None else inner
             turn = math.radians(rng.uniform(0, 180))
             c = inner.representative_point() if not inner.is_empty else None
             if c is None:
@@ -852,7 +854,8 @@ def _monochrome(rng, extent, res):
             centre = (pos + off, along) if direction == "v" else (along, pos + off)
             footprint = sm._label_box(name, centre, 0.0, height)
             if frame.buffer(-2).contains(footprint) and not any(
-                    footprint.intersects(t) for t in taken):
+                    footprint.intersects(t) for t in taken) and not footprint.intersects(
+                    layout["quays"]):
                 taken.append(footprint.buffer(1.0))
                 lines.append((sm._text_geometry(name, height, centre, 0.0,
                                                 max(0.16 * height, 1.5 * res)), _RED))
