@@ -176,7 +176,7 @@ _CREAM, _BLACK = (224, 215, 184), (44, 40, 32)
 #: the monochrome map: black line work on cream paper (colours measured on the Paris atlas)
 _MONOCHROME_COLOUR = np.array(
     [_CREAM] * 3 + [_BLACK] + [_CREAM] * 6 + [_BLACK] * 3 + [_CREAM] * 2 + [_BLACK] * 2
-    + [(196, 58, 46)] + [_BLACK], dtype=np.float64)
+    + [(204, 44, 40)] + [_BLACK], dtype=np.float64)
 _COLOURS = {"cadaster": _CADASTER_COLOUR, "insurance": _INSURANCE_COLOUR,
             "monochrome": _MONOCHROME_COLOUR}
 _CLASSES = {"cadaster": CADASTER_CLASSES, "insurance": INSURANCE_CLASSES,
@@ -867,7 +867,7 @@ def _monochrome(rng, extent, res):
     direction, pos, width = dry[int(rng.integers(len(dry)))]
     limit = LineString([(pos, -1), (pos, extent + 1)] if direction == "v"
                        else [(-1, pos), (extent + 1, pos)])
-    red = max(0.6, 1.8 * res)
+    red = max(0.8, 2.2 * res)
     lines += [(g, _RED) for g in _dashes(limit, 4.0, 2.0, red, rng.uniform(0, 6))]
     height = max(5.0, 10 * res)
     for name, side in (("7E ARROND", -1), ("6E ARROND", 1)):
