@@ -724,7 +724,8 @@ def _hatched_building(rng, block):
 def _monochrome_layout(rng, extent):
     """Blocks, the river and the avenue of a monochrome map, in local metres."""
     cols, rows, angle, river_line, width, river, quays = _grid_and_water(
-        rng, extent, dict(block=(35, 85), street=(8, 15), start=(3, 8), edge=3, last=20),
+        rng, extent, dict(block=(min(35, extent / 4), min(85, extent / 2.5)), street=(8, 15),
+                          start=(3, 8), edge=3, last=min(20, extent / 5)),
         slant=(2, 8), middle=(0.25, 0.75), width=(0.08 * extent, 0.13 * extent),
         quay=(6, 10))
     # an avenue across the grid, slanted
@@ -771,6 +772,8 @@ def _touching(rng, labels, layout):
 
 
 def _monochrome(rng, extent, res):
+    if extent < 80:
+        raise ValueError("a monochrome map must be 80 m across at least (a few blocks)")
     layout = _monochrome_layout(rng, extent)
     strokes = Strokes(outline=max(0.6, 1.8 * res), line=max(0.3, 1.2 * res))
     frame = box(0, 0, extent, extent)
@@ -786,6 +789,8 @@ def _monochrome(rng, extent, res):
     # buildings as blocks of their own: the smallest block and some others
     own = {int(np.argmin([p.area for p in blocks]))} | {
         i for i in range(len(blocks)) if rng.random() < 0.12}
+    if len(own) == len(blocks) > 1:  # (a small map) the largest keeps its paper
+        own.discard(int(np.argmax([p.area for p in blocks])))
     for b, block in enumerate(blocks, start=1):
         if b - 1 in own:
             kinds.append("building")

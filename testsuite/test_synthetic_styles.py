@@ -450,6 +450,8 @@ def test_monochrome_style_its_resolution_classes_and_truth_fields(mono):
         1.4 * max(h.spacing for h in m.hatching)
     for plot, (x, y) in zip(m.plots, m.gt_points):
         assert plot.contains(shapely.Point(x, y))
+    with pytest.raises(ValueError, match="80 m across"):
+        sm.generate(seed=1, size=300, res=0.25, style="monochrome")
 
 
 def test_monochrome_pixel_classes_follow_the_truth(mono):
@@ -556,8 +558,8 @@ def test_monochrome_fold_and_stains_darken_or_lighten_the_paper(mono):
     assert np.percentile(grey, 99.9) > median + 15
 
 
-@pytest.mark.parametrize("size,res,seed", [(600, None, 2), (200, None, 5), (300, 0.25, 6),
-                                           (400, 1.0, 7)])
+@pytest.mark.parametrize("size,res,seed", [(600, None, 2), (200, None, 5), (320, 0.25, 6),
+                                           (200, 0.4, 8), (400, 1.0, 7)])
 def test_monochrome_same_seed_same_map_any_size(size, res, seed):
     a, b = (sm.generate(seed=seed, size=size, res=res, style="monochrome") for _ in range(2))
     for key in ("rgb", "truth", "drawn", "gt_points", "ink_cover"):
