@@ -327,6 +327,9 @@ def test_png_of_a_style_outside_grass(style, tmp_path):
                           "portolan", "--png", str(png)], env=env, capture_output=True,
                          text=True)
     assert run.returncode != 0 and "invalid choice" in run.stderr
+    run = subprocess.run([sys.executable, os.path.join(HERE, "synthetic_map.py"), "--help"],
+                         env=env, capture_output=True, text=True)
+    assert style in run.stdout
 
 
 def test_outline_of_the_parcels_drawn_on_the_picture(cadaster):
