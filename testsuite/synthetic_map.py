@@ -29,10 +29,17 @@ parcels by thin grey lines, white courtyards, buff streets, pinkish squares,
 a blue canal, JPEG noise; 0.2 m per pixel) and ``insurance``, a
 fire-insurance map like Sanborn's of 1892 (every building outlined in black
 and filled by its material, outbuildings crossed, house numbers; 0.3 m per
-pixel). Their truth adds ``SyntheticMap.parcels`` (the divisions the map
-draws inside its plots), ``parcel_info`` and ``courtyards``, and the classes
-``courtyard`` (7) and ``outline`` (8); the Delft map's ``parcels`` are empty
-(it draws no divisions).
+pixel) and ``monochrome``, black line work on cream paper like the 1925
+Atlas municipal of Paris (blocks outlined only, public buildings hatched in
+their own outline, the river hatched horizontally, names, numbers, dotted
+lines, a red dashed district limit, a fold and stains; 0.5 m per pixel).
+Their truth adds ``SyntheticMap.parcels`` (the divisions the map draws
+inside its plots), ``parcel_info`` and ``courtyards``, the monochrome map's
+``hatched`` buildings (with their ``hatching``) and ``water``, and the
+classes ``courtyard`` (7), ``outline`` (8), ``block`` (9, the paper inside
+the monochrome map's blocks) and ``district`` (10, its red lines and
+names); the Delft map's ``parcels`` are empty (it draws no divisions).
+``SyntheticMap.grey`` is the picture as a greyscale scan (the bands' mean).
 
 Two parts:
 
@@ -41,7 +48,9 @@ Two parts:
 - :func:`write_to_grass` writes it into the current GRASS mapset (region,
   ``<prefix>.red/.green/.blue`` rasters, ``<prefix>_training``,
   ``<prefix>_gt_points``, ``<prefix>_plots`` and ``<prefix>_current``
-  vectors; ``<prefix>_parcels`` too for the other styles). From the command line,
+  vectors; ``<prefix>_parcels`` too for the cadaster and insurance styles,
+  ``<prefix>_hatched`` and ``<prefix>_water`` for the monochrome one). From the
+  command line,
   inside a GRASS session::
 
       python3 testsuite/synthetic_map.py --seed 1 --size 600 --prefix map
@@ -67,13 +76,14 @@ from shapely.ops import unary_union
 
 CLASSES = {1: "building", 2: "text", 3: "water", 4: "street", 5: "vegetation", 6: "symbol"}
 BUILDING, TEXT, WATER, STREET, VEGETATION, SYMBOL = 1, 2, 3, 4, 5, 6
-#: classes of the other styles only (synthetic_styles.py): white courtyards, drawn lines
-COURTYARD, OUTLINE = 7, 8
+#: classes of the other styles only (synthetic_styles.py): white courtyards, drawn lines;
+#: the monochrome map's paper inside the blocks and its red district limits and names
+COURTYARD, OUTLINE, BLOCK, DISTRICT = 7, 8, 9, 10
 #: the map styles :func:`generate` draws: the Delft 1961 map (the default), a colour-washed
 #: cadaster (Venice 1808) and a fire-insurance map (Sanborn 1892); see synthetic_styles.py
-STYLES = ("delft", "cadaster", "insurance")
+STYLES = ("delft", "cadaster", "insurance", "monochrome")
 #: metres per pixel of each style when none is given
-STYLE_RES = {"delft": 1.0, "cadaster": 0.2, "insurance": 0.3}
+STYLE_RES = {"delft": 1.0, "cadaster": 0.2, "insurance": 0.3, "monochrome": 0.5}
 PLOT_KINDS = ("single", "row", "double_row", "courtyard", "L", "U")
 #: the year the map shows (the demo chain's YEAR): current buildings older than it may be on it
 MAP_YEAR = 1900
@@ -195,10 +205,24 @@ class SyntheticMap:
     parcel_info: list = field(default_factory=list)
     courtyards: list = field(default_factory=list)  # shapely Polygons (cadaster)
     strokes: object = None   # synthetic_styles.Strokes: the drawn lines' widths (m)
+    #: (monochrome) the buildings drawn hatched in their own outline, shapely Polygons, and
+    #: one synthetic_styles.Hatching each (angle, spacing, line width, plot), same order
+    hatched: list = field(default_factory=list)
+    hatching: list = field(default_factory=list)
+    #: (monochrome) the water (the river band in the map), shapely Polygons, and its
+    #: Hatching (horizontal lines, wider apart than the buildings')
+    water: list = field(default_factory=list)
+    water_hatching: object = None
 
     @property
     def shape(self):
         return self.truth.shape
+
+    @property
+    def grey(self):
+        """The picture as a greyscale scan gives it: the mean of its three bands
+        (uint8 (rows, cols))."""
+        return np.rint(self.rgb.astype(np.float64).mean(axis=2)).astype(np.uint8)
 
     @property
     def current(self):
@@ -1094,7 +1118,10 @@ def write_to_grass(smap, prefix="map"):
     category of its plot, ``fill``, ``number``, the number written over it
     or NULL, ``crossed``, 1 for an outbuilding crossed by an X; its name is
     the ``parcels`` entry of the names returned). Respects
-    GRASS_OVERWRITE / --overwrite like any module.
+    GRASS_OVERWRITE / --overwrite like any module. The monochrome map adds
+    ``<prefix>_hatched`` (areas, its hatched buildings: ``plot``, ``angle``,
+    ``spacing``) and ``<prefix>_water`` (areas, its water: ``angle``,
+    ``spacing`` of the hatching), the ``hatched`` and ``water`` entries.
     """
     names = write_map_to_grass(smap, prefix)
     write_current_to_grass(names["current"], smap.current, measured_heights(smap))
@@ -1112,6 +1139,8 @@ def write_map_to_grass(smap, prefix="map"):
     names = map_names(prefix)
     if smap.parcels:
         names["parcels"] = prefix + "_parcels"
+    if smap.hatched:
+        names["hatched"], names["water"] = prefix + "_hatched", prefix + "_water"
     gs.run_command("g.region", quiet=True, **smap.region())
     for i, band in enumerate(("red", "green", "blue")):
         grassio.write_raster(names[band], smap.rgb[..., i].astype(np.int32),
@@ -1132,6 +1161,18 @@ def write_map_to_grass(smap, prefix="map"):
              "number": [p.number for p in info], "crossed": [int(p.crossed) for p in info]},
             title="Parcels drawn on the synthetic {} map (seed {})".format(smap.style,
                                                                           smap.seed))
+    if smap.hatched:
+        title = "{{}} drawn on the synthetic monochrome map (seed {})".format(smap.seed)
+        grassio.write_features(
+            names["hatched"], smap.hatched,
+            {"plot": [h.plot for h in smap.hatching], "angle": [h.angle for h in smap.hatching],
+             "spacing": [h.spacing for h in smap.hatching]},
+            title=title.format("Hatched buildings"))
+        grassio.write_features(
+            names["water"], smap.water,
+            {"angle": [smap.water_hatching.angle] * len(smap.water),
+             "spacing": [smap.water_hatching.spacing] * len(smap.water)},
+            title=title.format("Water"))
     return names
 
 
@@ -1207,12 +1248,17 @@ def main(argv=None):
     parser.add_argument("--overwrite", action="store_true", help="replace existing maps")
     parser.add_argument("--style", choices=STYLES, default="delft",
                         help="the map's style: Delft 1961 (default), a colour-washed cadaster "
-                        "(Venice 1808) or a fire-insurance map (Sanborn 1892)")
+                        "(Venice 1808), a fire-insurance map (Sanborn 1892) or a monochrome "
+                        "map (Paris 1925: outlined blocks, hatched buildings and water)")
     args = parser.parse_args(argv)
     smap = generate(seed=args.seed, size=args.size, res=args.res, style=args.style)
     if args.png:
         if smap.parcels:  # the parcels, a thin line inside each
             picture = outline_plots(smap, polygons=smap.parcels, width=smap.res)
+        elif smap.hatched:  # the blocks, and the hatched buildings in another colour
+            picture = outline_plots(smap, outline_plots(smap, width=smap.res),
+                                    colour=(20, 110, 220), polygons=smap.hatched,
+                                    width=smap.res)
         else:
             picture = outline_plots(smap)
         write_png(args.png, picture, colours=48)
@@ -1226,6 +1272,9 @@ def main(argv=None):
     names = write_to_grass(smap, args.prefix)
     parcels = ", {} ({} parcels)".format(names["parcels"], len(smap.parcels)) \
         if smap.parcels else ""
+    if smap.hatched:
+        parcels = ", {} ({} hatched buildings), {} ({} water areas)".format(
+            names["hatched"], len(smap.hatched), names["water"], len(smap.water))
     print("synthetic map (seed {}, {} x {} px at {} m) written: rasters {}, {}, {}; "
           "vectors {} ({} training points), {} ({} points), {} ({} plots), {} ({} current "
           "footprints){}".format(

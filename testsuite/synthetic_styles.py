@@ -1,7 +1,9 @@
-"""The synthetic map's other styles: a colour-washed cadaster and a fire-insurance map.
+"""The synthetic map's other styles: a colour-washed cadaster, a fire-insurance map and a
+monochrome map.
 
-:func:`synthetic_map.generate` draws them with ``style="cadaster"`` or
-``style="insurance"`` (this module's :func:`generate`); each comes from its
+:func:`synthetic_map.generate` draws them with ``style="cadaster"``,
+``style="insurance"`` or ``style="monochrome"`` (this module's
+:func:`generate`); each comes from its
 own random stream of the seed, so the default (Delft) map's draws are not
 changed by them. Both draw what the Delft map does not: the divisions inside
 the blocks, whose truth is written beside the picture.
@@ -30,6 +32,25 @@ black lines); a D (dwelling) or S (store) written on most houses; white
 paper around; street names; house numbers in the street along the houses'
 fronts; scan noise and JPEG compression.
 
+``monochrome`` (the Atlas municipal of Paris, 1925; default 0.5 m per
+pixel): black line work on cream paper, blocks and streets the same paper.
+Blocks (a street grid cut by a slanted avenue and a river) are outlined
+only (``strokes.outline`` = max(0.6 m, 1.8 pixels), centred on their edge);
+private buildings are not drawn. Some buildings are drawn in their own
+outline (the same stroke) and hatched: parallel lines ``strokes.line`` =
+max(0.3 m, 1.2 pixels) wide every max(2.2 m, 4 pixels), at 45 or 135
+degrees or another angle per building; most are cut from a corner of their
+block (sharing its outline), some stand inside it, and the smallest block
+and about one in eight others are a hatched building of their own. The
+river is hatched with horizontal lines every max(3.6 m, 6.5 pixels), its two
+banks outlined. Street and river names, a few building names over the
+blocks, house numbers just inside the blocks' edges (some touching the
+outline), dotted lines across some blocks (no outlines: they close
+nothing), a district limit as a red dashed line along a street with red
+district names either side; a sheet fold (a light crease with a shadow
+beside it) and one or two brownish stains, scan noise and JPEG. A
+greyscale scan of it is ``SyntheticMap.grey``.
+
 Truth (:class:`synthetic_map.SyntheticMap`, world coordinates):
 
 - ``parcels``: the cadaster's parcels (each the region between the centres of
@@ -45,6 +66,19 @@ Truth (:class:`synthetic_map.SyntheticMap`, world coordinates):
   ``block`` (cadaster); ``row`` (two buildings or more), ``single`` or
   ``outbuilding`` (insurance).
 - ``courtyards``: the cadaster's courtyards.
+- Monochrome: ``plots`` are the blocks, each the region the outline closes
+  (up to the centre of its stroke), the hatched buildings in it included;
+  ``plot_kinds``: ``block``, or ``building`` for a block that is one hatched
+  building. ``hatched``: the hatched buildings as drawn (up to the centre
+  of their outline), ``hatching``: their :class:`Hatching` (angle, spacing,
+  line width, plot); ``water``: the river in the map (between the centres
+  of its banks), ``water_hatching``. ``parcels`` is empty. ``truth``:
+  ``building`` in a hatched building (its lines and the paper between),
+  ``block`` on the blocks' other paper, ``water``, ``street`` elsewhere;
+  ``drawn``: ``outline`` on the blocks', buildings' and banks' outlines and
+  the dots, ``text`` on the black letters, ``district`` on the red lines and
+  letters, ``truth`` elsewhere (the hatching lines keep their area's class).
+  ``training``: 3-8 points per class of :data:`MONOCHROME_CLASSES`.
 - ``truth``: the class under each pixel's centre, lines and text left out:
   ``building`` inside a parcel, ``courtyard`` in a courtyard, ``water``,
   ``street`` (streets, squares and, on the insurance map, all the white
@@ -67,11 +101,13 @@ from shapely.geometry import LineString, MultiPoint, Point, box
 from shapely.ops import polylabel, split, unary_union
 
 import synthetic_map as sm
-from synthetic_map import BUILDING, COURTYARD, OUTLINE, STREET, TEXT, WATER
+from synthetic_map import BLOCK, BUILDING, COURTYARD, DISTRICT, OUTLINE, STREET, TEXT, WATER
 
 CADASTER_CLASSES = {BUILDING: "building", TEXT: "text", WATER: "water", STREET: "street",
                     COURTYARD: "courtyard", OUTLINE: "outline"}
 INSURANCE_CLASSES = {BUILDING: "building", TEXT: "text", STREET: "street", OUTLINE: "outline"}
+MONOCHROME_CLASSES = {BUILDING: "building", TEXT: "text", WATER: "water", STREET: "street",
+                      OUTLINE: "outline", BLOCK: "block", DISTRICT: "district"}
 #: the washes of the cadaster's parcels and their shares
 CADASTER_FILLS = {"pink": 0.55, "yellow": 0.15, "pale": 0.15, "white": 0.15}
 #: the insurance map's building materials (yellow, pink, blue) and their shares
@@ -83,6 +119,12 @@ VENICE_STREETS = (
     "CALLE LUNGA", "CALLE DEL MAGAZEN", "RAMO DEL TRAGHETTO", "CALLE DELLE BOTTEGHE",
 )
 VENICE_CANALS = ("RIO DI SAN LIO", "RIO DEL PALAZZO", "RIO DE LA SENSA", "RIO MARIN")
+PARIS_STREETS = (
+    "RUE DE VARENNE", "RUE DU BAC", "RUE DE GRENELLE", "RUE VANEAU", "RUE DE BABYLONE",
+    "RUE DE LILLE", "RUE DE L UNIVERSITE", "RUE CLER", "RUE DE BOURGOGNE", "RUE DE SEVRES",
+    "RUE MONSIEUR", "RUE OUDINOT", "RUE DUROC", "RUE DE BELLECHASSE", "RUE AMELIE",
+)
+PARIS_BUILDINGS = ("MINISTERE", "ECOLE", "EGLISE", "MAIRIE", "CASERNE", "HOPITAL", "LYCEE")
 SANBORN_STREETS = (
     "MAIN ST", "FRONT ST", "WATER ST", "MARKET ST", "CHURCH ST", "ELM ST", "OAK ST",
     "WALNUT ST", "CHESTNUT ST", "MILL ST", "BRIDGE ST", "HIGH ST", "UNION ST", "PINE ST",
@@ -90,12 +132,15 @@ SANBORN_STREETS = (
 
 # Drawing layers of both styles (what colour a sub-pixel gets); each style has its colours.
 (_GROUND, _SQUARE, _WATER, _BANK, _PINK, _YELLOW, _PALE, _WHITE, _BLUE, _COURT, _THICK,
- _THIN, _INK) = range(13)
+ _THIN, _INK, _BLOCK, _HATCHED, _HATCH, _WATER_HATCH, _RED, _DOTS) = range(19)
 _FILL_LAYER = {"pink": _PINK, "yellow": _YELLOW, "pale": _PALE, "white": _WHITE,
                "frame": _YELLOW, "brick": _PINK, "stone": _BLUE}
 _FILLS = (_PINK, _YELLOW, _PALE, _WHITE, _BLUE)
 _LAYER_CLASS = np.array([STREET, STREET, WATER, WATER, BUILDING, BUILDING, BUILDING, BUILDING,
-                         BUILDING, COURTYARD, OUTLINE, OUTLINE, TEXT], dtype=np.int32)
+                         BUILDING, COURTYARD, OUTLINE, OUTLINE, TEXT,
+                         # the monochrome map's: block paper, a hatched building's paper and
+                         # its hatching, the water's hatching, red lines and text, dots
+                         BLOCK, BUILDING, BUILDING, WATER, DISTRICT, OUTLINE], dtype=np.int32)
 _CADASTER_COLOUR = np.array([
     (222, 204, 172),  # streets: buff
     (228, 192, 168),  # squares: pinkish buff
@@ -126,6 +171,17 @@ _INSURANCE_COLOUR = np.array([
     (30, 28, 28),     # building outlines and crosses, black
     (24, 22, 22),     # ink
 ], dtype=np.float64)
+
+_CREAM, _BLACK = (224, 215, 184), (44, 40, 32)
+#: the monochrome map: black line work on cream paper (colours measured on the Paris atlas)
+_MONOCHROME_COLOUR = np.array(
+    [_CREAM] * 3 + [_BLACK] + [_CREAM] * 6 + [_BLACK] * 3 + [_CREAM] * 2 + [_BLACK] * 2
+    + [(204, 44, 40)] + [_BLACK], dtype=np.float64)
+_COLOURS = {"cadaster": _CADASTER_COLOUR, "insurance": _INSURANCE_COLOUR,
+            "monochrome": _MONOCHROME_COLOUR}
+_CLASSES = {"cadaster": CADASTER_CLASSES, "insurance": INSURANCE_CLASSES,
+            "monochrome": MONOCHROME_CLASSES}
+_JPEG_QUALITY = {"cadaster": 60, "insurance": 70, "monochrome": 65}
 
 # JPEG's quantisation tables (ITU T.81, annex K), quality 50
 _JPEG_LUMA = np.array([
@@ -170,6 +226,19 @@ class Strokes:
 
 
 @dataclass(frozen=True)
+class Hatching:
+    """Parallel thin ink lines filling a shape (monochrome map): ``angle`` of the lines
+    (degrees anticlockwise from east, 0-180), ``spacing`` between their centres and
+    ``width`` of each (m); ``plot``: 1-based index in ``SyntheticMap.plots`` of the
+    block a hatched building stands in (0 for the water)."""
+
+    angle: float
+    spacing: float
+    width: float
+    plot: int = 0
+
+
+@dataclass(frozen=True)
 class _Drawing:
     """What a style draws, in local metres (origin south-west), before the scan."""
 
@@ -183,13 +252,23 @@ class _Drawing:
     plots: list
     kinds: list
     strokes: Strokes
+    # (monochrome) [(polygon, Hatching, layer)] hatched after the ground, under the lines;
+    # the hatched buildings and their Hatching, the water and its Hatching
+    hatches: list = ()
+    hatched: list = ()
+    hatching: list = ()
+    water: list = ()
+    water_hatching: Hatching = None
 
 
 def generate(seed, size, res, origin, style):
-    """The map of ``style`` (``cadaster`` or ``insurance``): a SyntheticMap."""
-    rng = np.random.default_rng([seed, {"cadaster": 31, "insurance": 32}[style]])
+    """The map of ``style`` (``cadaster``, ``insurance`` or ``monochrome``): a
+    SyntheticMap."""
+    rng = np.random.default_rng([seed, {"cadaster": 31, "insurance": 32,
+                                        "monochrome": 33}[style]])
     extent = size * res
-    drawing = (_cadaster if style == "cadaster" else _insurance)(rng, extent, res)
+    draw = {"cadaster": _cadaster, "insurance": _insurance, "monochrome": _monochrome}[style]
+    drawing = draw(rng, extent, res)
     return _scan(rng, drawing, seed, size, res, origin, style)
 
 
@@ -365,19 +444,29 @@ def _courtyard(rng, parcel):
     return None
 
 
+def _grid_and_water(rng, extent, cuts, slant, middle, width, quay):
+    """A street grid and a straight band of water across it from west to east: the
+    grid's column and row intervals (:func:`synthetic_map._cuts` with ``cuts``), the
+    band's slant (radians, ``slant`` degrees either way), centre line (its middle at
+    ``middle`` of the map's height), width (m, drawn in ``width``), the band and its
+    quays (``quay`` m more on each side)."""
+    cols = sm._cuts(rng, extent, **cuts)
+    rows = sm._cuts(rng, extent, **cuts)
+    angle = math.radians(rng.uniform(*slant) * rng.choice([-1, 1]))
+    y_mid = rng.uniform(*middle) * extent
+    half = math.tan(angle) * (extent / 2 + 20)
+    line = LineString([(-20, y_mid - half), (extent + 20, y_mid + half)])
+    w = rng.uniform(*width)
+    band = line.buffer(w / 2, cap_style="flat")
+    quays = line.buffer(w / 2 + rng.uniform(*quay), cap_style="flat")
+    return cols, rows, angle, line, w, band, quays
+
+
 def _cadaster_layout(rng, extent):
     """Blocks (ragged), squares and the canal of a cadaster, in local metres."""
-    cols = sm._cuts(rng, extent, block=(16, 40), street=(2.2, 5.5), start=(2, 5), edge=2,
-                    last=10)
-    rows = sm._cuts(rng, extent, block=(16, 40), street=(2.2, 5.5), start=(2, 5), edge=2,
-                    last=10)
-    angle = math.radians(rng.uniform(3, 12) * rng.choice([-1, 1]))
-    y_mid = rng.uniform(0.3, 0.7) * extent
-    half = math.tan(angle) * (extent / 2 + 20)
-    canal_line = LineString([(-20, y_mid - half), (extent + 20, y_mid + half)])
-    width = rng.uniform(5, 9)
-    canal = canal_line.buffer(width / 2, cap_style="flat")
-    quays = canal_line.buffer(width / 2 + rng.uniform(0.3, 2.5), cap_style="flat")
+    cols, rows, angle, canal_line, width, canal, quays = _grid_and_water(
+        rng, extent, dict(block=(16, 40), street=(2.2, 5.5), start=(2, 5), edge=2, last=10),
+        slant=(3, 12), middle=(0.3, 0.7), width=(5, 9), quay=(0.3, 2.5))
 
     def room(intervals, i, end):
         lo = intervals[i][0] - (intervals[i - 1][1] if i else 0.0)
@@ -592,6 +681,241 @@ def _insurance(rng, extent, res):
 
 
 # ---------------------------------------------------------------------------
+# Monochrome map
+# ---------------------------------------------------------------------------
+
+def _dashes(line, on, off, width, phase=0.0):
+    """A dashed line: pieces ``on`` m long every ``on + off`` m, ``width`` wide."""
+    out, t = [], phase
+    while t < line.length:
+        piece = shapely.ops.substring(line, t, min(t + on, line.length))
+        if piece.length > 1e-3:
+            out.append(piece.buffer(width / 2, cap_style="flat"))
+        t += on + off
+    return out
+
+
+def _hatched_building(rng, block):
+    """A building drawn hatched in ``block``: the block cut by a rectangle from one of
+    its corners (its own outline then shares the block's) or one standing 3 m or more
+    inside it; None if none fits."""
+    minx, miny, maxx, maxy = block.bounds
+    w, h = rng.uniform(0.25, 0.6) * (maxx - minx), rng.uniform(0.25, 0.6) * (maxy - miny)
+    if rng.random() < 0.7:  # from a corner, past the block's edges
+        x = minx - 5 if rng.random() < 0.5 else maxx - w
+        y = miny - 5 if rng.random() < 0.5 else maxy - h
+        cut = block.intersection(box(*np.round([x, y, x + w + 5, y + h + 5], 2)))
+    else:
+        inner = block.buffer(-3.0, join_style="mitre")
+        if inner.is_empty:
+            return None
+        x0, y0, x1, y1 = inner.bounds
+        if x1 - x0 <= w or y1 - y0 <= h:
+            return None
+        x, y = rng.uniform(x0, x1 - w), rng.uniform(y0, y1 - h)
+        cut = inner.intersection(box(*np.round([x, y, x + w, y + h], 2)))
+    parts = _parts(cut)
+    if not parts:
+        return None
+    building = max(parts, key=lambda g: g.area)
+    return building if building.area >= 60 and _width(building) >= 5 else None
+
+
+def _monochrome_layout(rng, extent):
+    """Blocks, the river and the avenue of a monochrome map, in local metres."""
+    cols, rows, angle, river_line, width, river, quays = _grid_and_water(
+        rng, extent, dict(block=(min(35, extent / 4), min(85, extent / 2.5)), street=(8, 15),
+                          start=(3, 8), edge=3, last=min(20, extent / 5)),
+        slant=(2, 8), middle=(0.25, 0.75), width=(0.08 * extent, 0.13 * extent),
+        quay=(6, 10))
+    # an avenue across the grid, slanted
+    a = math.radians(rng.uniform(30, 60) * rng.choice([-1, 1]))
+    cx, cy = rng.uniform(0.3, 0.7, size=2) * extent
+    reach = 2 * extent
+    avenue = LineString([(cx - reach * math.cos(a), cy - reach * math.sin(a)),
+                         (cx + reach * math.cos(a), cy + reach * math.sin(a))]).buffer(
+        rng.uniform(10, 15) / 2, cap_style="flat")
+    blocks = []
+    for (x0, x1), (y0, y1) in ((c, r) for r in rows for c in cols):
+        cell = sm._rect(x0, y0, x1, y1).difference(quays).difference(avenue)
+        for piece in _parts(shapely.set_precision(cell, 0.01)):
+            if piece.area >= 150 and _width(piece) >= 8:
+                blocks.append(piece)
+    anchors = [("h", (a[1] + b[0]) / 2, b[0] - a[1]) for a, b in zip(rows[:-1], rows[1:])]
+    anchors += [("v", (a[1] + b[0]) / 2, b[0] - a[1]) for a, b in zip(cols[:-1], cols[1:])]
+    return {"blocks": blocks, "river": river, "quays": quays, "canal_line": river_line,
+            "canal_angle": math.degrees(angle), "river_width": width,
+            "street_anchors": anchors}
+
+
+def _touching(rng, labels, layout):
+    """The labels with about a third of the street names moved across their street
+    until their letters overlap a block's outline by 10-50 % of their height (where
+    they then stay clear of the other labels and the river)."""
+    out = list(labels)
+    for i, (text, centre, angle, height) in enumerate(labels):
+        if text not in PARIS_STREETS or rng.random() >= 0.35:
+            continue
+        across = 1 if angle == 0.0 else 0  # the coordinate across the street
+        width = [w for d, pos, w in layout["street_anchors"]
+                 if (d == "h") == (across == 1) and abs(pos - centre[across]) < 1e-9]
+        shift = rng.choice([-1, 1]) * (width[0] / 2 - height / 2 + rng.uniform(0.1, 0.5) *
+                                       height) if width else 0.0
+        moved = list(centre)
+        moved[across] += shift
+        footprint = sm._label_box(text, tuple(moved), angle, height)
+        if shift and not footprint.intersects(layout["quays"]) and not any(
+                footprint.intersects(sm._label_box(*other)) for k, other in enumerate(out)
+                if k != i):
+            out[i] = (text, tuple(moved), angle, height)
+    return out
+
+
+def _monochrome(rng, extent, res):
+    if extent < 80:
+        raise ValueError("a monochrome map must be 80 m across at least (a few blocks)")
+    layout = _monochrome_layout(rng, extent)
+    strokes = Strokes(outline=max(0.6, 1.8 * res), line=max(0.3, 1.2 * res))
+    frame = box(0, 0, extent, extent)
+    blocks = layout["blocks"]
+    hatched, hatching, kinds = [], [], []
+
+    def hatch(plot):
+        turn = float(rng.choice([45.0, 135.0, 45.0, 135.0, rng.uniform(20, 70),
+                                 rng.uniform(110, 160)]))
+        return Hatching(angle=round(turn, 1), spacing=max(2.2, 4.0 * res),
+                        width=strokes.line, plot=plot)
+
+    # buildings as blocks of their own: the smallest block and some others
+    own = {int(np.argmin([p.area for p in blocks]))} | {
+        i for i in range(len(blocks)) if rng.random() < 0.12}
+    if len(own) == len(blocks) > 1:  # (a small map) the largest keeps its paper
+        own.discard(int(np.argmax([p.area for p in blocks])))
+    for b, block in enumerate(blocks, start=1):
+        if b - 1 in own:
+            kinds.append("building")
+            hatched.append(block)
+            hatching.append(hatch(b))
+            continue
+        kinds.append("block")
+        if rng.random() < 0.5:
+            mine = []
+            for _ in range(int(rng.integers(1, 3))):
+                building = _hatched_building(rng, block)
+                if building is not None and all(building.distance(o) >= 2.0 for o in mine):
+                    mine.append(building)
+                    hatched.append(building)
+                    hatching.append(hatch(b))
+    river = layout["river"].intersection(frame)
+    water = _parts(river)
+    water_hatching = Hatching(angle=0.0, spacing=max(3.6, 6.5 * res), width=strokes.line)
+    hatches = [(p, h, _HATCH) for p, h in zip(hatched, hatching)]
+    hatches += [(layout["river"], water_hatching, _WATER_HATCH)]
+
+    lines = []
+    # dotted lines across some blocks (not outlines: they close nothing), off the hatching
+    clear = unary_union(hatched).buffer(1.5) if hatched else None
+    for block in blocks:
+        if rng.random() < 0.25:
+            inner = block.buffer(-2.0)
+            inner = inner.difference(clear) if clear is not None else inner
+            turn = math.radians(rng.uniform(0, 180))
+            c = inner.representative_point() if not inner.is_empty else None
+            if c is None:
+                continue
+            d = (math.cos(turn) * extent, math.sin(turn) * extent)
+            cross = inner.intersection(LineString([(c.x - d[0], c.y - d[1]),
+                                                   (c.x + d[0], c.y + d[1])]))
+            for piece in getattr(cross, "geoms", [cross]):
+                if piece.geom_type == "LineString" and piece.length > 5:
+                    n = int(piece.length / 1.2)
+                    dots = [piece.interpolate((k + 0.5) * piece.length / n).buffer(
+                        max(0.25, 0.7 * res), quad_segs=3) for k in range(n)]
+                    lines.append((unary_union(dots), _DOTS))
+    lines += [(g, _THIN) for p in hatched for g in _strokes(p, strokes.outline)]
+    lines += [(g, _THICK) for p in blocks for g in _strokes(p, strokes.outline)]
+    # the river's banks: its two long sides
+    line, half = layout["canal_line"], layout["river_width"] / 2
+    (x0, y0), (x1, y1) = line.coords
+    n = np.array([-(y1 - y0), x1 - x0]) / line.length
+    lines += [(affinity.translate(line, *(s * half * n)).buffer(strokes.outline / 2,
+                                                                 cap_style="flat"), _THICK)
+              for s in (-1, 1)]
+    # texts: the river's and the streets' names, a few buildings' names, numbers
+    style = sm.LabelStyle(canal_names=("LA SEINE",), street_names=PARIS_STREETS,
+                          building_names=PARIS_BUILDINGS, scale=0.7)
+    layout["plots"] = [(p, "block", 0.0) for p in blocks]
+    labels = _touching(rng, sm._labels(rng, layout, extent, style), layout)
+    taken = [sm._label_box(*label).buffer(1.0) for label in labels]
+    texts = [(text, centre, angle, height, max(0.14 * height, 1.0 * res))
+             for text, centre, angle, height in labels]
+    num_height = max(2.2, 5 * res)
+    number = int(rng.integers(1, 40)) * 2
+    for block in blocks:
+        for _ in range(int(rng.integers(0, 3))):
+            # just inside the block's edge: some touch its outline
+            inset = rng.uniform(0.35, 1.0) * num_height
+            ring = block.buffer(-inset, join_style="mitre")
+            if ring.is_empty or ring.geom_type != "Polygon":
+                continue
+            p = ring.exterior.interpolate(rng.uniform(0, ring.exterior.length))
+            text = str(number)
+            number += 2
+            footprint = sm._label_box(text, (p.x, p.y), 0.0, num_height)
+            if frame.buffer(-2).contains(footprint) and not any(
+                    footprint.intersects(t) for t in taken):
+                taken.append(footprint.buffer(1.0))
+                texts.append((text, (p.x, p.y), 0.0, num_height, max(0.3, 1.0 * res)))
+    # a district limit: a red dashed line along a street, red names either side
+    dry = [a for a in layout["street_anchors"] if a[0] == "v"] or layout["street_anchors"] \
+        or [("v", rng.uniform(0.3, 0.7) * extent, 0.0)]  # (a map of one block's width)
+    direction, pos, width = dry[int(rng.integers(len(dry)))]
+    limit = LineString([(pos, -1), (pos, extent + 1)] if direction == "v"
+                       else [(-1, pos), (extent + 1, pos)])
+    red = max(0.8, 2.2 * res)
+    lines += [(g, _RED) for g in _dashes(limit, 4.0, 2.0, red, rng.uniform(0, 6))]
+    height = max(5.0, 10 * res)
+    for name, side in (("7E ARROND", -1), ("6E ARROND", 1)):
+        for _ in range(20):
+            along = rng.uniform(0.15, 0.85) * extent
+            off = side * (width / 2 + rng.uniform(0.6, 1.5) * height)
+            centre = (pos + off, along) if direction == "v" else (along, pos + off)
+            footprint = sm._label_box(name, centre, 0.0, height)
+            if frame.buffer(-2).contains(footprint) and not any(
+                    footprint.intersects(t) for t in taken) and not footprint.intersects(
+                    layout["quays"]):
+                taken.append(footprint.buffer(1.0))
+                lines.append((sm._text_geometry(name, height, centre, 0.0,
+                                                max(0.16 * height, 1.5 * res)), _RED))
+                break
+    ground = [(p, _BLOCK) for p in blocks] + [(p, _HATCHED) for p in hatched]
+    ground += [(p, _WATER) for p in water]
+    return _Drawing(ground=ground, parcels=[], info=[], courtyards=[], lines=lines,
+                    texts=texts, plots=blocks, kinds=kinds, strokes=strokes, hatches=hatches,
+                    hatched=hatched, hatching=hatching, water=water,
+                    water_hatching=water_hatching)
+
+
+def _burn_hatching(canvas, where, poly, hatching, layer):
+    """Burn the lines of ``hatching`` inside ``poly`` into ``canvas`` (its sub-pixels
+    within half a line's width of one of the lines); ``where``: a scratch canvas of
+    the same size, all 0, left so."""
+    window = where.burn(poly, 1)
+    if window is None:
+        return
+    rows, cols = window
+    inside = where.layer[rows, cols] == 1
+    where.layer[rows, cols] = 0
+    xs = (np.arange(cols.start, cols.stop) + 0.5) * canvas.step
+    ys = canvas.extent - (np.arange(rows.start, rows.stop) + 0.5) * canvas.step
+    turn = math.radians(hatching.angle)
+    phase = np.mod(-xs[None, :] * math.sin(turn) + ys[:, None] * math.cos(turn),
+                   hatching.spacing)
+    on = inside & (np.minimum(phase, hatching.spacing - phase) <= hatching.width / 2)
+    canvas.layer[rows, cols][on] = layer
+
+
+# ---------------------------------------------------------------------------
 # Drawing and scanning
 # ---------------------------------------------------------------------------
 
@@ -641,13 +965,17 @@ def _scan(rng, drawing, seed, size, res, origin, style):
     for court in drawing.courtyards:
         canvas.burn(court, _COURT)
     base = canvas.layer.copy()
+    if drawing.hatches:
+        scratch = sm._Canvas(size, res)
+        for poly, hatching, layer in drawing.hatches:
+            _burn_hatching(canvas, scratch, poly, hatching, layer)
     for geom, layer in drawing.lines:
         canvas.burn(geom, layer)
     ink = [sm._text_geometry(t, h, c, a, stroke) for t, c, a, h, stroke in drawing.texts]
     for g in ink:
         canvas.burn(g, _INK)
 
-    colour = _CADASTER_COLOUR if style == "cadaster" else _INSURANCE_COLOUR
+    colour = _COLOURS[style]
     layer = canvas.layer
     rgb = sm.pixel_colours(lambda a, b: colour[layer[a:b]], size, layer.shape[1])
     # each parcel's wash a little different (pixels whose centre it washes)
@@ -660,22 +988,30 @@ def _scan(rng, drawing, seed, size, res, origin, style):
     rgb += ((sm._smooth_field(rng, (size, size), size / 10.0) - 0.5) * 10.0)[..., None]
     rgb += rng.normal(0, 2.5, size=(size, size, 1))
     rgb += rng.normal(0, 3.0, size=(size, size, 3))
-    rgb = _jpeg(np.clip(rgb, 0, 255), 60 if style == "cadaster" else 70)
+    if style == "monochrome":
+        rgb = _fold_and_stains(rng, rgb)
+    rgb = _jpeg(np.clip(rgb, 0, 255), _JPEG_QUALITY[style])
     rgb = np.clip(np.rint(rgb), 0, 255).astype(np.uint8)
 
     truth = _LAYER_CLASS[base[c::sm._SUB, c::sm._SUB]]
     drawn_layer = layer[c::sm._SUB, c::sm._SUB]
     drawn = _LAYER_CLASS[drawn_layer]
-    classes = CADASTER_CLASSES if style == "cadaster" else INSURANCE_CLASSES
+    classes = _CLASSES[style]
 
-    def share(mask):
-        sub = sm._SUB
-        return mask.reshape(size, sub, size, sub).sum(axis=(1, 3), dtype=np.uint8) / sub ** 2
+    def share(mask):  # (the sum of the sub-pixel grid's strided views: quicker than a
+        sub = sm._SUB   # reduction over two axes, the same counts)
+        count = np.zeros((size, size), dtype=np.uint8)
+        for r in range(sub):
+            for c in range(sub):
+                count += mask[r::sub, c::sub]
+        return count / sub ** 2
 
     sub_class = _LAYER_CLASS.astype(np.int8)[layer]
     ink_cover = share(layer == _INK)
     # training points: the building points on each fill (pseudo-labels 100 + layer)
-    groups = {label: share(sub_class == label) for label in classes if label != BUILDING}
+    # (every class on a map without fills: the monochrome map's hatched buildings)
+    groups = {label: share(sub_class == label) for label in classes
+              if label != BUILDING or not drawing.parcels}
     picks = drawn.copy()
     for fill in _FILLS:
         if np.any(drawn_layer == fill):
@@ -689,7 +1025,7 @@ def _scan(rng, drawing, seed, size, res, origin, style):
         return (x0 + (c + 0.5) * res, north - (r + 0.5) * res)
 
     xy, picked = sm._pick_training(rng, picks, groups, xy_of, labels=groups,
-                                   thin=(TEXT, OUTLINE))
+                                   thin=(TEXT, OUTLINE, DISTRICT))
     labels = np.where(picked >= 100, BUILDING, picked).astype(np.int32)
 
     def world(g):
@@ -708,4 +1044,24 @@ def _scan(rng, drawing, seed, size, res, origin, style):
         gt_points=gt, north=north, south=y0, east=x0 + extent, west=x0, res=res,
         classes=dict(classes), ink_cover=ink_cover, style=style,
         parcels=[world(p) for p in drawing.parcels], parcel_info=info,
-        courtyards=[world(c) for c in drawing.courtyards], strokes=drawing.strokes)
+        courtyards=[world(c) for c in drawing.courtyards], strokes=drawing.strokes,
+        hatched=[world(p) for p in drawing.hatched], hatching=list(drawing.hatching),
+        water=[world(p) for p in drawing.water], water_hatching=drawing.water_hatching)
+
+
+def _fold_and_stains(rng, rgb):
+    """A scan's sheet fold (a light crease across, shadowed on one side) and a stain or
+    two (smooth brownish blots) over ``rgb`` (float, changed and returned)."""
+    size = rgb.shape[0]
+    rows, cols = np.mgrid[0:size, 0:size].astype(float)
+    turn = math.radians(rng.uniform(-20, 20) + float(rng.choice([0.0, 90.0])))
+    at = rng.uniform(0.3, 0.7) * size
+    d = (cols - size / 2) * math.sin(turn) + (rows - size / 2) * math.cos(turn) + size / 2 - at
+    crease = 28.0 * np.exp(-(d / 1.6) ** 2) - 14.0 * np.exp(-((d - 3.5) / 2.5) ** 2)
+    rgb += crease[..., None]
+    for _ in range(int(rng.integers(1, 3))):
+        r0, c0 = rng.uniform(0.1, 0.9, size=2) * size
+        radius = rng.uniform(0.03, 0.08) * size
+        blot = np.exp(-(((rows - r0) ** 2 + (cols - c0) ** 2) / radius ** 2) ** 2)
+        rgb -= blot[..., None] * np.array([18.0, 30.0, 48.0])
+    return rgb

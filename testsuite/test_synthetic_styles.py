@@ -3,6 +3,7 @@ fire-insurance map, their parcels' truth; and the Delft map left as it was."""
 
 import hashlib
 import itertools
+import math
 import os
 import subprocess
 import sys
@@ -10,10 +11,11 @@ import sys
 import numpy as np
 import pytest
 import shapely
+from scipy import ndimage
 
 import synthetic_map as sm
 import synthetic_styles as ss
-from synthetic_map import BUILDING, COURTYARD, OUTLINE, STREET, TEXT, WATER
+from synthetic_map import BLOCK, BUILDING, COURTYARD, DISTRICT, OUTLINE, STREET, TEXT, WATER
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -312,11 +314,12 @@ def test_any_seed_size_and_resolution(style, size, res, seed):
     assert m.strokes.line >= m.res
 
 
-def test_png_of_a_style_outside_grass(tmp_path):
+@pytest.mark.parametrize("style", ["cadaster", "monochrome"])
+def test_png_of_a_style_outside_grass(style, tmp_path):
     env = {k: v for k, v in os.environ.items() if k != "GISRC"}
     png = tmp_path / "c.png"
     run = subprocess.run([sys.executable, os.path.join(HERE, "synthetic_map.py"), "--style",
-                          "cadaster", "--size", "200", "--png", str(png)], env=env,
+                          style, "--size", "200", "--png", str(png)], env=env,
                          capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
     assert png.read_bytes()[:4] == b"\x89PNG"
@@ -324,6 +327,9 @@ def test_png_of_a_style_outside_grass(tmp_path):
                           "portolan", "--png", str(png)], env=env, capture_output=True,
                          text=True)
     assert run.returncode != 0 and "invalid choice" in run.stderr
+    run = subprocess.run([sys.executable, os.path.join(HERE, "synthetic_map.py"), "--help"],
+                         env=env, capture_output=True, text=True)
+    assert style in run.stdout
 
 
 def test_outline_of_the_parcels_drawn_on_the_picture(cadaster):
@@ -362,3 +368,241 @@ def test_write_to_grass_writes_the_parcels(style, mapset):
     delft = sm.generate(seed=2, size=200)
     assert "parcels" not in sm.write_map_to_grass(delft, "delft")
     assert not gs.list_strings("vector", pattern="delft_parcels")
+
+
+# ---------------------------------------------------------------------------
+# The monochrome map (issue 51: outlined blocks, hatched buildings and water)
+# ---------------------------------------------------------------------------
+
+#: the drawn classes that are ink lines (the hatching keeps its area's class)
+_INK = (OUTLINE, TEXT, DISTRICT)
+
+
+@pytest.fixture(scope="module")
+def mono():
+    return sm.generate(seed=1, size=600, style="monochrome")
+
+
+def _hatching_fit(m, area, hatching):
+    """On the pixels of ``area`` (bool raster): the share of ink, the angle (degrees,
+    0-180) at which the ink pixels line up best with lines ``hatching.spacing``
+    apart, the coherence (0-1) of the grey's gradients (1: all one direction) and
+    how much the ink pixels keep to the drawn lines' phase (0-1: the mean resultant
+    length of their positions across the lines, in periods of the spacing)."""
+    grey = m.grey.astype(float)
+    paper, ink = np.percentile(grey[m.drawn == STREET], 50), 50.0
+    dark = area & (grey < (paper + ink) / 2)
+    gy, gx = np.gradient(grey)
+    gy = -gy  # rows go south: y up
+    jxx, jyy, jxy = (np.sum(v[area]) for v in (gx * gx, gy * gy, gx * gy))
+    coherence = math.hypot(jxx - jyy, 2 * jxy) / (jxx + jyy)
+    x, y = _pixel_centres(m)
+    x, y = x[dark] - x[dark].mean(), y[dark] - y[dark].mean()
+
+    def lined_up(angle):
+        turn = math.radians(angle)
+        across = -x * math.sin(turn) + y * math.cos(turn)
+        return float(abs(np.exp(2j * math.pi * across / hatching.spacing).mean()))
+
+    angles = np.arange(0.0, 180.0, 0.5)
+    best = angles[int(np.argmax([lined_up(a) for a in angles]))]
+    return dark.sum() / area.sum(), best, coherence, lined_up(hatching.angle)
+
+
+def _angle_gap(a, b):
+    d = abs(a - b) % 180
+    return min(d, 180 - d)
+
+
+def _mask(m, geom):
+    x, y = _pixel_centres(m)
+    return shapely.contains_xy(geom, x, y)
+
+
+def test_monochrome_style_its_resolution_classes_and_truth_fields(mono):
+    m = mono
+    assert (m.style, m.res, m.shape) == ("monochrome", 0.5, (600, 600))
+    assert m.classes == {1: "building", 2: "text", 3: "water", 4: "street", 8: "outline",
+                         9: "block", 10: "district"}
+    assert set(np.unique(m.drawn)) == set(m.classes)
+    assert set(np.unique(m.truth)) == {BUILDING, WATER, STREET, BLOCK}
+    assert m.parcels == [] and m.courtyards == []
+    kinds = set(m.plot_kinds)
+    assert kinds == {"block", "building"} and len(m.plots) >= 10
+    assert len(m.hatched) == len(m.hatching) >= 5 and m.water and m.water_hatching
+    frame = shapely.box(m.west, m.south, m.east, m.north)
+    for p in m.plots + m.hatched + m.water:
+        assert p.geom_type == "Polygon" and p.is_valid and frame.buffer(1e-6).contains(p)
+    # blocks apart (streets between), each hatched building inside its block
+    for a, b in itertools.combinations(m.plots, 2):
+        assert a.distance(b) > 1.0
+    for p, h in zip(m.hatched, m.hatching):
+        # (within a centimetre: a cut's corner a few mm from the block's slanted edge may
+        # round onto it)
+        assert m.plots[h.plot - 1].buffer(0.01).contains(p)
+        assert h.spacing >= 4 * m.res and h.width >= m.res and 0 <= h.angle < 180
+    for k, (plot, kind) in enumerate(zip(m.plots, m.plot_kinds), start=1):
+        mine = [p for p, h in zip(m.hatched, m.hatching) if h.plot == k]
+        if kind == "building":  # the whole block is one hatched building
+            assert len(mine) == 1 and mine[0].symmetric_difference(plot).area < 1e-6
+    inside = [p for p, kind in zip(m.plots, m.plot_kinds) if kind == "block"]
+    assert sum(1 for p in m.hatched if any(p.symmetric_difference(q).area > 1 and
+                                           q.contains(p.centroid) for q in inside)) >= 3
+    assert {h.angle for h in m.hatching} >= {45.0, 135.0}
+    assert m.water_hatching.angle == 0 and m.water_hatching.spacing > \
+        1.4 * max(h.spacing for h in m.hatching)
+    for plot, (x, y) in zip(m.plots, m.gt_points):
+        assert plot.contains(shapely.Point(x, y))
+    with pytest.raises(ValueError, match="80 m across"):
+        sm.generate(seed=1, size=300, res=0.25, style="monochrome")
+
+
+def test_monochrome_pixel_classes_follow_the_truth(mono):
+    m = mono
+    hatched = shapely.union_all(m.hatched)
+    blocks = shapely.union_all(m.plots)
+    water = shapely.union_all(m.water)
+    assert np.all(m.truth[_mask(m, hatched)] == BUILDING)
+    assert np.all(m.truth[_mask(m, blocks) & ~_mask(m, hatched.buffer(1e-6))] == BLOCK)
+    assert np.all(m.truth[_mask(m, water)] == WATER)
+    x, y = _pixel_centres(m)
+    off = ~shapely.intersects_xy(blocks.buffer(0.01), x, y) & ~shapely.intersects_xy(water, x, y)
+    assert np.all(m.truth[off] == STREET)
+    # drawn over the truth: ink lines and letters only
+    over = m.drawn != m.truth
+    assert set(np.unique(m.drawn[over])) == set(_INK)
+    # training points on their class, 3-8 per class, every class
+    rows, cols = m.to_pixel(m.training["xy"])
+    assert np.array_equal(m.drawn[rows, cols], m.training["label"])
+    labels, counts = np.unique(m.training["label"], return_counts=True)
+    assert set(labels) == set(m.classes) and all(3 <= n <= 8 for n in counts)
+    assert [m.classes[int(v)] for v in m.training["label"]] == list(m.training["class"])
+
+
+def test_monochrome_hatched_buildings_and_water_are_hatched_at_their_angle(mono):
+    m = mono
+    stroke = m.strokes.outline
+    for p, h in zip(m.hatched, m.hatching):
+        area = _mask(m, p.buffer(-stroke - m.res, join_style="mitre")) & (m.drawn == BUILDING)
+        if area.sum() < 150:
+            continue
+        share, angle, coherence, phase = _hatching_fit(m, area, h)
+        # parallel thin lines at the drawn angle and spacing (as much ink as width/spacing)
+        assert 0.5 * h.width / h.spacing < share < 2.5 * h.width / h.spacing, (h, share)
+        assert _angle_gap(angle, h.angle) <= 2 and coherence > 0.5, (h, angle, coherence)
+        assert phase > 0.5, (h, phase)
+    area = _mask(m, shapely.union_all(m.water).buffer(-stroke - m.res)) & (m.drawn == WATER)
+    share, angle, coherence, phase = _hatching_fit(m, area, m.water_hatching)
+    assert _angle_gap(angle, 0.0) <= 1 and coherence > 0.5 and phase > 0.5
+    assert 0.5 * m.strokes.line / m.water_hatching.spacing < share < 0.4
+    # the blocks' own paper (off letters and lines) holds no ink
+    grey = m.grey.astype(float)
+    paper = ndimage.binary_erosion(m.drawn == BLOCK, iterations=2)
+    street = ndimage.binary_erosion(m.drawn == STREET, iterations=2)
+    assert paper.sum() > 20000 and np.mean(grey[paper] < 150) < 0.002
+
+
+def test_monochrome_blocks_and_streets_one_paper_ink_black_district_red(mono):
+    m = mono
+    paper = ndimage.binary_erosion(m.drawn == BLOCK, iterations=2)
+    street = ndimage.binary_erosion(m.drawn == STREET, iterations=2)
+    for band in range(3):
+        a, b = m.rgb[..., band][paper].astype(float), m.rgb[..., band][street].astype(float)
+        # the same colour: medians and spreads agree within a few levels (a stain may
+        # lie on more of one than of the other)
+        gap = np.abs(np.percentile(a, [10, 50, 90]) - np.percentile(b, [10, 50, 90]))
+        assert gap[1] <= 2 and gap.max() <= 5, (band, gap)
+    cream = np.median(m.rgb[street].astype(float), axis=0)
+    assert cream.mean() > 190 and cream[0] - cream[2] > 25
+    full = m.ink_cover  # black ink (letters) covering the pixel wholly
+    black = m.rgb[(m.drawn == TEXT) & (full >= 1)].astype(float)
+    assert len(black) > 50 and np.median(black.mean(axis=1)) < 90
+    assert np.median(black.max(axis=1) - black.min(axis=1)) < 40  # (a brownish black)
+    red = m.rgb[m.drawn == DISTRICT].astype(float)
+    assert len(red) > 300
+    assert np.median(red[:, 0] - red[:, 1]) > 60 and np.median(red[:, 0] - red[:, 2]) > 60
+    assert m.grey.dtype == np.uint8 and m.grey.shape == m.shape
+    assert np.array_equal(m.grey, np.rint(m.rgb.astype(float).mean(axis=2)).astype(np.uint8))
+
+
+def test_monochrome_blocks_closed_by_ink_all_round(mono):
+    m = mono
+    grey = m.grey.astype(float)
+    # along every block's edge: a drawn line (or letters crossing it), dark on the scan
+    ring = [rc for p in m.plots for rc in _line_pixels(m, p.exterior, 0.5)]
+    rows, cols = np.array(ring).T
+    assert np.all(np.isin(m.drawn[rows, cols], _INK))
+    assert np.mean(grey[rows, cols] < 150) > 0.95
+    # no gap: no 4-connected stretch of paper joins a block's inside to a street or the water
+    parts, n = ndimage.label(~np.isin(m.drawn, _INK))
+    inside = np.isin(m.truth, (BLOCK, BUILDING))
+    within = np.unique(parts[inside & (parts > 0)])
+    outside = np.unique(parts[~inside & (parts > 0)])
+    assert n > len(m.plots) and not set(within) & set(outside)
+    # the dotted lines and letters inside blocks close nothing: one piece of paper per block
+    # (besides its hatched buildings' lines)
+    for plot, kind in zip(m.plots, m.plot_kinds):
+        if kind == "block":
+            own = _mask(m, plot) & (m.truth == BLOCK)
+            labels = np.unique(parts[own & (parts > 0)])
+            big = [k for k in labels if np.sum(parts == k) > 200]
+            assert len(big) <= 3, len(big)
+    # text crosses some outlines: letters touch the blocks' edges
+    assert np.sum(m.drawn[rows, cols] == TEXT) >= 5
+
+
+def test_monochrome_fold_and_stains_darken_or_lighten_the_paper(mono):
+    m = mono
+    paper = ndimage.binary_erosion(np.isin(m.drawn, (STREET, BLOCK)), iterations=2)
+    grey = m.grey.astype(float)[paper]
+    median = np.median(grey)
+    # a stain: somewhere the paper is much darker than its median, the fold lighter
+    assert np.percentile(grey, 0.1) < median - 15
+    assert np.percentile(grey, 99.9) > median + 15
+
+
+@pytest.mark.parametrize("size,res,seed", [(600, None, 2), (200, None, 5), (320, 0.25, 6),
+                                           (200, 0.4, 8), (400, 1.0, 7)])
+def test_monochrome_same_seed_same_map_any_size(size, res, seed):
+    a, b = (sm.generate(seed=seed, size=size, res=res, style="monochrome") for _ in range(2))
+    for key in ("rgb", "truth", "drawn", "gt_points", "ink_cover"):
+        assert np.array_equal(getattr(a, key), getattr(b, key)), key
+    for key in ("plots", "hatched", "water"):
+        assert [p.wkb for p in getattr(a, key)] == [p.wkb for p in getattr(b, key)], key
+    assert a.hatching == b.hatching and a.plot_kinds == b.plot_kinds
+    assert np.array_equal(a.training["xy"], b.training["xy"])
+    assert set(a.training["label"]) == set(a.classes)
+    assert a.hatched and a.water and "building" in a.plot_kinds
+    other = sm.generate(seed=seed + 100, size=size, res=res, style="monochrome")
+    assert [p.wkb for p in other.plots] != [p.wkb for p in a.plots]
+
+
+def test_monochrome_is_quick():
+    import time
+
+    start = time.process_time()
+    sm.generate(seed=3, size=600, style="monochrome")
+    assert time.process_time() - start < 4.0  # about 1.8 s on the development machine
+
+
+@pytest.mark.grass
+def test_write_to_grass_writes_the_hatched_buildings_and_water(mapset):
+    from reconstruction import grassio
+
+    m = sm.generate(seed=2, size=300, style="monochrome")
+    names = sm.write_map_to_grass(m, "mono")
+    assert (names["hatched"], names["water"]) == ("mono_hatched", "mono_water")
+    assert "parcels" not in names
+    geoms, columns = grassio.read_features("mono_hatched")
+    by_cat = dict(zip(columns["cat"], zip(geoms, columns["plot"], columns["angle"],
+                                          columns["spacing"])))
+    assert len(by_cat) == len(m.hatched)
+    for cat, (p, h) in enumerate(zip(m.hatched, m.hatching), start=1):
+        back, plot, angle, spacing = by_cat[cat]
+        assert (plot, angle, spacing) == pytest.approx((h.plot, h.angle, h.spacing))
+        assert back.symmetric_difference(p).area < 1e-2
+    geoms, columns = grassio.read_features("mono_water")
+    assert len(geoms) == len(m.water) and set(columns["angle"]) == {0}
+    assert sum(g.area for g in geoms) == pytest.approx(sum(p.area for p in m.water), rel=1e-4)
+    geoms, columns = grassio.read_features("mono_plots")
+    assert sorted(columns["kind"]) == sorted(m.plot_kinds)
