@@ -167,6 +167,44 @@ def test_raster_class_input(mapset):
     assert temp_maps() == []
 
 
+def test_icdar_panoptic_quality_against_gt_polygons(mapset, tmp_path):
+    """Three plots against three references whose answer is known: one plot
+    as drawn (IoU ~1), one of which a reference covers 3/4 (IoU ~0.75), one
+    reference away from every plot: 2 matches of 3 plots and 3 references,
+    RQ = 2 * 2 / (3 + 3), SQ ~ (1 + 0.75) / 2, PQ = SQ * RQ (the ICDAR 2021
+    MapSeg competition's definition)."""
+    import grass.script as gs
+
+    from reconstruction import grassio
+
+    gs.run_command("g.region", n=1000, s=900, e=1200, w=1000, res=1, quiet=True)
+    cells = np.full((100, 200), 2, dtype=np.int32)
+    truths = [box(1010, 910, 1060, 940), box(1100, 950, 1180, 990), box(1020, 960, 1045, 995)]
+    for rect in truths:
+        minx, miny, maxx, maxy = (int(v) for v in rect.bounds)
+        cells[1000 - maxy:1000 - miny, minx - 1000:maxx - 1000] = 1
+    grassio.write_raster("classes", cells)
+    references = [truths[0], box(1100, 950, 1160, 990), box(1150, 905, 1190, 930)]
+    grassio.write_areas("gt", references)
+    report = str(tmp_path / "r.json")
+    rc, out, err = run(flags="g", raster="classes", **{"class": 1}, output="plots",
+                       min_area=20, gt_polygons="gt", report=report)
+    assert rc == 0, err
+    figures = parse(out)
+    with open(report) as f:
+        rep = json.load(f)
+    assert (int(figures["pq_matched"]), int(figures["pq_plots"]),
+            int(figures["pq_references"])) == (2, 3, 3)
+    assert float(figures["rq"]) == pytest.approx(2 / 3)
+    assert rep["sq"] == pytest.approx((1 + 0.75) / 2, abs=0.03)
+    assert rep["pq"] == pytest.approx(rep["sq"] * 2 / 3)
+    # the figure is the library's definition on the plots as written
+    geoms, _ = read_plots("plots")
+    gt, _ = read_plots("gt")
+    q = assessment.polygon_panoptic_quality(geoms, gt)
+    assert rep["pq"] == pytest.approx(q.pq, abs=1e-9) and q.matched == 2
+
+
 @pytest.mark.parametrize("methods,steps", [
     ("simplify", ["raw", "simplify"]),
     ("douglas", ["raw", "douglas"]),
