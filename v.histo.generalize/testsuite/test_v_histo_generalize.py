@@ -139,10 +139,10 @@ def test_synthetic_truth_raster_gives_the_true_plots(synthetic, mapset, tmp_path
     assert temp_maps() == []
 
 
-def test_raster_class_input(mapset):
+def three_rectangles():
+    """Cells (100 x 200, 1 m) of class 2 with three rectangles of class 1 (the
+    truths, returned as boxes), in the region set here."""
     import grass.script as gs
-
-    from reconstruction import grassio
 
     gs.run_command("g.region", n=1000, s=900, e=1200, w=1000, res=1, quiet=True)
     cells = np.full((100, 200), 2, dtype=np.int32)
@@ -150,6 +150,13 @@ def test_raster_class_input(mapset):
     for rect in truths:
         minx, miny, maxx, maxy = (int(v) for v in rect.bounds)
         cells[1000 - maxy:1000 - miny, minx - 1000:maxx - 1000] = 1
+    return cells, truths
+
+
+def test_raster_class_input(mapset):
+    from reconstruction import grassio
+
+    cells, truths = three_rectangles()
     cells[50, 90] = 1              # one stray building pixel: below min_area
     cells[5:8, 5:8] = 3
     grassio.write_raster("classes", cells)
@@ -173,16 +180,9 @@ def test_icdar_panoptic_quality_against_gt_polygons(mapset, tmp_path):
     reference away from every plot: 2 matches of 3 plots and 3 references,
     RQ = 2 * 2 / (3 + 3), SQ ~ (1 + 0.75) / 2, PQ = SQ * RQ (the ICDAR 2021
     MapSeg competition's definition)."""
-    import grass.script as gs
-
     from reconstruction import grassio
 
-    gs.run_command("g.region", n=1000, s=900, e=1200, w=1000, res=1, quiet=True)
-    cells = np.full((100, 200), 2, dtype=np.int32)
-    truths = [box(1010, 910, 1060, 940), box(1100, 950, 1180, 990), box(1020, 960, 1045, 995)]
-    for rect in truths:
-        minx, miny, maxx, maxy = (int(v) for v in rect.bounds)
-        cells[1000 - maxy:1000 - miny, minx - 1000:maxx - 1000] = 1
+    cells, truths = three_rectangles()
     grassio.write_raster("classes", cells)
     references = [truths[0], box(1100, 950, 1160, 990), box(1150, 905, 1190, 930)]
     grassio.write_areas("gt", references)
