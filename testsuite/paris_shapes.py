@@ -8,6 +8,10 @@ read such ground truth as the 4-connected regions of the non-edge cells
 inside the content mask, one shape each, the open space of the streets
 included, no size filter, and scored a prediction with its panoptic quality
 (PQ = SQ * RQ, shapes matched at IoU > 0.5; its best entry reached 0.741).
+This edge image comes from the same authors' vectorisation dataset
+(soduco/ICDAR-2021-Vectorization), which outlines more kinds of shapes than
+the competition's task 1 (building blocks only): the metric is the
+competition's, the reference not quite its test set.
 
 Pure functions over numpy arrays (no GRASS); nothing read from the shared
 data is kept in the repository:
