@@ -137,7 +137,7 @@
 # % key: gt_polygons
 # % required: no
 # % label: Hand-digitised reference plots (areas)
-# % description: Gives the turning-function distance, the buffer shape similarity, the outward offset and the intersection over union
+# % description: Gives the turning-function distance, the buffer shape similarity, the outward offset, the intersection over union and the ICDAR 2021 MapSeg panoptic quality (pq, sq, rq)
 # % guisection: Assessment
 # %end
 # %option

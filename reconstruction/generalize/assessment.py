@@ -10,7 +10,11 @@ and by the acceptance on real maps of other styles (issue 50):
   matched one-to-one by their intersection over union: F-score and COCO
   panoptic quality), :func:`parcels_from_mask` and :func:`blocks_from_parcels`
   (a published parcel mask read as parcels and as the blocks they make),
-  :func:`parcel_scores` (footprints against the parcels).
+  :func:`parcel_scores` (footprints against the parcels);
+- the field's metric: :func:`icdar_panoptic_quality` (label rasters),
+  :func:`polygon_panoptic_quality` (polygons) and :func:`shapes_from_edges`
+  (an edge image read as its closed shapes): panoptic quality as the ICDAR
+  2021 MapSeg competition computes it (:func:`icdar_quality`).
 """
 
 from dataclasses import dataclass
@@ -184,6 +188,140 @@ def object_scores(predicted, true, iou=0.5, strict=True):
 
 
 FOUR_CONNECTED = ndimage.generate_binary_structure(2, 1)
+
+
+# ---------------------------------------------------------------------------
+# The ICDAR 2021 MapSeg competition's panoptic quality (issue 51)
+# ---------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class PanopticQuality:
+    """Panoptic quality as the ICDAR 2021 MapSeg competition (task 1, building
+    blocks) computes it (:func:`icdar_quality`).
+
+    ``predicted``, ``true``: the shapes' counts; ``matched``: the pairs of
+    IoU > 0.5; ``rq`` = 2 matched / (predicted + true) (the detection F-score);
+    ``sq``: the mean IoU of the matches (see :func:`icdar_quality` for how the
+    competition averages); ``pq`` = sq * rq. Each 0 without a match.
+    """
+
+    predicted: int
+    true: int
+    matched: int
+    pq: float
+    sq: float
+    rq: float
+
+
+def icdar_quality(ious, predicted, true):
+    """The competition's PQ, SQ and RQ from the IoUs of the matched pairs.
+
+    ``ious``: the IoU (> 0.5) of each pair of one predicted and one true shape
+    matched one-to-one; ``predicted``, ``true``: how many shapes there are.
+    As the competition's evaluation tool (PyPI ``icdar21-mapseg-eval`` 1.0.4,
+    ``COCO`` of task 1) computes it: RQ = 2 TP / (P + T), SQ = the mean of the
+    *distinct* IoU values of the matches (the tool averages the index of its
+    table of IoU thresholds: two matches of exactly the same IoU count once;
+    Kirillov et al.'s SQ, the mean over all matches, differs only there) and
+    PQ = SQ * RQ; all 0 without a prediction or without a match.
+    Returns a :class:`PanopticQuality`.
+    """
+    ious = np.asarray(list(ious), dtype=float)
+    if not len(ious) or not predicted or not true:
+        return PanopticQuality(int(predicted), int(true), len(ious), 0.0, 0.0, 0.0)
+    sq = float(np.unique(ious).mean())
+    rq = 2.0 * len(ious) / (predicted + true)
+    return PanopticQuality(int(predicted), int(true), len(ious), sq * rq, sq, rq)
+
+
+def _four_connected(shapes):
+    """A boolean raster as its 4-connected regions (a label raster); other
+    arrays unchanged."""
+    shapes = np.asarray(shapes)
+    if shapes.dtype == bool:
+        return ndimage.label(shapes, structure=FOUR_CONNECTED)[0]
+    return shapes
+
+
+def icdar_panoptic_quality(predicted, true, mask=None):
+    """The ICDAR 2021 MapSeg panoptic quality of predicted shapes on a grid.
+
+    ``predicted`` and ``true``: label rasters of one shape (0 = no shape, each
+    other value one shape) or boolean rasters, whose 4-connected regions of
+    True are the shapes (the tool's reading of a binary image: its
+    ``skimage.measure.label(..., connectivity=1)``). ``mask`` (optional,
+    True/non-zero where the map is): cells outside it belong to no shape, as
+    in the competition, whose inputs are masked (the shapes are not
+    renumbered: a shape the mask cuts stays one). Shapes pair when their IoU
+    (cells in both / cells in either, the whole grid counted) exceeds 0.5,
+    which makes the pairing one-to-one. Returns :func:`icdar_quality`'s
+    :class:`PanopticQuality`.
+
+    Where the tool differs: it counts every label number up to the largest
+    as a shape (a gap in the numbering is an empty shape, never matched; here
+    only labels present count) and fails when a shape's best partner at
+    IoU > 0.5 is the other raster's 0; neither arises with shapes numbered
+    1..n that the 0 cells do not engulf.
+    """
+    predicted = _four_connected(predicted)
+    true = _four_connected(true)
+    if mask is not None:
+        outside = ~np.asarray(mask).astype(bool)
+        predicted = np.where(outside, 0, predicted)
+        true = np.where(outside, 0, true)
+    pairs = matched_pairs(predicted, true, 0.5, strict=True)
+    return icdar_quality([v for _, _, v in pairs], len(_label_areas(predicted)[0]),
+                         len(_label_areas(true)[0]))
+
+
+def shapes_from_edges(edges, mask=None):
+    """The closed shapes of an edge image, as the competition's ground truth has them.
+
+    ``edges``: a 2-D array, non-zero on the (1-pixel) boundaries drawn around
+    every shape (the published ground truth of the Paris atlas: 255 on the
+    edges); ``mask``: non-zero where the map is (the content mask). The shapes
+    are the 4-connected regions of the zero cells inside the mask, numbered
+    1, 2, ... in raster order; edge cells and cells outside the mask are 0
+    (no shape). No size filter: every region counts, the open space of the
+    streets (the largest region) too, as in the competition's reference.
+    """
+    inside = np.asarray(edges) == 0
+    if mask is not None:
+        inside &= np.asarray(mask) != 0
+    return ndimage.label(inside, structure=FOUR_CONNECTED)[0]
+
+
+def polygon_panoptic_quality(polygons, references):
+    """The competition's panoptic quality (:func:`icdar_quality`) of polygons.
+
+    ``polygons``: the predicted shapes, ``references``: the true ones
+    (shapely polygons; empty or missing ones are left out). The IoU of two
+    shapes is their areas' (the area of their intersection over that of their
+    union, exact where the competition counts pixels); pairs of IoU > 0.5 are
+    taken by decreasing IoU, each shape in one pair at most (shapes of one
+    side may overlap, unlike a raster's). Returns a :class:`PanopticQuality`.
+    """
+    def usable(shapes):
+        return np.asarray([g for g in (shapes if shapes is not None else [])
+                           if g is not None and not g.is_empty], dtype=object)
+
+    polygons, references = usable(polygons), usable(references)
+    ious = []
+    if len(polygons) and len(references):
+        pi, ti = shapely.STRtree(references).query(polygons, predicate="intersects")
+        inter = shapely.area(shapely.intersection(polygons[pi], references[ti]))
+        union = shapely.area(polygons[pi]) + shapely.area(references[ti]) - inter
+        iou = np.divide(inter, union, out=np.zeros(len(inter)), where=union > 0)
+        used_p, used_t = set(), set()
+        for k in np.argsort(-iou, kind="stable"):
+            if iou[k] <= 0.5:
+                break
+            if pi[k] in used_p or ti[k] in used_t:
+                continue
+            used_p.add(pi[k])
+            used_t.add(ti[k])
+            ious.append(float(iou[k]))
+    return icdar_quality(ious, len(polygons), len(references))
 
 
 def parcels_from_mask(mask, threshold=128, min_cells=50):

@@ -98,6 +98,22 @@ class ShapeScores:
 
 
 @dataclass(frozen=True)
+class PanopticScores:
+    """Panoptic quality of the plots against the reference plots as the ICDAR
+    2021 MapSeg competition computes it
+    (:func:`~reconstruction.generalize.assessment.polygon_panoptic_quality`):
+    ``pq`` = ``sq`` * ``rq``; ``pq_matched`` plots and references paired at
+    IoU > 0.5 out of ``pq_plots`` and ``pq_references``."""
+
+    pq: float
+    sq: float
+    rq: float
+    pq_matched: int
+    pq_plots: int
+    pq_references: int
+
+
+@dataclass(frozen=True)
 class FitFigures:
     """The fit step's figures: how many edges were long enough to fit
     (``fit_edges``), how many were moved onto a line of the map
@@ -122,13 +138,14 @@ class GeneralizeReport:
     points: Optional[PointScores] = None
     shapes: Optional[ShapeScores] = None
     fit: Optional[FitFigures] = None
+    panoptic: Optional[PanopticScores] = None
 
     def figures(self):
         """All figures as one dict, the JSON report (scores only when measured)."""
         figures = {"plots": self.plots, "raw_areas": self.raw_areas,
                    "dropped_small": self.dropped_small, "methods": self.methods,
                    "fallbacks": self.fallbacks, "steps": self.steps}
-        for scores in (self.fit, self.points, self.shapes):
+        for scores in (self.fit, self.points, self.shapes, self.panoptic):
             if scores is not None:
                 figures.update(asdict(scores))
         return figures
@@ -196,6 +213,12 @@ def _shape_scores(plots, references, buffer, steps=()):
                        outline.offsets, outline.ious, by_step)
 
 
+def _panoptic_scores(plots, references):
+    refs, _index = generalization.explode_plots(references)
+    q = assessment.polygon_panoptic_quality(plots, refs)
+    return PanopticScores(q.pq, q.sq, q.rq, q.matched, q.predicted, q.true)
+
+
 def generalize_map(raw, config, gt_points=None, gt_polygons=None, image=None):
     """Generalise the raw plots; measure and score the result.
 
@@ -227,5 +250,6 @@ def generalize_map(raw, config, gt_points=None, gt_polygons=None, image=None):
         points=None if gt_points is None else _point_scores(result.plots, gt_points),
         shapes=None if gt_polygons is None else _shape_scores(result.plots, gt_polygons,
                                                               config.gt_buffer, result.steps),
-        fit=None if fit is None else FitFigures(fit.edges, fit.fitted, fit.stroke_width))
+        fit=None if fit is None else FitFigures(fit.edges, fit.fitted, fit.stroke_width),
+        panoptic=None if gt_polygons is None else _panoptic_scores(result.plots, gt_polygons))
     return GeneralizedPlots(result.plots, columns, report)

@@ -139,10 +139,10 @@ def test_synthetic_truth_raster_gives_the_true_plots(synthetic, mapset, tmp_path
     assert temp_maps() == []
 
 
-def test_raster_class_input(mapset):
+def three_rectangles():
+    """Cells (100 x 200, 1 m) of class 2 with three rectangles of class 1 (the
+    truths, returned as boxes), in the region set here."""
     import grass.script as gs
-
-    from reconstruction import grassio
 
     gs.run_command("g.region", n=1000, s=900, e=1200, w=1000, res=1, quiet=True)
     cells = np.full((100, 200), 2, dtype=np.int32)
@@ -150,6 +150,13 @@ def test_raster_class_input(mapset):
     for rect in truths:
         minx, miny, maxx, maxy = (int(v) for v in rect.bounds)
         cells[1000 - maxy:1000 - miny, minx - 1000:maxx - 1000] = 1
+    return cells, truths
+
+
+def test_raster_class_input(mapset):
+    from reconstruction import grassio
+
+    cells, truths = three_rectangles()
     cells[50, 90] = 1              # one stray building pixel: below min_area
     cells[5:8, 5:8] = 3
     grassio.write_raster("classes", cells)
@@ -165,6 +172,37 @@ def test_raster_class_input(mapset):
     assert "source" not in cols and set(cols["method"]) == {"alpha/regular+lines"}
     assert parse(out)["dropped_small"] == "1"
     assert temp_maps() == []
+
+
+def test_icdar_panoptic_quality_against_gt_polygons(mapset, tmp_path):
+    """Three plots against three references whose answer is known: one plot
+    as drawn (IoU ~1), one of which a reference covers 3/4 (IoU ~0.75), one
+    reference away from every plot: 2 matches of 3 plots and 3 references,
+    RQ = 2 * 2 / (3 + 3), SQ ~ (1 + 0.75) / 2, PQ = SQ * RQ (the ICDAR 2021
+    MapSeg competition's definition)."""
+    from reconstruction import grassio
+
+    cells, truths = three_rectangles()
+    grassio.write_raster("classes", cells)
+    references = [truths[0], box(1100, 950, 1160, 990), box(1150, 905, 1190, 930)]
+    grassio.write_areas("gt", references)
+    report = str(tmp_path / "r.json")
+    rc, out, err = run(flags="g", raster="classes", **{"class": 1}, output="plots",
+                       min_area=20, gt_polygons="gt", report=report)
+    assert rc == 0, err
+    figures = parse(out)
+    with open(report) as f:
+        rep = json.load(f)
+    assert (int(figures["pq_matched"]), int(figures["pq_plots"]),
+            int(figures["pq_references"])) == (2, 3, 3)
+    assert float(figures["rq"]) == pytest.approx(2 / 3)
+    assert rep["sq"] == pytest.approx((1 + 0.75) / 2, abs=0.03)
+    assert rep["pq"] == pytest.approx(rep["sq"] * 2 / 3)
+    # the figure is the library's definition on the plots as written
+    geoms, _ = read_plots("plots")
+    gt, _ = read_plots("gt")
+    q = assessment.polygon_panoptic_quality(geoms, gt)
+    assert rep["pq"] == pytest.approx(q.pq, abs=1e-9) and q.matched == 2
 
 
 @pytest.mark.parametrize("methods,steps", [

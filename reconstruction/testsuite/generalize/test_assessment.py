@@ -148,3 +148,104 @@ def test_parcel_scores_share_matched_and_count_ratio():
     assert scores == ParcelScores(parcels=3, footprints=4, matched=2,
                                   matched_share=pytest.approx(2 / 3),
                                   count_ratio=pytest.approx(4 / 3))
+
+
+# ---------------------------------------------------------------------------
+# The ICDAR 2021 MapSeg competition's panoptic quality (issue 51, item 6).
+# The expected figures below were computed with the competition's own tool,
+# icdar21-mapseg-eval 1.0.4 (``COCO(gt, prediction)``, the ground truth given
+# as the binary image 255 * (edges == 0 & mask), the prediction as a uint16
+# label map or a binary image, both masked), on these very arrays.
+# ---------------------------------------------------------------------------
+
+from reconstruction.generalize.assessment import (  # noqa: E402
+    PanopticQuality, icdar_panoptic_quality, icdar_quality, polygon_panoptic_quality,
+    shapes_from_edges)
+
+
+def _paris_like_edges():
+    """A 12 x 14 edge image like the Paris ground truth: 1-pixel boundaries
+    (255) closing five shapes and the open space around them, and a content
+    mask (255 where the map is) that ends at column 11 without a drawn edge."""
+    edges = np.zeros((12, 14), np.uint8)
+    edges[0, :] = edges[-1, :] = 255
+    edges[:, 0] = edges[:, -1] = 255
+    edges[5, 0:8] = 255
+    edges[:, 7] = 255
+    edges[3, 7:] = 255
+    edges[8, 7:] = 255
+    mask = np.full_like(edges, 255)
+    mask[:, 11:] = 0
+    return edges, mask
+
+
+def test_shapes_from_edges_are_the_four_connected_zero_regions_inside_the_mask():
+    edges, mask = _paris_like_edges()
+    shapes = shapes_from_edges(edges, mask)
+    assert shapes.max() == 5
+    assert (shapes[edges > 0] == 0).all() and (shapes[mask == 0] == 0).all()
+    sizes = np.bincount(shapes.ravel())[1:]
+    assert sorted(sizes.tolist()) == [6, 6, 12, 24, 30]
+    # without the mask the right-hand regions reach the frame: still 5 shapes, larger
+    assert shapes_from_edges(edges).max() == 5
+    assert np.bincount(shapes_from_edges(edges).ravel())[1:].sum() > sizes.sum()
+
+
+def test_icdar_pq_of_a_label_map_as_the_competition_tool_gives_it():
+    edges, mask = _paris_like_edges()
+    predicted = np.zeros(edges.shape, np.uint16)
+    predicted[1:5, 1:7] = 1      # the top-left shape exactly
+    predicted[6:11, 1:5] = 2     # 20 of the 30 cells of the bottom-left shape
+    predicted[4:8, 8:11] = 3     # the middle right shape exactly
+    predicted[9:11, 8:14] = 4    # the bottom right shape, and beyond the mask
+    predicted[1:3, 8:10] = 5     # 4 of the 6 cells of the top right shape
+    scores = icdar_panoptic_quality(predicted, shapes_from_edges(edges, mask), mask > 0)
+    # icdar21-mapseg-eval 1.0.4: PQ 0.8333, SQ 0.8333, RQ 1.0
+    assert (scores.predicted, scores.true, scores.matched) == (5, 5, 5)
+    assert scores.rq == pytest.approx(1.0)
+    # the tool's SQ: the mean of the distinct IoUs (1 and 2/3), not of all five (0.8667)
+    assert scores.sq == pytest.approx(0.8333333333333333)
+    assert scores.pq == pytest.approx(0.8333333333333333)
+
+
+def test_icdar_pq_of_binary_predictions_as_the_competition_tool_gives_them():
+    edges, mask = _paris_like_edges()
+    true = shapes_from_edges(edges, mask)
+    merged = np.zeros(edges.shape, bool)
+    merged[1:11, 1:7] = True     # the two left shapes and the line between: one shape
+    merged[4:8, 8:11] = True     # exact
+    merged[9:11, 12:14] = True   # outside the mask: no shape
+    scores = icdar_panoptic_quality(merged, true, mask)
+    # icdar21-mapseg-eval 1.0.4: PQ 0.2857, SQ 1.0, RQ 0.2857
+    assert (scores.predicted, scores.true, scores.matched) == (2, 5, 1)
+    assert (scores.pq, scores.sq, scores.rq) == pytest.approx((2 / 7, 1.0, 2 / 7))
+    split = merged.copy()
+    split[1:11, 1:7] = False
+    split[1:4, 1:7] = True       # 18 of 24 cells of the top-left shape
+    split[6:11, 1:7] = True      # the bottom-left shape exactly
+    scores = icdar_panoptic_quality(split, true, mask)
+    # icdar21-mapseg-eval 1.0.4: PQ 0.65625, SQ 0.875, RQ 0.75
+    assert (scores.predicted, scores.true, scores.matched) == (3, 5, 3)
+    assert (scores.pq, scores.sq, scores.rq) == pytest.approx((0.65625, 0.875, 0.75))
+
+
+def test_icdar_quality_counts_and_empty_cases():
+    assert icdar_quality([], 0, 4) == PanopticQuality(0, 4, 0, 0.0, 0.0, 0.0)
+    assert icdar_quality([], 3, 4).pq == 0.0
+    q = icdar_quality([0.9, 0.7], 4, 2)
+    assert (q.sq, q.rq) == pytest.approx((0.8, 4 / 6))
+    assert q.pq == pytest.approx(0.8 * 4 / 6)
+
+
+def test_polygon_pq_matches_areas_one_to_one_above_half():
+    references = [box(0, 0, 10, 10), box(20, 0, 30, 10), box(40, 0, 50, 10)]
+    plots = [box(0, 0, 10, 8),          # IoU 0.8
+             box(0, 0, 10, 7),          # IoU 0.7 with the same reference: left over
+             box(20, 0, 30, 10),        # IoU 1
+             box(45, 0, 55, 10),        # IoU 1/3: no match
+             Polygon()]                 # empty: not a shape
+    q = polygon_panoptic_quality(plots, references)
+    assert (q.predicted, q.true, q.matched) == (4, 3, 2)
+    assert (q.sq, q.rq) == pytest.approx((0.9, 4 / 7))
+    assert q.pq == pytest.approx(0.9 * 4 / 7)
+    assert polygon_panoptic_quality([], references) == PanopticQuality(0, 3, 0, 0.0, 0.0, 0.0)

@@ -43,8 +43,15 @@ def test_generalize_map_columns_report_and_files(tmp_path):
     assert list(figures)[10:] == ["gt_polygons", "matched", "turning_distance",
                                   "buffer_similarity", "turning_distances", "buffer_similarities",
                                   "outline_offset", "iou", "outline_offsets", "ious",
-                                  "outline_by_step"]
+                                  "outline_by_step", "pq", "sq", "rq", "pq_matched",
+                                  "pq_plots", "pq_references"]
     assert figures["methods"] == {"douglas": 3}
+    # the ICDAR 2021 MapSeg panoptic quality: 1 of 3 plots matches the one
+    # reference (IoU 1): RQ = 2 * 1 / (3 + 1), SQ = 1
+    assert (report.panoptic.pq_matched, report.panoptic.pq_plots,
+            report.panoptic.pq_references) == (1, 3, 1)
+    assert (report.panoptic.pq, report.panoptic.sq, report.panoptic.rq) == pytest.approx(
+        (0.5, 1.0, 0.5))
     assert (report.points.precision, report.points.recall) == (pytest.approx(1 / 3), 0.5)
     assert report.shapes.matched == 1 and report.shapes.buffer_similarity == pytest.approx(100)
     assert report.shapes.outline_offset == pytest.approx(0) and report.shapes.iou == 1
@@ -67,6 +74,7 @@ def test_report_without_ground_truth_has_no_scores():
     result = generalize.generalize_map(raw, generalize.GeneralizeConfig(methods=("douglas",)))
     assert "source" not in result.columns
     assert result.report.points is None and result.report.shapes is None
+    assert result.report.panoptic is None
     assert list(result.report.scalars()) == ["plots", "raw_areas", "dropped_small"]
     assert Point(10, 10).within(result.plots[0])
 
