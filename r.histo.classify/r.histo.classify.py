@@ -15,7 +15,7 @@
 ############################################################################
 
 # %module
-# % description: Classifies a scanned RGB historical map by segments (tuned i.segment, random forest + kNN + SVM vote) and removes text and symbols.
+# % description: Classifies a scanned historical map (RGB or greyscale) by segments (tuned i.segment, random forest + kNN + SVM vote) and removes text and symbols.
 # % keyword: raster
 # % keyword: classification
 # % keyword: segmentation
@@ -23,7 +23,7 @@
 # % keyword: histo
 # %end
 # %option G_OPT_R_INPUTS
-# % description: Red, green and blue raster maps of the scanned map
+# % description: Red, green and blue raster maps of the scanned map, or one raster map of a greyscale scan
 # % guisection: Input
 # %end
 # %option G_OPT_V_INPUT
@@ -109,7 +109,7 @@
 # % multiple: yes
 # % options: spectral,lab,size,shape
 # % description: Object features the classifiers use: band statistics (of the bands, of their CIELAB colour), log area and perimeter, shape indices
-# % descriptions: spectral;mean, median, variance, first and third quartile of each band;lab;the same of the CIELAB lightness L* and colour a*, b* of the red, green, blue bands (pale washes apart from white paper);size;logarithm of area and perimeter;shape;compact square, compact circle, fractal dimension
+# % descriptions: spectral;mean, median, variance, first and third quartile of each band;lab;the same of the CIELAB lightness L* and colour a*, b* of the red, green, blue bands (pale washes apart from white paper; not with one band);size;logarithm of area and perimeter;shape;compact square, compact circle, fractal dimension
 # % answer: spectral,size
 # % guisection: Classification
 # %end
@@ -180,7 +180,7 @@
 # %end
 # %flag
 # % key: b
-# % description: Register the bands: a band found a whole cell off the others is moved back before the classification (without it, a warning says so)
+# % description: Register the bands (three; refused with one): a band found a whole cell off the others is moved back before the classification (without it, a warning says so)
 # %end
 # %flag
 # % key: p
@@ -247,7 +247,7 @@ def main(options, flags):
         segment=lambda chains: grassio.run_segmentations(bands, config, chains),
         window_criteria=lambda windows, chains, criterion: grassio.window_criteria(
             bands, windows, grid, config, chains, criterion),
-        segment_tiles=lambda pair, tiles: grassio.segment_tiles(bands, pair, tiles, grid, config),
+        segment_tiles=lambda runs, tiles: grassio.segment_tiles(bands, runs, tiles, grid, config),
         say=grassio.say, percent=lambda done, total: gs.percent(done, total, 1))
     result = classify.run(inputs, config)
     if config.print_table:

@@ -78,7 +78,7 @@
 # %option G_OPT_R_INPUTS
 # % key: map
 # % required: no
-# % label: Red, green and blue rasters of the scanned map, for the fit step
+# % label: Red, green and blue rasters of the scanned map (or one, a greyscale scan), for the fit step and -d
 # % description: Read in the current region
 # % guisection: Method
 # %end

@@ -357,7 +357,7 @@
 # %option G_OPT_R_INPUTS
 # % key: map
 # % required: no
-# % description: Red, green and blue rasters of the historical map, draped on the ground of the picture and the viewer
+# % description: Red, green and blue rasters of the historical map (or one, a greyscale scan), draped on the ground of the picture and the viewer
 # % guisection: Output
 # %end
 

@@ -106,7 +106,7 @@
 # %option G_OPT_R_INPUTS
 # % key: map
 # % required: no
-# % label: Scanned map (red,green,blue rasters) whose lines divide the plots: footprints follow them
+# % label: Scanned map (red,green,blue rasters, or one greyscale raster) whose lines divide the plots: footprints follow them
 # % description: A plot the map divides by drawn lines (parcels, buildings) gets those as footprints (source drawn); the others are subdivided as without it. Read in the current region
 # % guisection: Drawn
 # %end

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from typing import Optional
 
 from ..core.errors import InputError
-from ..core.options import parse_list, parse_number, parse_range, processes
+from ..core.options import parse_bands, parse_list, parse_number, parse_range, processes
 from ..core.work_limits import check_segmentations
 from . import segments as cl
 from .outlines import OUTLINES
@@ -25,7 +25,8 @@ class ClassifyConfig:
     ``min_width``: derived from the data when something is removed
     (:func:`~reconstruction.classify.stage.removal_rule`).
 
-    ``bands``: the red, green and blue raster maps (input=);
+    ``bands``: the raster maps of the scan (input=): three, red, green and
+    blue, or one, a greyscale scan (features ``lab`` and flag -b need three);
     ``label_column``, ``class_column``: the training points' columns;
     ``outline``: where the map draws the outline of the ``separate`` classes'
     areas (:data:`~reconstruction.classify.outlines.OUTLINES`);
@@ -77,10 +78,14 @@ def read_config(options, flags=None):
     as g.parser gives them; no flag set when ``flags`` is None) as a
     :class:`ClassifyConfig`."""
     flags = flags or {}
-    bands = parse_list(options.get("input"))
-    if len(bands) != 3:
-        raise InputError("Option input= needs three raster maps (red,green,blue), got {}".format(
-            len(bands)))
+    bands = parse_bands(options.get("input"), "input")
+    features = tuple(parse_list(options["features"]))
+    if "lab" in features and len(bands) != 3:
+        raise InputError("Option features=lab needs the red, green and blue bands of a colour "
+                         "scan: input= has one band (a greyscale scan; leave lab out)")
+    if flags.get("b") and len(bands) != 3:
+        raise InputError("Flag -b registers the colour bands to each other: input= has one band "
+                         "(a greyscale scan has nothing to register; leave -b out)")
     low_t, high_t = parse_range(options["threshold"], "threshold", float)
     low_m, high_m = parse_range(options["minsize"], "minsize", int)
     t_step = parse_number(options["threshold_step"], "threshold_step", float, minimum=0,
@@ -116,7 +121,7 @@ def read_config(options, flags=None):
     return ClassifyConfig(
         thresholds=tuple(thresholds), minsizes=tuple(minsizes),
         alpha=parse_number(options["alpha"], "alpha"),
-        classifiers=tuple(classifiers), features=tuple(parse_list(options["features"])),
+        classifiers=tuple(classifiers), features=features,
         remove=tuple(parse_list(options["remove"], int, key="remove")),
         window=window, iterations=iterations,
         min_area=_optional_number(options["min_area"], "min_area"),

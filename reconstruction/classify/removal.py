@@ -32,39 +32,56 @@ def object_thickness(mask):
     return float(2 * distance.max() - 1)
 
 
-def line_classes(classes, remove):
-    """The ``remove`` labels drawn as lines (the outlines of the blocks), not
-    as letters or symbols: the objects holding most of their cells are long,
-    their area at least :data:`LINE_ELONGATION` times the square of their
-    width (twice the median distance from their median line to their edge).
-    A block's outline stroke is a long ring; a letter, a symbol, or a name
-    whose paper between the letters was read as ink, a short blob."""
+def line_counts(classes, remove, within=None):
+    """For each ``remove`` label, ``(cells of its long objects, its cells)``
+    (:func:`line_classes`), counted in ``within`` (slices of ``classes``:
+    a tile's core in its outer window, whose objects are seen whole) or
+    everywhere."""
     classes = np.asarray(classes)
-    lines = []
+    counts = {}
     for label in remove:
         mask = classes == label
         objects, n = ndimage.label(mask, _EIGHT)
         if not n:
+            counts[label] = (0, 0)
             continue
         distance, median_line = ridge(mask)
         ids = np.arange(1, n + 1)
         width = 2 * np.asarray(ndimage.median(distance, objects * median_line, ids))
         area = np.bincount(objects.ravel(), minlength=n + 1)[1:]
-        long_cells = area[area >= LINE_ELONGATION * width ** 2].sum()
-        if long_cells * 2 > area.sum():
-            lines.append(label)
-    return tuple(lines)
+        long = np.concatenate([[False], area >= LINE_ELONGATION * width ** 2])
+        counted = objects if within is None else objects[within]
+        counts[label] = (int(long[counted].sum()), int((counted > 0).sum()))
+    return counts
 
 
-def removed_thickness(classes, remove):
+def line_classes(classes, remove, counts=None):
+    """The ``remove`` labels drawn as lines (the outlines of the blocks), not
+    as letters or symbols: the objects holding most of their cells are long,
+    their area at least :data:`LINE_ELONGATION` times the square of their
+    width (twice the median distance from their median line to their edge).
+    A block's outline stroke is a long ring; a letter, a symbol, or a name
+    whose paper between the letters was read as ink, a short blob.
+    ``counts``: the :func:`line_counts` to decide by (a tiled map's, added
+    up over its tiles: one decision for the whole map), else those of
+    ``classes``."""
+    if counts is None:
+        counts = line_counts(classes, remove)
+    return tuple(label for label in remove
+                 if counts.get(label, (0, 0))[1] and 2 * counts[label][0] > counts[label][1])
+
+
+def removed_thickness(classes, remove, lines=None):
     """The thickness (cells, :func:`object_thickness`) of the thickest
     letter or symbol of the ``remove`` classes: of those not drawn as lines
     (:func:`line_classes`; all of them when every one is). Where a block's
     outline strokes meet or touch the letters they make knots thicker than
     any letter, which would set a larger window and minimum mapping unit
-    (on a 0.1 m map of Venice with its outline class removed: 18 cells)."""
+    (on a 0.1 m map of Venice with its outline class removed: 18 cells).
+    ``lines``: the labels drawn as lines when decided already (a tiled map's,
+    :func:`line_classes` of the whole map's counts)."""
     classes = np.asarray(classes)
-    lines = line_classes(classes, remove)
+    lines = line_classes(classes, remove) if lines is None else lines
     letters = [label for label in remove if label not in lines] or list(remove)
     return object_thickness(np.isin(classes, letters))
 
@@ -520,7 +537,7 @@ def outgrowths(before, after, holes, label, nodata=0):
 
 
 def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, min_width=0,
-                   separate=(), nodata=0, image=None):
+                   separate=(), nodata=0, image=None, lines=None):
     """Remove classes (e.g. text, symbols), thin parts and tiny regions from a class raster.
 
     1. Holes: the cells of the ``remove`` labels, the thin parts of every
@@ -556,7 +573,9 @@ def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, m
 
     With the map's ``image`` (rows, cols, bands), the cells of the
     ``separate`` classes between the removed letters are first given the
-    class of their colour (:func:`letter_gaps`).
+    class of their colour (:func:`letter_gaps`). ``lines``: the removed
+    labels drawn as lines, when decided for a whole map cut in tiles (else
+    :func:`line_classes` of ``classes``).
 
     Returns ``(classes, window used)``; cells that could not be filled (no
     known cell within reach) become ``nodata``.
@@ -564,7 +583,8 @@ def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, m
     classes = np.asarray(classes)
     removed = np.isin(classes, list(remove)) if len(remove) else np.zeros(classes.shape, bool)
     if window is None:
-        window = window_for_thickness(removed_thickness(classes, remove)) if len(remove) else 3
+        window = (window_for_thickness(removed_thickness(classes, remove, lines)) if len(remove)
+                  else 3)
     if image is not None and len(separate):
         classes = letter_gaps(classes, image, removed, separate, min_width, nodata)
     base = np.where(removed, nodata, classes)
@@ -578,7 +598,7 @@ def remove_classes(classes, remove, window=None, iterations=None, min_cells=0, m
     reach = None if iterations is None else iterations * (window // 2)
     out, left = fill_from_nearest(classes, holes, reach=reach, nodata=nodata)
     kept_apart = list(separate)
-    if line_classes(classes, remove):
+    if (line_classes(classes, remove) if lines is None else lines):
         kept_apart += [label for label in np.unique(out[holes])
                        if label != nodata and label not in separate]
     for label in kept_apart:

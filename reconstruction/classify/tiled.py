@@ -13,7 +13,9 @@ large to tune on whole or to hold in one process:
    the training points (each seen in the tile whose core holds it), and
    predicts the segments of each tile; each tile's core keeps its classes.
    The removal's rule (window, minimum mapping unit) comes from the thickest
-   removed object over all tiles, then each tile is cleaned in its outer
+   removed object over all tiles, and which removed classes are drawn as
+   lines (:func:`~reconstruction.classify.removal.line_classes`) from the
+   counts of all tiles, then each tile is cleaned in its outer
    window and keeps its core: a segment, a hole or a region cut by a tile's
    edge is seen whole from the tile whose core holds it, up to the overlap.
    With outline=inside, each tile's edge cells are then decided in its outer
@@ -107,7 +109,7 @@ def classify_tiles(tiles, read_bands, read_segments, training, config, grid, pai
     classes = np.zeros((grid.rows, grid.cols), dtype=np.int32)
     segment_ids = np.zeros((grid.rows, grid.cols), dtype=np.int32) if keep_segments else None
     n_segments = 0
-    thickness = 0.0
+    counts = {label: (0, 0) for label in config.remove}
     for tile in tiles:
         bands = read_bands(tile)
         segments = read_segments(tile)
@@ -115,8 +117,9 @@ def classify_tiles(tiles, read_bands, read_segments, training, config, grid, pai
         _ids, features = cl.object_features(segments, bands, config.features)
         voted, _p = cl.predict_ensemble(models, features)
         tile_classes = cl.class_raster(index, voted.astype(np.int32))
-        if config.remove:
-            thickness = max(thickness, removal.removed_thickness(tile_classes, config.remove))
+        for label, (long, cells) in removal.line_counts(tile_classes, config.remove,
+                                                         tile.core_in_outer).items():
+            counts[label] = (counts[label][0] + long, counts[label][1] + cells)
         classes[tile.core] = tile_classes[tile.core_in_outer]
         core_index = index[tile.core_in_outer]
         present = np.unique(core_index[core_index >= 0])
@@ -130,7 +133,12 @@ def classify_tiles(tiles, read_bands, read_segments, training, config, grid, pai
     timing = [("classification", time.perf_counter() - start)]
     start = time.perf_counter()
 
-    # 3. the removal, by the rule of the thickest removed letter or symbol of the whole map
+    # 3. the removal, by the rule of the thickest removed letter or symbol of the whole map,
+    # which removed classes are drawn as lines decided once for the whole map (decided per
+    # tile, a tile could refill its blocks otherwise than the next: issue 51, item 4)
+    lines = removal.line_classes(None, config.remove, counts)
+    thickness = max((removal.removed_thickness(classes[tile.outer], config.remove, lines)
+                     for tile in tiles), default=0.0) if config.remove else 0.0
     rule = removal_rule(thickness, config, grid)
     check_tiles(side, rule.window)
     printed = outlines.printed_cells(classes, config)
@@ -142,7 +150,7 @@ def classify_tiles(tiles, read_bands, read_segments, training, config, grid, pai
                                             config.separate,
                                             image=(np.stack(read_bands(tile), axis=-1)
                                                    if config.separate and config.in_register
-                                                   else None))
+                                                   else None), lines=lines)
             out[tile.core] = cleaned[tile.core_in_outer]
             done += 1
             percent(done, total)

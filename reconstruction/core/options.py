@@ -68,6 +68,17 @@ def parse_list(text, cast=str, key=None):
             "Option {}=: ".format(key) if key else "", text)) from None
 
 
+def parse_bands(text, key):
+    """The raster maps of a scanned map's option ``key`` (comma-separated):
+    one (a greyscale scan) or three (red, green, blue), as a tuple; any other
+    count raises InputError."""
+    names = tuple(parse_list(text))
+    if len(names) not in (1, 3):
+        raise InputError("Option {}= needs one raster map (a greyscale scan) or three (red, "
+                         "green, blue), not {}".format(key, len(names)))
+    return names
+
+
 def processes(nprocs, cores=None):
     """GRASS's nprocs= meaning: positive = that many, 0 = every core, negative = all cores but that many.
 

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from typing import Optional
 
 from ..core.errors import InputError
-from ..core.options import parse_list, parse_number
+from ..core.options import parse_bands, parse_list, parse_number
 from .fitting import OUTLINES
 
 
@@ -89,5 +89,5 @@ def read_config(options, flags):
                   else None),
         shell=bool(flags.get("g")), outline=outline,
         stroke=positive("stroke") if options.get("stroke") else None,
-        maps=tuple(parse_list(options["map"])) if scan else (), register=bool(flags.get("b")),
+        maps=parse_bands(options["map"], "map") if scan else (), register=bool(flags.get("b")),
         drawn=drawn)

@@ -18,7 +18,7 @@ import numpy as np
 
 import grass.script as gs
 
-from ..core.errors import InputError
+from ..core.options import parse_bands
 from ..geom.grid import MapImage
 from .checks import require_raster
 from .maps import read_raster
@@ -29,25 +29,25 @@ MAX_SIZE = 2048
 
 
 def _rgb_names(names):
-    """The three raster names of option map= (red, green, blue), each checked."""
-    names = [n for n in names if n]
-    if len(names) != 3:
-        raise InputError("Option map= needs three rasters: red, green and blue, not {}".format(
-            len(names)))
+    """The raster names of option map= (red, green, blue; or one, a greyscale
+    scan), each checked."""
+    names = parse_bands(",".join(n for n in names if n), "map")
     for name in names:
         require_raster(name)
     return names
 
 
 def _rgb(bands):
-    """Bands read as floats (NULL: NaN) as one (rows, cols, 3) uint8 picture, NULL white."""
+    """Bands read as floats (NULL: NaN) as one (rows, cols, 3) uint8 picture, NULL
+    white; one band (a greyscale scan) is grey: its value in all three."""
+    bands = list(bands) * (3 if len(bands) == 1 else 1)
     return np.rint(np.dstack([np.where(np.isnan(b), 255.0, np.clip(b, 0, 255))
                               for b in bands])).astype(np.uint8)
 
 
 def read_region_image(names):
     """The :class:`~reconstruction.geom.grid.MapImage` of three rasters (red,
-    green, blue) in the current region, cell for cell (v.histo.generalize's
+    green, blue), or of one (grey), in the current region, cell for cell (v.histo.generalize's
     fit step)."""
     names = _rgb_names(names)
     with doing("reading the current region"):

@@ -4,7 +4,7 @@ from dataclasses import dataclass
 from typing import Optional, Tuple
 
 from ..core.errors import InputError
-from ..core.options import parse_list, parse_number, parse_range
+from ..core.options import parse_bands, parse_number, parse_range
 from ..epochs.plots import TOLERANCE
 
 
@@ -86,10 +86,7 @@ def read_config(options, flags):
     if bool(options.get("previous")) != bool(options.get("previous_plots")):
         raise InputError("Options previous= and previous_plots= go together: the earlier "
                          "epoch's footprints and its plots")
-    maps = tuple(parse_list(options.get("map") or ""))
-    if maps and len(maps) != 3:
-        raise InputError("Option map= needs three rasters: red, green and blue, not {}".format(
-            len(maps)))
+    maps = parse_bands(options["map"], "map") if options.get("map") else ()
     return SubdivisionConfig(
         plots=options["input"], output=options["output"], aligned=options["aligned"] or "",
         length=_range(options["length"], "length"), depth=_range(options["depth"], "depth"),

@@ -242,14 +242,23 @@ def test_seed_and_overwrite(synthetic, mapset):
     assert [g.wkb for g in c] != [g.wkb for g in a]
 
 
-def test_fit_step_moves_the_cells_outlines_onto_the_map_lines(synthetic, mapset, tmp_path):
+@pytest.mark.parametrize("grey", [False, True])
+def test_fit_step_moves_the_cells_outlines_onto_the_map_lines(synthetic, mapset, tmp_path, grey):
     """A perfect classification's cells, generalised, then fitted to the map's
-    outline strokes (drawn inside the plots): closer to the true plots."""
+    outline strokes (drawn inside the plots): closer to the true plots. Also
+    on a greyscale scan (issue 51, item 3: map= the mean of the three bands)."""
+    import grass.script as gs
+
     report = str(tmp_path / "r.json")
-    rc, out, err = run(raster=truth_raster(synthetic), **{"class": 1}, output="plots",
+    scan = ",".join((synthetic.red, synthetic.green, synthetic.blue))
+    raster = truth_raster(synthetic)
+    if grey:
+        gs.run_command("r.mapcalc", expression="grey = ({}) / 3.0".format(scan.replace(",", "+")),
+                       quiet=True)
+        scan = "grey"
+    rc, out, err = run(raster=raster, **{"class": 1}, output="plots",
                        method="alpha,lines,fit", outline="inside", report=report,
-                       map=",".join((synthetic.red, synthetic.green, synthetic.blue)),
-                       gt_polygons=synthetic.plots)
+                       map=scan, gt_polygons=synthetic.plots)
     assert rc == 0, err
     with open(report) as f:
         rep = json.load(f)
@@ -264,7 +273,7 @@ def test_fit_step_moves_the_cells_outlines_onto_the_map_lines(synthetic, mapset,
     assert all(m.endswith("+fit") for m in cols["method"])
     rc, _, err = run(raster="truth", **{"class": 1}, output="plots", overwrite=True,
                      method="alpha,lines,fit", outline="inside", stroke=0.9, report=report,
-                     map=",".join((synthetic.red, synthetic.green, synthetic.blue)))
+                     map=scan)
     assert rc == 0, err
     with open(report) as f:
         assert json.load(f)["stroke_width"] == 0.9

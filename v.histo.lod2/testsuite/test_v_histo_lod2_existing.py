@@ -302,7 +302,7 @@ def with_reference_system(sample, tmp_path, code):
     ("bad_lod", "Option existing_lod= must be LoDs"),
     ("bad_overlap", "Option overlap= must be at most 1"),
     ("bad_view", "Option view= must be azimuth,elevation"),
-    ("two_rasters", "Option map= needs three rasters"),
+    ("two_rasters", "Option map= needs one raster map (a greyscale scan) or three"),
     ("render_exists", "exists. To overwrite, use the --overwrite flag"),
 ])
 def test_bad_inputs_fail_cleanly(aligned, sample, tmp_path, case, message):

@@ -48,14 +48,16 @@ def drawn_map(mapset):
     gs.run_command("g.region", n=north, s=Y0, w=X0, e=X0 + rgb.shape[1] * CELL, res=CELL)
     for i, band in enumerate(("red", "green", "blue")):
         grassio.write_raster("scan." + band, rgb[..., i].astype(np.int32))
+    # a greyscale scan of it (issue 51, item 3): the mean of the three
+    grassio.write_raster("scan.grey", np.rint(rgb.mean(axis=2)).astype(np.int32))
     grassio.write_features("plots", plots, cats=[1, 2])
     return gs, grassio, truth
 
 
-def test_the_drawn_parcels_are_the_footprints_and_say_so(drawn_map):
+@pytest.mark.parametrize("scan", ["scan.red,scan.green,scan.blue", "scan.grey"])
+def test_the_drawn_parcels_are_the_footprints_and_say_so(drawn_map, scan):
     gs, grassio, truth = drawn_map
-    code, _, err = run_module("v.histo.subdivide", input="plots", output="fp", seed=1,
-                              map="scan.red,scan.green,scan.blue")
+    code, _, err = run_module("v.histo.subdivide", input="plots", output="fp", seed=1, map=scan)
     assert code == 0, err
     assert "1 of 2 plots divided into 5 drawn footprints" in " ".join(err.split())
     geoms, columns = grassio.read_features("fp")
@@ -84,7 +86,7 @@ def test_flag_d_makes_an_undivided_plot_one_footprint(drawn_map):
 
 
 @pytest.mark.parametrize("options, message", [
-    ({"map": "scan.red,scan.green"}, "map= needs three rasters"),
+    ({"map": "scan.red,scan.green"}, "map= needs one raster map (a greyscale scan) or three"),
     ({"map": "scan.red,scan.green,nothere"}, "nothere"),
     ({"map": "scan.red,scan.green,scan.blue", "stroke": "-1"}, "stroke"),
 ])

@@ -635,3 +635,37 @@ def test_a_knot_of_removed_outline_strokes_does_not_set_the_window():
     out, window = removal.remove_classes(classes, [2, 6])
     assert window == 3
     assert (out[20:23, 10:19] == 1).all()   # the name over the block refilled by it
+
+
+def test_which_removed_classes_are_lines_is_decided_for_the_whole_map_not_per_tile():
+    """Issue 51, item 4: a tile that sees only the letters of the outline class
+    (the other tile its long strokes) decided alone that it is no line class,
+    and refilled its blocks otherwise than the next tile: a seam. Counted in
+    the tiles' cores and added up, the decision is the whole map's."""
+    from reconstruction.classify.tiling import plan_tiles
+
+    classes = np.full((100, 200), 4, dtype=np.int32)
+    classes[10:90, 110:190] = 6                     # a block's outline stroke, 2 cells
+    classes[12:88, 112:188] = 1
+    for k in range(30):                             # 3 x 3 blots of the same class
+        r, c = 10 + 10 * (k // 6), 10 + 15 * (k % 6)
+        classes[r:r + 3, c:c + 3] = 6
+    classes[62:80, 20:47] = classes[62:80, 50:77] = 1   # two blocks, a street between
+    classes[70:73, 47:50] = 6                           # a blot over the street
+    assert removal.line_classes(classes, [6]) == (6,)
+    tiles = plan_tiles(100, 200, 140, 20)
+    assert len(tiles) == 2
+    left = tiles[0]
+    assert removal.line_classes(classes[left.outer], [6]) == ()      # alone: not lines
+    counts = {6: (0, 0)}
+    for tile in tiles:
+        long, cells = removal.line_counts(classes[tile.outer], [6], tile.core_in_outer)[6]
+        counts = {6: (counts[6][0] + long, counts[6][1] + cells)}
+    assert counts[6][1] == (classes == 6).sum()
+    assert removal.line_classes(None, [6], counts) == (6,)
+    whole, _ = removal.remove_classes(classes, [6], window=3)
+    assert (whole[70:73, 48] == 4).all()             # the blocks not joined across the street
+    alone, _ = removal.remove_classes(classes[left.outer], [6], window=3)
+    assert (alone[70:73, 48] == 1).any()             # the tile alone joined them
+    tiled, _ = removal.remove_classes(classes[left.outer], [6], window=3, lines=(6,))
+    assert (tiled[left.core_in_outer] == whole[left.core]).all()

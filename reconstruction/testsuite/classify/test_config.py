@@ -82,9 +82,22 @@ def test_maps_columns_and_flags_read_into_the_config():
 
 
 @pytest.mark.parametrize("text", ["red,green", "r,g,b,a", ""])
-def test_input_needs_three_maps(text):
-    with pytest.raises(InputError, match="Option input= needs three raster maps"):
+def test_input_needs_one_or_three_maps(text):
+    with pytest.raises(InputError, match=r"Option input= needs one raster map \(a greyscale "
+                                         r"scan\) or three \(red, green, blue\), not"):
         classify.read_config(options(input=text), FLAGS)
+
+
+def test_one_band_is_a_greyscale_scan():
+    """Issue 51, item 3: a greyscale scan is one band; CIELAB and the
+    registration of the bands need three."""
+    config = classify.read_config(options(input="grey"), FLAGS)
+    assert config.bands == ("grey",) and config.features == ("spectral", "size")
+    with pytest.raises(InputError, match="features=lab needs the red, green and blue"):
+        classify.read_config(options(input="grey", features="spectral,lab"), FLAGS)
+    with pytest.raises(InputError, match="Flag -b registers the colour bands"):
+        classify.read_config(options(input="grey"), dict(FLAGS, b=True))
+    assert classify.read_config(options(features="lab"), dict(FLAGS, b=True)).register
 
 
 @pytest.mark.parametrize("changes,message", [

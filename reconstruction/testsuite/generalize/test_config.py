@@ -51,3 +51,14 @@ def test_bad_options_are_refused_with_the_option_named(key, value):
 def test_a_bad_class_is_refused_with_the_option_named():
     with pytest.raises(InputError, match="class="):
         read_config(options(input="", raster="classes", **{"class": "x"}), FLAGS)
+
+
+@pytest.mark.parametrize("maps", ["grey", "red,green,blue"])
+def test_map_is_one_band_or_three(maps):
+    """Issue 51, item 3: map= of the fit and of -d may be a greyscale scan."""
+    config = read_config(options(method="fit", map=maps), FLAGS)
+    assert config.maps == tuple(maps.split(","))
+    assert read_config(options(map=maps), dict(FLAGS, d=True)).maps == tuple(maps.split(","))
+    with pytest.raises(InputError, match=r"map= needs one raster map \(a greyscale scan\) or "
+                                         "three"):
+        read_config(options(method="fit", map="red,green"), FLAGS)

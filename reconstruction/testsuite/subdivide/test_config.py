@@ -62,8 +62,10 @@ def test_the_map_whose_lines_divide_the_plots():
     c = config(map="scan.red,scan.green,scan.blue", stroke="0.3", min_parcel="2.5")
     assert (c.maps, c.stroke, c.min_parcel) == (("scan.red", "scan.green", "scan.blue"), 0.3, 2.5)
     assert (config().maps, config().stroke, config().min_parcel) == ((), None, None)
-    with pytest.raises(InputError, match="map= needs three rasters"):
+    with pytest.raises(InputError, match=r"map= needs one raster map \(a greyscale scan\) or "
+                                         "three"):
         config(map="scan.red,scan.green")
+    assert config(map="scan.grey").maps == ("scan.grey",)   # issue 51, item 3
     for key in ("stroke", "min_parcel"):
         with pytest.raises(InputError, match=key):
             config(map="r,g,b", **{key: "0"})
