@@ -247,7 +247,7 @@ def main(options, flags):
         segment=lambda chains: grassio.run_segmentations(bands, config, chains),
         window_criteria=lambda windows, chains, criterion: grassio.window_criteria(
             bands, windows, grid, config, chains, criterion),
-        segment_tiles=lambda runs, tiles: grassio.segment_tiles(bands, runs, tiles, grid, config),
+        segment_tiles=lambda pair, tiles: grassio.segment_tiles(bands, pair, tiles, grid, config),
         say=grassio.say, percent=lambda done, total: gs.percent(done, total, 1))
     result = classify.run(inputs, config)
     if config.print_table:

@@ -26,7 +26,7 @@ from ..geom.grid import Grid
 from . import segments as cl
 from . import tiled, tiling
 from .config import ClassifyConfig
-from .stage import ClassifyResult, classify_map, read_training, runs_of, segmentation_chains
+from .stage import ClassifyResult, classify_map, read_training, segmentation_chains
 from .tiling import Tile
 
 
@@ -55,12 +55,9 @@ class ClassifyInputs:
       yields ``(pair index, id)`` as each run finishes;
     - ``window_criteria(windows, chains, criterion)``: the same in each
       tuning window: ``criteria[w][k] = criterion(segments, bands)``;
-    - ``segment_tiles(runs, tiles)``: i.segment in each tile's outer window
-      as the whole map's chosen segmentation is made
-      (:func:`~reconstruction.classify.stage.runs_of`: ``(pair, seeded)``
-      runs, each seeded one from the previous run's segments): yields
-      ``(tile index, id)`` of the last run as each tile's finishes (closed
-      when the run stops);
+    - ``segment_tiles(pair, tiles)``: i.segment with ``pair`` in each tile's
+      outer window: yields ``(tile index, id)`` as each finishes (closed when
+      the run stops);
     - ``say(messages)``: prints progress :class:`~reconstruction.core.messages.Message` s
       as they happen; ``percent(done, total)``: the progress of the
       segmentations of a map classified whole, of the tiles of a sheet.
@@ -126,7 +123,7 @@ def _classify_sheet(inputs, windows, tiles, side, chains, training, config):
     # the tiles are classified as their segmentations finish (the training points' tiles
     # first), so the classification works while the next tiles are segmented
     tiles = tiled.training_first(tiles, training)
-    segmented = inputs.segment_tiles(runs_of(config.pairs, chains, tuning.best), tiles)
+    segmented = inputs.segment_tiles(pair, tiles)
     names = {}
 
     def read_segments(tile):

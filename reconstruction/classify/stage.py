@@ -115,20 +115,6 @@ def segmentation_chains(pairs, exhaustive=False):
     return out
 
 
-def runs_of(pairs, chains, k):
-    """How the segmentation of ``pairs[k]`` is made in ``chains``
-    (:func:`segmentation_chains`): its chain's runs up to it, as ``(pair,
-    seeded)``, each seeded one started from the previous run's segments. A
-    tiled map's tiles are segmented so (issue 51, item 4): a pair grown from
-    scratch gives other segments than the same pair reseeded, and the tiles
-    of a map classified in tiles disagreed with the map classified whole."""
-    for chain in chains:
-        members = [i for i, _seed in chain]
-        if k in members:
-            return [(pairs[i], seed is not None) for i, seed in chain[:members.index(k) + 1]]
-    raise ValueError("pair {} is in no chain".format(k))
-
-
 def integer_labels(values, column):
     """Class labels of the training points as positive ints."""
     labels = []

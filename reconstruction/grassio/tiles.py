@@ -96,33 +96,18 @@ def run_segmentations(inputs, config, chains, env=None):
         yield i, names[i]
 
 
-def _drop(names):
-    gs.run_command("g.remove", type="raster", name=",".join(names), flags="f", quiet=True)
-    for name in names:
-        forget_temp_map("raster", name)
+def segment_tiles(inputs, pair, tiles, grid, config):
+    """i.segment with ``pair`` in the outer window of each tile, ``nprocs`` at a
+    time. Yields (tile index, temporary raster name) as each finishes."""
+    names = [temp_map("raster", "tile") for _ in tiles]
 
-
-def segment_tiles(inputs, runs, tiles, grid, config):
-    """i.segment in the outer window of each tile as ``runs`` say (``(pair,
-    seeded)``, r.histo.classify's ``runs_of``: each seeded run starts from the
-    previous one's segments, one growing iteration), ``nprocs`` tiles at a
-    time. Yields (tile index, temporary raster name of its last run) as each
-    tile finishes."""
-    names = [[temp_map("raster", "tile") for _ in runs] for _ in tiles]
-
-    def job(k, j):
-        pair, seeded = runs[j]
-        return ((k, j), lambda: _start(inputs, pair, names[k][j], config.memory,
-                                       names[k][j - 1] if seeded else None,
-                                       env=window_env(grid, tiles[k])),
+    def job(k):
+        return (k, lambda: _start(inputs, pair, names[k], config.memory,
+                                  env=window_env(grid, tiles[k])),
                 "segmenting tile {} of {}".format(k + 1, len(tiles)))
 
-    chains = [[job(k, j) for j in range(len(runs))] for k in range(len(tiles))]
-    for k, j in _run_all(chains, config.nprocs):
-        if j:
-            _drop([names[k][j - 1]])     # the seeds of the run just finished
-        if j == len(runs) - 1:
-            yield k, names[k][j]
+    for k in _run_all([[job(k)] for k in range(len(tiles))], config.nprocs):
+        yield k, names[k]
 
 
 def window_criteria(inputs, windows, grid, config, chains, criterion):
@@ -141,6 +126,8 @@ def window_criteria(inputs, windows, grid, config, chains, criterion):
             row[k] = criterion(read_raster(name, np.int32, env), bands)
             done.append(name)
             gs.percent(w * len(config.pairs) + len(done), total, 1)
-        _drop(done)
+        gs.run_command("g.remove", type="raster", name=",".join(done), flags="f", quiet=True)
+        for name in done:
+            forget_temp_map("raster", name)
         criteria.append(row)
     return criteria

@@ -214,16 +214,3 @@ def test_run_checks_the_training_points_first():
     with pytest.raises(InputError, match="has no column <code>"):
         pipeline.run(_inputs(bands, segmentations, xy, columns, []),
                      read_config(dict(options(), label_column="code")))
-
-
-def test_tiles_are_segmented_as_the_whole_map_is():
-    """Issue 51, item 4: a tile's segmentation is made by the chosen pair's chain
-    (grown at its threshold's least minimum size, reseeded up to its own), as
-    the whole map's is: not the same pair grown from scratch."""
-    pairs = [(0.1, 7), (0.1, 8), (0.1, 9), (0.2, 7), (0.2, 8), (0.2, 9)]
-    chains = classify.segmentation_chains(pairs)
-    assert classify.runs_of(pairs, chains, 0) == [((0.1, 7), False)]
-    assert classify.runs_of(pairs, chains, 5) == [((0.2, 7), False), ((0.2, 8), True),
-                                                        ((0.2, 9), True)]
-    exhaustive = classify.segmentation_chains(pairs, exhaustive=True)
-    assert classify.runs_of(pairs, exhaustive, 5) == [((0.2, 9), False)]
