@@ -32,6 +32,8 @@ CLASSIFIERS = ("rf", "knn", "svm")
 #: Feature groups a classification can use: band statistics, the same of the
 #: CIELAB L*, a*, b* of the first three bands (red, green, blue), size, shape indices.
 FEATURE_GROUPS = ("spectral", "lab", "size", "shape")
+#: The groups that are columns of :func:`segment_features` (lab: of bands derived first)
+COLUMN_GROUPS = ("spectral", "size", "shape")
 #: CIELAB's reference white (D65) in XYZ, and sRGB's linear RGB -> XYZ matrix
 _WHITE = np.array([0.95047, 1.0, 1.08883])
 _SRGB_TO_XYZ = np.array([[0.4124564, 0.3575761, 0.1804375],
@@ -303,7 +305,7 @@ def object_features(segments, bands, groups=("spectral", "size")):
     ids, features = segment_features(segments, stats or bands[:1])
     n_stats = len(stats) or 1
     parts = [features[:, :5 * len(stats)]]
-    others = tuple(g for g in groups if g in ("size", "shape"))
+    others = tuple(g for g in groups if g in COLUMN_GROUPS and g != "spectral")
     if others:
         parts.append(select_features(features, n_stats, others))
     return ids, np.concatenate(parts, axis=1)
@@ -318,10 +320,9 @@ def select_features(features, n_bands, groups=("spectral", "size")):
     fractal dimension. (``lab``: see :func:`object_features`.)
     """
     features = np.asarray(features, dtype=float)
-    unknown = [g for g in groups if g not in FEATURE_GROUPS or g == "lab"]
+    unknown = [g for g in groups if g not in COLUMN_GROUPS]
     if unknown or not groups:
-        raise ValueError("feature groups must be among {}".format(
-            ", ".join(g for g in FEATURE_GROUPS if g != "lab")))
+        raise ValueError("feature groups must be among {}".format(", ".join(COLUMN_GROUPS)))
     nb = 5 * n_bands
     parts = []
     if "spectral" in groups:
