@@ -109,7 +109,7 @@
 # % multiple: yes
 # % options: spectral,lab,size,shape
 # % description: Object features the classifiers use: band statistics (of the bands, of their CIELAB colour), log area and perimeter, shape indices
-# % descriptions: spectral;mean, median, variance, first and third quartile of each band;lab;the same of the CIELAB lightness L* and colour a*, b* of the red, green, blue bands (pale washes apart from white paper; not with one band);size;logarithm of area and perimeter;shape;compact square, compact circle, fractal dimension
+# % descriptions: spectral;mean, median, variance, first and third quartile of each band;lab;the same of the CIELAB lightness L* and colour a*, b* of the red, green, blue bands (pale washes apart from white paper, needs three bands);size;logarithm of area and perimeter;shape;compact square, compact circle, fractal dimension
 # % answer: spectral,size
 # % guisection: Classification
 # %end

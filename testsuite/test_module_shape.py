@@ -85,6 +85,28 @@ def test_options_become_values_in_the_stages_config_only():
     assert found == {}
 
 
+def description_problems(source):
+    """Options whose ``descriptions:`` do not pair each listed value with one
+    text: g.parser splits them at every ``;``, so a ``;`` inside a text
+    makes a "Bug in UI description" warning at every run."""
+    problems = []
+    for block in re.findall(r"# %option\n(.*?)# %end", source, re.S):
+        fields = dict(re.findall(r"# % (\w+): (.*)", block))
+        if "descriptions" not in fields:
+            continue
+        parts = fields["descriptions"].split(";")
+        values = set(fields.get("options", "").split(","))
+        keys = parts[0::2]
+        if len(parts) % 2 or not set(keys) <= values:
+            problems.append((fields.get("key"), [k for k in keys if k not in values]))
+    return problems
+
+
+@pytest.mark.parametrize("module", MODULES)
+def test_every_option_description_pairs_a_listed_value(module):
+    assert description_problems(_script(module)) == []
+
+
 @pytest.mark.parametrize("stage", ("classify", "generalize", "align", "subdivide", "lod2"))
 def test_every_stage_has_one_config_one_entry_point_and_one_report(stage):
     package = os.path.join(ROOT, "reconstruction", stage)
@@ -123,6 +145,13 @@ def main(options, flags):
 
     return year, names
 '''
+
+
+def test_a_semicolon_inside_a_description_is_found():
+    header = ("# %option\n# % key: features\n# % options: a,b\n"
+              "# % descriptions: a;first (x; y);b;second\n# %end\n")
+    assert description_problems(header) == [("features", [" y)", "second"])]
+    assert description_problems(header.replace("x; y", "x, y")) == []
 
 
 def test_the_counter_counts_code_only():
