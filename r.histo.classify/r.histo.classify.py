@@ -95,6 +95,15 @@
 # % guisection: Segmentation
 # %end
 # %option
+# % key: segmentation
+# % type: string
+# % options: superpixels,lines
+# % description: What the segments are
+# % descriptions: superpixels;regions of like colour (i.segment, tuned over threshold= and minsize=);lines;the shapes the map's line work closes, and its lines (monochrome maps: outlined blocks, hatched buildings)
+# % answer: superpixels
+# % guisection: Segmentation
+# %end
+# %option
 # % key: classifiers
 # % type: string
 # % multiple: yes
@@ -107,9 +116,9 @@
 # % key: features
 # % type: string
 # % multiple: yes
-# % options: spectral,lab,size,shape
-# % description: Object features the classifiers use: band statistics (of the bands, of their CIELAB colour), log area and perimeter, shape indices
-# % descriptions: spectral;mean, median, variance, first and third quartile of each band;lab;the same of the CIELAB lightness L* and colour a*, b* of the red, green, blue bands (pale washes apart from white paper, needs three bands);size;logarithm of area and perimeter;shape;compact square, compact circle, fractal dimension
+# % options: spectral,lab,size,shape,fill
+# % description: Object features the classifiers use: band statistics (of the bands, of their CIELAB colour), log area and perimeter, shape indices, what a shape is filled with
+# % descriptions: spectral;mean, median, variance, first and third quartile of each band;lab;the same of the CIELAB lightness L* and colour a*, b* of the red, green, blue bands (pale washes apart from white paper, needs three bands);size;logarithm of area and perimeter;shape;compact square, compact circle, fractal dimension;fill;share of ink and of hatching, the strokes' direction and how parallel they are (needs segmentation=lines)
 # % answer: spectral,size
 # % guisection: Classification
 # %end
@@ -268,8 +277,10 @@ def main(options, flags):
             gs.run_command("r.support", map=output,
                            source1="training points <{}>, inputs <{}>".format(
                                options["training"], ",".join(config.bands)),
-                           description="i.segment threshold={} minsize={}".format(
-                               *result.best_pair))
+                           description=("shapes closed by the map's lines"
+                                        if config.segmentation == "lines" else
+                                        "i.segment threshold={} minsize={}".format(
+                                            *result.best_pair)))
             gs.raster_history(output, overwrite=True)
     if options["segments"] and not isinstance(result.chosen, str):
         grassio.write_raster(options["segments"], result.chosen, title="Segments", null=0)

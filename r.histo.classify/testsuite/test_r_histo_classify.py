@@ -163,6 +163,64 @@ def test_a_greyscale_scan_is_classified(syn):
     assert _temp_maps() == []
 
 
+def _best_iou(polygon, labels, smap):
+    """The IoU of a true polygon with the region of ``labels`` it overlaps most."""
+    from reconstruction.geom.polygons import cells_inside
+
+    truth = cells_inside([polygon], smap.west, smap.north, (smap.res, smap.res), labels.shape)
+    ids, counts = np.unique(labels[truth], return_counts=True)
+    counts[ids == 0] = 0
+    best = int(np.argmax(counts))
+    if ids[best] == 0:
+        return 0.0
+    return counts[best] / ((labels == ids[best]).sum() + truth.sum() - counts[best])
+
+
+def test_a_monochrome_map_is_read_as_the_shapes_its_lines_close(mapset):
+    """Issue 51, items 1-2: segmentation=lines on the synthetic monochrome map
+    (seed 1): its outlined blocks, hatched buildings and hatched river are
+    classified shapes, each as drawn. The training points of text (written
+    inside the shapes, not a shape) are left out. The shapes here are the
+    classified cells grown over the lines between them (as the figures of
+    the issue: blocks 14 of 14 and hatched 8 of 10 at IoU >= 0.9)."""
+    import grass.script as gs
+    import shapely
+    from synthetic_map import (BLOCK, BUILDING, DISTRICT, OUTLINE, TEXT, WATER, generate,
+                               write_map_to_grass)
+
+    from reconstruction import grassio
+    from reconstruction.geom.ink import grow
+
+    smap = generate(seed=1, size=600, style="monochrome")
+    names = write_map_to_grass(smap, "mono")
+    gs.run_command("v.extract", input=names["training"], output="shape_points",
+                   where="label <> {}".format(TEXT), quiet=True)
+    gs.run_command(MODULE, input=",".join(names[b] for b in ("red", "green", "blue")), training="shape_points",
+                   output="cls", segments="segs", segmentation="lines", features="spectral,fill,size",
+                   quiet=True)
+    classified = grassio.read_raster("cls", dtype=np.int32)
+    hatched = shapely.union_all(smap.hatched)
+    paper = [p for p in (b.difference(hatched) for b in smap.plots) if p.area > 1]
+
+    # the shapes (segments= keeps them): grown over the lines between them
+    segments = grassio.read_raster("segs", dtype=np.int32)
+    shapes = grow(np.where(np.isin(classified, (OUTLINE, DISTRICT)), 0, segments),
+                  classified > 0)
+
+    def found(polygons, label):
+        regions = np.where(np.isin(shapes, np.unique(shapes[classified == label])), shapes, 0)
+        return sum(_best_iou(p, regions, smap) >= 0.9 for p in polygons)
+
+    blocks, buildings = found(paper, BLOCK), found(smap.hatched, BUILDING)
+    water = found(smap.water, WATER)
+    print("monochrome, segmentation=lines: blocks {}/{}, hatched {}/{}, water {}/{}".format(
+        blocks, len(paper), buildings, len(smap.hatched), water, len(smap.water)))
+    assert blocks >= 0.9 * len(paper) and buildings >= 0.7 * len(smap.hatched)
+    assert water == len(smap.water)
+    assert "shapes closed by the map's lines" in gs.read_command("r.info", map="cls")
+    assert _temp_maps() == []
+
+
 # ---------------------------------------------------------------------------
 # Options, determinism, clean-up
 # ---------------------------------------------------------------------------
@@ -290,6 +348,12 @@ def test_two_or_four_bands_are_refused(syn, count):
     bands = [syn.red, syn.green, syn.blue, syn.red][:count]
     _fails("Option input= needs one raster map (a greyscale scan) or three (red, green, blue), "
            "not {}".format(count), input=",".join(bands), training=syn.training)
+
+
+def test_fill_without_lines_and_an_unknown_segmentation_are_refused(syn):
+    _fails("Option features=fill describes the shapes a map's lines close: it needs "
+           "segmentation=lines", input=_inputs(syn), training=syn.training,
+           features="spectral,fill")
 
 
 def test_lab_or_registration_of_one_band_is_refused(syn):

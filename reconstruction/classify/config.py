@@ -30,6 +30,11 @@ class ClassifyConfig:
     ``label_column``, ``class_column``: the training points' columns;
     ``outline``: where the map draws the outline of the ``separate`` classes'
     areas (:data:`~reconstruction.classify.outlines.OUTLINES`);
+    ``segmentation``: what the segments are (:data:`SEGMENTATIONS`):
+    ``superpixels``, i.segment's regions of like colour, tuned over the
+    parameter pairs; ``lines``, the shapes the map's line work closes and
+    the lines themselves (:mod:`~reconstruction.classify.lines`: a monochrome
+    map's blocks and hatched buildings);
     ``keep_segments``: segments= is given; ``exhaustive``: flag -e (a full
     i.segment run per pair); ``print_table``: flag -p; ``register``: flag
     -b, the bands are registered to each other first
@@ -59,6 +64,7 @@ class ClassifyConfig:
     nprocs: int = 1
     memory: int = 300
     bands: tuple = ()
+    segmentation: str = "superpixels"
     label_column: str = "label"
     class_column: str = "class"
     keep_segments: bool = False
@@ -73,6 +79,10 @@ class ClassifyConfig:
         return [(t, m) for t in self.thresholds for m in self.minsizes]
 
 
+#: what r.histo.classify's segments can be (option segmentation=)
+SEGMENTATIONS = ("superpixels", "lines")
+
+
 def read_config(options, flags=None):
     """The options and flags of r.histo.classify (dicts of texts and booleans,
     as g.parser gives them; no flag set when ``flags`` is None) as a
@@ -83,6 +93,13 @@ def read_config(options, flags=None):
     if "lab" in features and len(bands) != 3:
         raise InputError("Option features=lab needs the red, green and blue bands of a colour "
                          "scan: input= has one band (a greyscale scan; leave lab out)")
+    segmentation = options.get("segmentation") or "superpixels"
+    if segmentation not in SEGMENTATIONS:
+        raise InputError("Option segmentation= must be one of {}, got '{}'".format(
+            ", ".join(SEGMENTATIONS), segmentation))
+    if "fill" in features and segmentation != "lines":
+        raise InputError("Option features=fill describes the shapes a map's lines close: it "
+                         "needs segmentation=lines")
     if flags.get("b") and len(bands) != 3:
         raise InputError("Flag -b registers the colour bands to each other: input= has one band "
                          "(a greyscale scan has nothing to register; leave -b out)")
@@ -130,7 +147,7 @@ def read_config(options, flags=None):
         seed=parse_number(options["seed"], "seed", int),
         nprocs=processes(options["nprocs"]),
         memory=parse_number(options.get("memory") or 300, "memory", int, minimum=1),
-        bands=tuple(bands), label_column=options.get("label_column", "label"),
+        bands=tuple(bands), segmentation=segmentation, label_column=options.get("label_column", "label"),
         class_column=options.get("class_column", "class"),
         keep_segments=bool(options.get("segments")), exhaustive=bool(flags.get("e")),
         print_table=bool(flags.get("p")), register=bool(flags.get("b")))

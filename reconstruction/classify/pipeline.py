@@ -23,6 +23,7 @@ import numpy as np
 
 from ..core.messages import Message, note
 from ..geom.grid import Grid
+from . import lines
 from . import segments as cl
 from . import tiled, tiling
 from .config import ClassifyConfig
@@ -88,6 +89,8 @@ def run(inputs, config: ClassifyConfig) -> ClassifyResult:
     grid = inputs.grid
     training = read_training(inputs.training_xy, inputs.training_columns, config.label_column,
                              config.class_column, config, grid, inputs.training_map)
+    if config.segmentation == "lines":
+        return _classify_lines(inputs, training, config)
     windows = tiling.tuning_windows(grid.rows, grid.cols)
     side = tiling.tile_side(config.memory)
     if config.window:
@@ -105,6 +108,24 @@ def run(inputs, config: ClassifyConfig) -> ClassifyResult:
                                 training, config, grid, message=_sayer(inputs.say, "message"),
                                 verbose=_sayer(inputs.say, "verbose"), percent=inputs.percent)
     return _classify_sheet(inputs, windows, tiles, side, chains, training, config)
+
+
+def _classify_lines(inputs, training, config):
+    """The segments are the shapes the map's lines close (and the lines): read
+    on the whole map at once, as a shape may reach across any tile."""
+    bands = inputs.read_bands(None)
+    inputs.say([note("Reading the shapes the map's lines close...")])
+    start = time.perf_counter()
+    reading = lines.read_ink(bands, inputs.grid.ewres)
+    shapes = lines.line_shapes(reading)
+    inputs.say([note("{} shapes closed by the lines (stroke {:.1f} cells, least shape {} "
+                     "cells)".format(shapes.shapes, reading.scale.stroke,
+                                     reading.scale.min_cells))])
+    took = time.perf_counter() - start
+    result = classify_map(bands, [(0, shapes.segments)], lambda segments: segments, training,
+                          replace(config, thresholds=(0.0,), minsizes=(0,)), inputs.grid,
+                          message=_sayer(inputs.say, "verbose"), reading=reading)
+    return replace(result, timing=[("segmentation", took)] + result.timing[1:])
 
 
 def _classify_sheet(inputs, windows, tiles, side, chains, training, config):

@@ -30,8 +30,10 @@ BAND_STATISTICS = ("mean", "median", "variance", "q1", "q3")
 SHAPE_FEATURES = ("area", "perimeter", "compact_square", "compact_circle", "fractal_dimension")
 CLASSIFIERS = ("rf", "knn", "svm")
 #: Feature groups a classification can use: band statistics, the same of the
-#: CIELAB L*, a*, b* of the first three bands (red, green, blue), size, shape indices.
-FEATURE_GROUPS = ("spectral", "lab", "size", "shape")
+#: CIELAB L*, a*, b* of the first three bands (red, green, blue), size, shape
+#: indices, what a segment is filled with (ink, hatching and its direction:
+#: :func:`reconstruction.classify.lines.fill_features`, given by the caller).
+FEATURE_GROUPS = ("spectral", "lab", "size", "shape", "fill")
 #: The groups that are columns of :func:`segment_features` (lab: of bands derived first)
 COLUMN_GROUPS = ("spectral", "size", "shape")
 #: CIELAB's reference white (D65) in XYZ, and sRGB's linear RGB -> XYZ matrix
@@ -288,16 +290,19 @@ def cielab(red, green, blue):
     return 116 * f[..., 1] - 16, 500 * (f[..., 0] - f[..., 1]), 200 * (f[..., 1] - f[..., 2])
 
 
-def object_features(segments, bands, groups=("spectral", "size")):
+def object_features(segments, bands, groups=("spectral", "size"), fill=None):
     """The features the classifiers use for every segment: ``(ids, features)``,
     the sorted segment ids present and, per segment, the statistics of the
     bands (``spectral``), of their :func:`cielab` colour (``lab``: the first
     three bands must be red, green and blue), then the size and shape columns
-    of :func:`select_features` (``size``, ``shape``); the statistics of only
-    the bands a group asks for are computed."""
+    of :func:`select_features` (``size``, ``shape``), then (``fill``) the rows of
+    ``fill``, one per segment present in the order of their ids; the statistics
+    of only the bands a group asks for are computed."""
     unknown = [g for g in groups if g not in FEATURE_GROUPS]
     if unknown or not groups:
         raise ValueError("feature groups must be among {}".format(", ".join(FEATURE_GROUPS)))
+    if ("fill" in groups) != (fill is not None):
+        raise ValueError("the fill features are given with the group fill, and only then")
     bands = list(_band_stack(bands))
     stats = (bands if "spectral" in groups else []) + (
         list(cielab(*bands[:3])) if "lab" in groups else [])
@@ -308,6 +313,11 @@ def object_features(segments, bands, groups=("spectral", "size")):
     others = tuple(g for g in groups if g in COLUMN_GROUPS and g != "spectral")
     if others:
         parts.append(select_features(features, n_stats, others))
+    if fill is not None:
+        fill = np.asarray(fill, dtype=float)
+        if len(fill) != len(ids):
+            raise ValueError("fill has {} rows for {} segments".format(len(fill), len(ids)))
+        parts.append(fill)
     return ids, np.concatenate(parts, axis=1)
 
 

@@ -27,7 +27,7 @@ import numpy as np
 
 from ..core.errors import InputError
 from ..geom.grid import Grid
-from . import outlines, removal
+from . import lines, outlines, removal
 from . import segments as cl
 
 # Colours of the classes: by class name where it is a usual one, otherwise
@@ -179,7 +179,7 @@ def _no_percent(done, total):
 
 
 def classify_map(bands, segmentations, read_segments, training, config, grid,
-                 message=_ignore, verbose=_ignore, percent=_no_percent):
+                 message=_ignore, verbose=_ignore, percent=_no_percent, reading=None):
     """Classify a scanned map: tuned segmentation, ensemble vote, removal.
 
     ``bands``: the map's bands (arrays on ``grid``, nan = no data);
@@ -187,7 +187,9 @@ def classify_map(bands, segmentations, read_segments, training, config, grid,
     ``config.pairs[k]`` is ready, ``read_segments(id)`` its segment array.
     ``message`` and ``verbose`` receive progress texts, ``percent(done,
     total)`` the segmentations done of all the pairs' (the longest wait of
-    the module, silent otherwise but with -v). Returns a
+    the module, silent otherwise but with -v); ``reading``: the map's
+    :class:`~reconstruction.classify.lines.InkReading` (read here when the
+    ``fill`` features need it and it is not given). Returns a
     :class:`ClassifyResult`.
     """
     start = time.perf_counter()
@@ -212,7 +214,11 @@ def classify_map(bands, segmentations, read_segments, training, config, grid,
 
     segments = read_segments(ids[best])
     index, n_segments = cl.relabel(segments)
-    _ids, model_features = cl.object_features(segments, bands, config.features)
+    fill = None
+    if "fill" in config.features:
+        reading = reading or lines.read_ink(bands, grid.ewres)
+        fill = lines.fill_features(index + 1, reading)
+    _ids, model_features = cl.object_features(segments, bands, config.features, fill)
     train_rows = index[training.rows, training.cols]
     if (train_rows < 0).any():
         raise InputError("Some training points lie outside every segment")
