@@ -4,6 +4,9 @@ import copy
 import json
 import os
 import re
+import shutil
+import subprocess
+import sys
 
 import pytest
 
@@ -121,6 +124,21 @@ def test_no_version_overlaps_another_for_val3dity(tmp_path):
     report = val3dity_report(str(path))
     assert report.codes.get(601, 0) == 0 and report.invalid == [], str(report)
     assert report.objects >= 5
+
+
+def test_cjio_reads_the_versions_and_names_the_extension(tmp_path):
+    # cjio (pinned in requirements.txt) beside the interpreter; its validate needs
+    # cjvalpy, which has no wheel here: the schema test above validates instead
+    cjio = shutil.which("cjio", path=os.path.dirname(sys.executable)) or shutil.which("cjio")
+    if cjio is None:
+        pytest.skip("cjio is not installed (make deps installs it in the venv)")
+    path = tmp_path / "merged.city.json"
+    path.write_text(json.dumps(merge_epochs(town()).document))
+    proc = subprocess.run([cjio, str(path), "info"], capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert "Extensions = ['HistoVersions']" in proc.stdout
+    assert "Building (4)" in proc.stdout and "+BuildingVersion (5)" in proc.stdout
 
 
 def test_paradata_of_heights_and_roof_type():
