@@ -73,9 +73,6 @@ NOT_METRIC = frozenset({3857, 3785, 900913, 102100, 102113})
 #: what joins an object id to the year of the epoch where an unrelated building of
 #: the same id first stands (:func:`merge_epochs`)
 APART = "@"
-#: what joins an object id to the year of the first epoch of one of its versions
-#: (the ``+BuildingVersion`` city objects, :mod:`~reconstruction.cityjson.versions`)
-VERSION_JOIN = "~"
 
 
 @dataclass(frozen=True)
@@ -91,9 +88,9 @@ class Epoch:
 @dataclass(frozen=True)
 class MergeReport:
     """What :func:`merge_epochs` found: ``buildings`` (distinct identities), per
-    epoch year its building count (``per_epoch``), the geometry ``versions``
-    stored, the buildings still ``standing``, the ``conflicts`` ({id: what}) and the
-    ids kept ``apart``."""
+    epoch year its building count (``per_epoch``), the ``versions`` stored
+    (``+BuildingVersion`` city objects), the buildings still ``standing``, the
+    ``conflicts`` ({id: what}) and the ids kept ``apart``."""
 
     buildings: int
     per_epoch: dict
@@ -395,12 +392,14 @@ def merge_epochs(epochs, register=None, reference_system=None, title=None):
                     if obj.get(name):
                         links.setdefault(name, [])
                         links[name].extend(x for x in obj[name] if x not in links[name])
-                versioning.add_epoch(runs, k, years[k], obj, _reindexed(
-                    obj["geometry"], inverse[starts[k]:starts[k + 1]]) if "geometry" in obj else None)
+                geometry = _reindexed(obj["geometry"], inverse[starts[k]:starts[k + 1]]) \
+                    if "geometry" in obj else None
+                versioning.add_epoch(runs, k, years[k], obj, geometry)
             out = {"type": kind}
             out.update(links)
             for run in runs:
-                vid = versioning.free_id(member + VERSION_JOIN + str(years[run.epochs[0]]), taken)
+                vid = versioning.free_id("{}{}{}".format(
+                    member, versioning.VERSION_JOIN, years[run.epochs[0]]), taken)
                 at.update(((member, k), vid) for k in run.epochs)
                 versioned[vid] = run.city_object(member, years, shown)
                 if run.geometry:

@@ -11,6 +11,10 @@ from typing import Optional
 
 from ..cityjson import versions
 
+#: what joins an object id to the year of the first epoch of one of its versions
+#: (the ``+BuildingVersion`` city objects, :mod:`~reconstruction.cityjson.versions`)
+VERSION_JOIN = "~"
+
 
 @dataclass
 class Run:
@@ -63,18 +67,19 @@ def add_epoch(runs, k, year, obj, geometry):
 
 
 def free_id(name, taken):
-    """``name``, or with ``~`` (:data:`~reconstruction.epochs.dynamic.VERSION_JOIN`) added until no object has it; taken now."""
+    """``name``, or with :data:`VERSION_JOIN` added until no object has it; taken now."""
     while name in taken:
-        name += "~"
+        name += VERSION_JOIN
     taken.add(name)
     return name
 
 
 def shown_years(years, present, built):
     """{epoch index of a building: (first, last) year in which the snapshot shows it
-    as that epoch's (last None: after the last map)}, by :func:`~reconstruction.epochs.dynamic.standing_versions`'
-    rule: from the epoch's year (or from the register's ``built`` year, between the
-    map before that does not show it and this one) to the year before the next map."""
+    as that epoch's (last None: after the last map)}, by the rule of
+    :func:`~reconstruction.epochs.dynamic.standing_versions`: from the epoch's year
+    (or from the register's ``built`` year, between the map before that does not
+    show it and this one) to the year before the next map."""
     out = {}
     for k in present:
         first = years[k]
