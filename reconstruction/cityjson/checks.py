@@ -34,6 +34,7 @@ import numpy as np
 
 from ..core.errors import InputError
 from . import geometry as citygeometry
+from . import versions
 from .copied import COPYABLE
 
 #: the bytes of the JSON text of nested lists of non-negative integers
@@ -186,6 +187,10 @@ def broken_buildings(objects, buildings, counts):
     CityJSONSeq, the model's in one file)."""
     problems, trees = {}, {}
     geometries, owner = [], []
+    # a building of a model over time has its geometry in its versions (city objects
+    # of their own, checked as buildings are)
+    versioned = {o.get("versionOf") for o in objects.values() if isinstance(o, dict)
+                 and o.get("type") == versions.VERSION and isinstance(o.get("versionOf"), str)}
     for b, oid in enumerate(buildings):
         tree, problem = _tree(objects, oid)
         for o in tree:
@@ -193,7 +198,7 @@ def broken_buildings(objects, buildings, counts):
         if problem is None:
             mine = [g for o in tree for g in objects[o].get("geometry", ())
                     if g.get("type") in citygeometry.DEPTH]
-            if not any(g["type"] in COPYABLE for g in mine):
+            if not any(g["type"] in COPYABLE for g in mine) and oid not in versioned:
                 problem = "it has no geometry"
         if problem is not None:
             problems[oid] = problem

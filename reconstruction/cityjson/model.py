@@ -473,11 +473,14 @@ def consistency_errors(model):
     return errors
 
 
-def schema_validator(schema_dir, definition="cityjson.schema.json"):
+def schema_validator(schema_dir, definition="cityjson.schema.json", extensions=None):
     """A jsonschema validator of the official CityJSON schemas in ``schema_dir``
     (e.g. ``../shared/schemas/cityjson-2.0.2``), with every ``$ref`` resolved
     locally through a ``referencing`` registry. ``definition`` may point
-    inside a file, e.g. ``cityobjects.schema.json#/Building``."""
+    inside a file, e.g. ``cityobjects.schema.json#/Building``, or inside an
+    Extension of ``extensions`` ({name: its document}, each read as the file
+    ``<name>.ext.json`` beside the schemas), e.g.
+    ``HistoVersions.ext.json#/extraCityObjects/+BuildingVersion``."""
 
     from jsonschema import Draft7Validator
     from referencing import Registry, Resource
@@ -495,27 +498,83 @@ def schema_validator(schema_dir, definition="cityjson.schema.json"):
         resources.append((uri, resource))
         if name == "cityjson.schema.json":
             base = uri.rsplit("/", 1)[0] + "/"
+    for name, contents in (extensions or {}).items():
+        resources.append(((base or "") + name + ".ext.json", Resource.from_contents(
+            contents, default_specification=DRAFT7)))
     registry = Registry().with_resources(resources)
     return Draft7Validator({"$ref": (base or "") + definition}, registry=registry)
 
 
-def schema_errors(model, schema_dir, max_objects=None):
+def _extension_definitions(model, extensions):
+    """{what: definition} of what a document's Extensions define ({name: document}):
+    ``("object", type)``, ``("attribute", type, name)`` and ``("root", name)``, each a
+    definition for :func:`schema_validator`; and the errors of Extensions the document
+    names but that are not given."""
+    found, errors = {}, []
+    for name in (model.get("extensions") or {}):
+        ext = (extensions or {}).get(name)
+        if ext is None:
+            errors.append("Extension {} is not given: its definitions are not checked".format(
+                name))
+            continue
+        where = name + ".ext.json#/"
+        for kind in ext.get("extraCityObjects") or {}:
+            found["object", kind] = where + "extraCityObjects/" + kind
+        for kind, names in (ext.get("extraAttributes") or {}).items():
+            for attribute in names:
+                found["attribute", kind, attribute] = "{}extraAttributes/{}/{}".format(
+                    where, kind, attribute)
+        for prop in ext.get("extraRootProperties") or {}:
+            found["root", prop] = where + "extraRootProperties/" + prop
+    return found, errors
+
+
+def schema_errors(model, schema_dir, max_objects=None, extensions=None):
     """Schema errors of a CityJSON document (list of messages, empty if valid).
 
     The document without its city objects (plus the first 10) is checked
     against ``cityjson.schema.json``, then every city object (or the first
     ``max_objects``) against its own definition: the same checks as the whole
     file at once, much faster than the schema's ``oneOf`` over all types.
+    ``extensions``: {name: Extension document} of the Extensions the document
+    names: its new city object types (``+Type``), attributes (``+name``) and
+    root properties (``+name``) are checked against their definitions; one
+    that no Extension defines is an error.
     """
-    errors = []
+    found, errors = _extension_definitions(model, extensions)
+    validators = {}
+
+    def check(definition, value, label):
+        if definition not in validators:
+            validators[definition] = schema_validator(schema_dir, definition, extensions)
+        errors.extend(label + e.message for e in validators[definition].iter_errors(value))
+
     objects = model.get("CityObjects", {})
     head = dict(model)
     head["CityObjects"] = dict(itertools.islice(objects.items(), 10))
-    errors.extend(e.message for e in schema_validator(schema_dir).iter_errors(head))
-    validators = {}
+    check("cityjson.schema.json", head, "")
+    for prop in (p for p in model if p.startswith("+")):
+        if ("root", prop) not in found:
+            errors.append("root property {} is in no Extension".format(prop))
+        else:
+            check(found["root", prop], model[prop], prop + ": ")
     for oid, obj in itertools.islice(objects.items(), max_objects):
         kind = obj.get("type", "")
-        if kind not in validators:
-            validators[kind] = schema_validator(schema_dir, "cityobjects.schema.json#/" + kind)
-        errors.extend("{}: {}".format(oid, e.message) for e in validators[kind].iter_errors(obj))
+        label = "{}: ".format(oid)
+        if kind.startswith("+"):
+            if ("object", kind) not in found:
+                errors.append("{}type {} is in no Extension".format(label, kind))
+                continue
+            check(found["object", kind], obj, label)
+        else:
+            check("cityobjects.schema.json#/" + kind, obj, label)
+        attributes = obj.get("attributes")
+        for name in (n for n in (attributes if isinstance(attributes, dict) else ())
+                     if n.startswith("+")):
+            key = ("attribute", kind, name)
+            if key not in found:
+                errors.append("{}attribute {} of a {} is in no Extension".format(label, name,
+                                                                                 kind))
+            else:
+                check(found[key], attributes[name], "{}{}: ".format(label, name))
     return errors

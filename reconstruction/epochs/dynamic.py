@@ -5,25 +5,35 @@ the second on), its buildings named by their identity. :func:`merge_epochs`
 makes one CityJSON 2.0 document of them that holds every building once:
 
 - a building (with its children, e.g. a copied 3D BAG building's parts)
-  gets one geometry per *version*: the epochs whose models give it the
-  same geometry (the same vertices, to the millimetre) share one; a
-  building kept from epoch to epoch is stored once;
-- its attributes are those of its first epoch, plus, in
-  ``epoch_attributes``, what another epoch says otherwise ({year: {name:
-  value}}: the map year, the plot number, a measured height); each object's
-  ``geometry_epochs`` lists, per geometry, the epochs it is the geometry of;
+  is a city object of its own, its identity, without geometry; each
+  *version* of it (or of a part) is a ``+BuildingVersion`` city object that
+  names it in ``versionOf`` (a first-level object: not a part, which val3dity
+  would require not to overlap the others), in the suite's CityJSON Extension
+  (:mod:`~reconstruction.cityjson.versions`, ``HistoVersions``): the
+  consecutive epochs whose models give it the same geometry (the same
+  vertices, to the millimetre) share one version, a building kept from epoch
+  to epoch is stored once. A version holds its geometry, its ``epochs``, its
+  validity interval (``validFrom``, ``validTo``: the years the snapshot shows
+  it), the attributes of its first epoch, in ``epochAttributes`` what
+  another epoch says otherwise ({year: {name: value}}: the map year, the plot
+  number), and the ``paradata`` of its heights and roof type;
 - its identity: its id, while each map's footprint of it overlaps the
   one before (an id that two runs of the chain gave unrelated buildings
   is kept apart, the later one as ``<id>@<year>``);
 - its lifespan (:mod:`~reconstruction.epochs.lifespans`): ``epochs``,
   ``dateOfConstruction`` (the register's year, where the maps agree),
   ``dateOfConstructionEarliest``/``Latest``, ``dateOfDemolitionEarliest``/
-  ``Latest``, ``standing`` and, where the evidence conflicts, ``conflict``.
+  ``Latest``, ``standing`` and, where the evidence conflicts, ``conflict``;
+  in ``+transitions`` what happened to it between two consecutive maps
+  (kept, changed, new, demolished) and the evidence.
 
-Core CityJSON 2.0 (no Extension): the file validates against the official
-schemas and opens in cjio. A generic viewer draws every version of a
-building at once; :func:`snapshot` gives the model of one year, one
-geometry per building, for those.
+The file validates against the official CityJSON 2.0.2 schemas with the
+Extension, opens in cjio, and each version is a solid of its own (val3dity
+checks each alone: no overlapping parts). A generic viewer draws every
+version of a building at once; :func:`snapshot` gives the model of one year,
+one version per building, for those. A merged model of the form before the
+Extension (``geometry_epochs`` attributes) is refused with how to make it
+again (:data:`EARLIER_FORM`).
 
 The snapshot of a year *y* is the model of the latest epoch at or before
 *y* (the maps are the evidence: what changed between two maps is not
@@ -41,10 +51,12 @@ from typing import Optional
 import numpy as np
 
 from ..cityjson import geometry as citygeometry
+from ..cityjson import versions
 from ..cityjson.seq import object_tree
 from ..cityjson.existing import id_key
 from ..core import crs
 from ..core.errors import InputError
+from . import versioning
 from .lifespans import lifespan
 from .plots import LINK_SHARE
 
@@ -61,10 +73,6 @@ NOT_METRIC = frozenset({3857, 3785, 900913, 102100, 102113})
 #: what joins an object id to the year of the epoch where an unrelated building of
 #: the same id first stands (:func:`merge_epochs`)
 APART = "@"
-#: attributes the merge adds to each object (not an epoch's)
-DYNAMIC = ("epochs", "geometry_epochs", "epoch_attributes", "dateOfConstruction",
-           "dateOfConstructionEarliest", "dateOfConstructionLatest", "dateOfDemolitionEarliest",
-           "dateOfDemolitionLatest", "standing", "conflict")
 
 
 @dataclass(frozen=True)
@@ -80,9 +88,9 @@ class Epoch:
 @dataclass(frozen=True)
 class MergeReport:
     """What :func:`merge_epochs` found: ``buildings`` (distinct identities), per
-    epoch year its building count (``per_epoch``), the geometry ``versions``
-    stored, the buildings still ``standing``, the ``conflicts`` ({id: what}) and the
-    ids kept ``apart``."""
+    epoch year its building count (``per_epoch``), the ``versions`` stored
+    (``+BuildingVersion`` city objects), the buildings still ``standing``, the
+    ``conflicts`` ({id: what}) and the ids kept ``apart``."""
 
     buildings: int
     per_epoch: dict
@@ -163,7 +171,8 @@ def check_one_epoch(document, path, year=None, what="model"):
     one map year, that year ``year`` where given, and (with ``year``) not empty: an
     epoch without buildings would date the demolition of every building before it."""
     attributes = _top_attributes(document)
-    if any(name in a for a in attributes for name in ("epochs", "geometry_epochs")):
+    if versions.is_versioned(document) or any(
+            name in a for a in attributes for name in ("epochs", "geometry_epochs")):
         raise InputError("The {} '{}' is a model over several epochs (v.histo.timeline's), "
                          "not the model of one map: take the epoch wanted from it with "
                          "v.histo.timeline input= snapshot=".format(what, path))
@@ -350,71 +359,63 @@ def merge_epochs(epochs, register=None, reference_system=None, title=None):
     for k, e in enumerate(epochs):
         for oid, tree in _trees(e.document).items():
             present.setdefault(oid, {})[k] = tree
-    objects, used = {}, []
-    versions = 0
+    objects, versioned, used = {}, {}, []
+    taken = {m for e in epochs for m in e.document.get("CityObjects", {})}
     keys = _register_keys(register or {})
-    conflicts, standing = {}, 0
+    conflicts, standing, count = {}, 0, {}
     for oid, trees in present.items():
-        first = min(trees)
+        built = _built(oid, keys)
+        covered = None
+        if built[0] and max(trees) < len(years) - 1:
+            k = max(trees)
+            covered = _covering(epochs[k].document, trees[k], grids[k], extents)
+        span = lifespan(years, [k in trees for k in range(len(years))],
+                        built=built[1], standing=built[0], covered=covered)
+        lived = span.attributes()
+        standing += span.standing
+        if span.conflict:
+            conflicts[oid] = span.conflict
+        shown = versioning.shown_years(years, set(trees), lived.get("dateOfConstruction"))
         members = list(dict.fromkeys(o for t in trees.values() for o in t))
+        at = {}                 # (member, epoch index) -> version id
         for member in members:
             if member in objects:
                 raise InputError("City object <{}> is in the tree of two buildings".format(
                     member))
-            geometry, epochs_of, seen = [], [], {}
-            base, extra, kind, links = None, {}, None, {}
+            runs, kind, links = [], None, {}
             for k in sorted(trees):
                 obj = epochs[k].document["CityObjects"].get(member)
                 if obj is None or member not in trees[k]:
                     continue
-                mapping = inverse[starts[k]:starts[k + 1]]
-                for g in _reindexed(obj.get("geometry", ()), mapping):
-                    text = json.dumps(g, sort_keys=True)
-                    if text not in seen:
-                        seen[text] = len(geometry)
-                        geometry.append(g)
-                        epochs_of.append([])
-                        versions += 1
-                    epochs_of[seen[text]].append(years[k])
-                attributes = obj.get("attributes") or {}
-                if base is None:
-                    base, kind = dict(attributes), obj.get("type")
-                else:
-                    differ = {n: v for n, v in attributes.items() if base.get(n) != v}
-                    differ.update({n: None for n in base if n not in attributes})
-                    if differ:
-                        extra[str(years[k])] = differ
+                kind = kind or obj.get("type")
                 for name in ("parents", "children"):
                     if obj.get(name):
                         links.setdefault(name, [])
                         links[name].extend(x for x in obj[name] if x not in links[name])
+                geometry = _reindexed(obj["geometry"], inverse[starts[k]:starts[k + 1]]) \
+                    if "geometry" in obj else None
+                versioning.add_epoch(runs, k, years[k], obj, geometry)
             out = {"type": kind}
             out.update(links)
-            attributes = dict(base or {})
-            if extra:
-                attributes["epoch_attributes"] = extra
-            if geometry:
-                attributes["geometry_epochs"] = epochs_of
-                out["geometry"] = geometry
-                used.append(citygeometry.indices(geometry))
+            for run in runs:
+                vid = versioning.free_id("{}{}{}".format(
+                    member, versioning.VERSION_JOIN, years[run.epochs[0]]), taken)
+                at.update(((member, k), vid) for k in run.epochs)
+                versioned[vid] = run.city_object(member, years, shown)
+                if run.geometry:
+                    used.append(citygeometry.indices(run.geometry))
             if member == oid:
-                built = _built(oid, keys)
-                covered = None
-                if built[0] and max(trees) < len(years) - 1:
-                    k = max(trees)
-                    covered = _covering(epochs[k].document, trees[k], grids[k], extents)
-                span = lifespan(years, [k in trees for k in range(len(years))],
-                                built=built[1], standing=built[0], covered=covered)
-                attributes.update(span.attributes())
-                standing += span.standing
-                if span.conflict:
-                    conflicts[oid] = span.conflict
-            out["attributes"] = attributes
+                lived[versions.TRANSITIONS] = versioning.transitions(years, trees, members, at)
+                out["attributes"] = lived
             objects[member] = out
+        for k in trees:
+            count[k] = count.get(k, 0) + 1
+    report = MergeReport(len(present), {years[k]: count.get(k, 0) for k in range(len(years))},
+                         len(versioned), standing, conflicts, apart)
+    objects.update(versioned)
     document = _document(objects, unique, used, epochs, reference_system, title)
-    report = MergeReport(len(present), {years[k]: sum(k in t for t in present.values())
-                                        for k in range(len(years))}, versions, standing,
-                         conflicts, apart)
+    document["extensions"] = versions.reference()
+    document[versions.ROOT] = versioning.versioning(years, objects, present, count)
     return DynamicModel(document, report)
 
 
@@ -468,8 +469,9 @@ def _document(objects, unique, used, epochs, reference_system, title):
 
 def epoch_years(document):
     """The epochs (years) of a merged model: every year its buildings name."""
-    return sorted({y for obj in document.get("CityObjects", {}).values()
-                   for y in (obj.get("attributes") or {}).get("epochs", ())})
+    objects = document.get("CityObjects", {})
+    return sorted({y for oid in buildings(objects)
+                   for y in (objects[oid].get("attributes") or {}).get("epochs", ())})
 
 
 def _integers(value):
@@ -477,45 +479,77 @@ def _integers(value):
         isinstance(v, int) and not isinstance(v, bool) for v in value)
 
 
-def _merged_problem(obj, top):
-    """What of a city object (a dict; ``top``: top-level) a model over time cannot hold
-    (None: nothing): see :func:`check_merged`."""
-    a = obj.get("attributes") or {}
-    if not isinstance(a, dict):
-        return "has attributes that are not an object"
-    if ("epochs" in a or top) and not (_integers(a.get("epochs")) and (a["epochs"] or not top)):
+#: what a model over time of the form before the Extension (issue 52) is told
+EARLIER_FORM = ("'{}' is a model over time of an earlier v.histo.timeline (a building's "
+                "versions as extra geometries, with geometry_epochs): make it again from the "
+                "epochs' models (v.histo.timeline models= years=, with register= as before), "
+                "which writes each version as a city object of its own (the HistoVersions "
+                "CityJSON Extension)")
+
+
+def _version_problem(obj, objects):
+    """What of a ``+BuildingVersion`` city object a model over time cannot hold (None:
+    nothing)."""
+    of = objects.get(obj.get("versionOf")) if isinstance(obj.get("versionOf"), str) else None
+    if not isinstance(of, dict) or of.get("type") == versions.VERSION or obj.get("parents"):
+        return "is not the version of a city object of the model (versionOf)"
+    if not (_integers(obj.get("epochs")) and obj["epochs"]):
         return "has no list of epochs (years)"
-    geometry = obj.get("geometry") or []
-    stamps = a.get("geometry_epochs", [] if not geometry else None)
-    if not (isinstance(stamps, list) and len(stamps) == len(geometry) and all(
-            _integers(e) for e in stamps)):
-        return "has no list of the epochs of each of its {} geometries".format(len(geometry))
-    extra = a.get("epoch_attributes") or {}
+    if not isinstance(obj.get("attributes", {}), dict):
+        return "has attributes that are not an object"
+    extra = obj.get("epochAttributes", {})
     if not (isinstance(extra, dict) and all(isinstance(v, dict) for v in extra.values())):
-        return "has epoch_attributes that are not {year: {name: value}}"
+        return "has epochAttributes that are not {year: {name: value}}"
+    if not isinstance(obj.get("geometry", []), list):
+        return "has a geometry that is not a list"
+    return None
+
+
+def _merged_problem(oid, obj, objects, index):
+    """What of a city object (a dict) of a model over time (whose
+    :func:`version_index` is ``index``) it cannot hold (None: nothing): see
+    :func:`check_merged`."""
+    if not isinstance(obj, dict):
+        return "is not a JSON object"
     for link in ("children", "parents"):
         if not isinstance(obj.get(link) or [], list):
             return "has {} that are not a list".format(link)
+    if obj.get("type") == versions.VERSION:
+        return _version_problem(obj, objects)
+    if obj.get("geometry"):
+        return "has a geometry of its own, not one per version"
+    if obj.get("parents"):
+        return None
+    a = obj.get("attributes")
+    if not (isinstance(a, dict) and _integers(a.get("epochs")) and a["epochs"]):
+        return "has no list of epochs (years)"
+    drawn = {y for v in index.get(oid, ()) if _integers(v.get("epochs")) for y in v["epochs"]}
+    lacking = sorted(set(a["epochs"]) - drawn)
+    if lacking:
+        return "has no version of its epoch {}".format(lacking[0])
     return None
 
 
 def check_merged(document, path):
     """InputError unless ``document`` (read from ``path`` by
     :func:`~reconstruction.cityjson.existing.read_document`) is a model over time as
-    :func:`merge_epochs` writes it: each top-level object with its ``epochs`` (years),
-    each object with geometry with the epochs of each geometry (``geometry_epochs``),
-    a geometry in its tree for each of its epochs, ``epoch_attributes`` {year: {name:
-    value}} where given."""
+    :func:`merge_epochs` writes it (the HistoVersions Extension): each top-level object
+    with its ``epochs`` (years) and, among its children, a ``+BuildingVersion`` of each
+    epoch; each version with its parent, its epochs, ``epochAttributes`` {year: {name:
+    value}} where given. A model of the form before the Extension (``geometry_epochs``)
+    is told how to make it again (:data:`EARLIER_FORM`)."""
     objects = document["CityObjects"]
-    for oid, obj in objects.items():
-        problem = _merged_problem(obj, not obj.get("parents"))
-        if problem is None and not obj.get("parents"):
-            drawn = {y for m in object_tree(objects, oid)
-                     for e in (objects[m].get("attributes") or {}).get("geometry_epochs", ())
-                     for y in e}
-            lacking = sorted(set(obj["attributes"]["epochs"]) - drawn)
-            if lacking:
-                problem = "has no geometry of its epoch {}".format(lacking[0])
+    if not versions.is_versioned(document):
+        if any(isinstance(o, dict) and "geometry_epochs" in (o.get("attributes") or {})
+               for o in objects.values()):
+            raise InputError(EARLIER_FORM.format(path))
+        raise InputError("'{}' is not a model over time of v.histo.timeline: it has no "
+                         "versions of buildings (the HistoVersions Extension)".format(path))
+    index = version_index(objects)
+    # the versions first: a building's problem may be that of its version
+    for oid in sorted(objects, key=lambda o: not (isinstance(objects[o], dict) and objects[
+            o].get("type") == versions.VERSION)):
+        problem = _merged_problem(oid, objects[oid], objects, index)
         if problem is not None:
             raise InputError("'{}' is not a model over time of v.histo.timeline: its city "
                              "object <{}> {}".format(path, oid, problem))
@@ -538,10 +572,9 @@ def standing_versions(document, year):
     later = [y for y in years if y > shown]
     following = later[0] if later else None
     chosen = {}
-    for oid, obj in document["CityObjects"].items():
-        if obj.get("parents"):
-            continue
-        a = obj.get("attributes") or {}
+    objects = document["CityObjects"]
+    for oid in buildings(objects):
+        a = objects[oid].get("attributes") or {}
         if shown in a.get("epochs", ()):
             chosen[oid] = shown
         elif following is not None and following in a.get("epochs", ()) and isinstance(
@@ -550,26 +583,53 @@ def standing_versions(document, year):
     return chosen
 
 
+def version_index(objects):
+    """{city object id: its ``+BuildingVersion`` objects (dicts), in the model's order}
+    of the ``objects`` of a model over time."""
+    out = {}
+    for obj in objects.values():
+        if isinstance(obj, dict) and obj.get("type") == versions.VERSION and isinstance(
+                obj.get("versionOf"), str):
+            out.setdefault(obj["versionOf"], []).append(obj)
+    return out
+
+
+def buildings(objects):
+    """The ids of the buildings (top-level city objects, not versions) among ``objects``."""
+    return [oid for oid, obj in objects.items()
+            if not obj.get("parents") and obj.get("type") != versions.VERSION]
+
+
+def _version_at(index, member, epoch):
+    """The version of city object ``member`` in ``epoch`` (a year) in a
+    :func:`version_index`, None when it is not in that epoch."""
+    return next((v for v in index.get(member, ()) if epoch in v.get("epochs", ())), None)
+
+
 def snapshot(document, year):
     """The CityJSON document of the town in ``year`` (see the module doc) from a merged
-    model (:func:`merge_epochs`); InputError for a year before the first epoch."""
+    model (:func:`merge_epochs`): each building's versions of the epoch chosen; InputError
+    for a year before the first epoch, and for a model of the form before the Extension
+    (:data:`EARLIER_FORM`)."""
+    if not versions.is_versioned(document):
+        raise InputError(EARLIER_FORM.format("The model"))
     objects = document["CityObjects"]
     chosen = standing_versions(document, year)
+    index = version_index(objects)
     out, used = {}, []
     for oid, epoch in chosen.items():
         for member in object_tree(objects, oid):
             obj = objects[member]
-            a = obj.get("attributes") or {}
-            attributes = {n: v for n, v in a.items() if n not in DYNAMIC}
-            attributes.update((a.get("epoch_attributes") or {}).get(str(epoch), {}))
+            version = _version_at(index, member, epoch)
+            if version is None:
+                continue                # a part of the building in other epochs
+            attributes = dict(version.get("attributes") or {})
+            attributes.update((version.get("epochAttributes") or {}).get(str(epoch), {}))
             new = {n: v for n, v in obj.items() if n not in ("attributes", "geometry")}
-            if "geometry" in obj:
-                geoms = [g for g, e in zip(obj["geometry"], a.get("geometry_epochs", ()))
-                         if epoch in e]
-                if not geoms and member != oid:
-                    continue                    # a part of the building in other epochs
-                new["geometry"] = geoms
-                used.append(citygeometry.indices(geoms))
+            if "geometry" in version:
+                new["geometry"] = version["geometry"]
+                if version["geometry"]:
+                    used.append(citygeometry.indices(version["geometry"]))
             new["attributes"] = attributes
             out[member] = new
     for obj in out.values():                         # children of another epoch left out

@@ -14,8 +14,8 @@ from ..cityjson.seq import document_features
 from ..core import register as bag
 from ..core.errors import InputError
 from ..core.safefile import together
-from ..epochs.dynamic import (Epoch, MergeReport, check_merged, epoch_years, merge_epochs,
-                              snapshot)
+from ..epochs.dynamic import (Epoch, MergeReport, buildings, check_merged, epoch_years,
+                              merge_epochs, snapshot)
 from .. import view
 
 
@@ -85,8 +85,8 @@ def run(config, read_table, doing):
             document = snapshot(document, config.snapshot)
         if config.title:
             document.setdefault("metadata", {})["title"] = config.title
-    buildings = sum(1 for o in document.get("CityObjects", {}).values() if not o.get("parents"))
-    return TimelineResult(document, merge, years, config.snapshot, buildings,
+    count = len(buildings(document.get("CityObjects", {})))
+    return TimelineResult(document, merge, years, config.snapshot, count,
                           None if register is None else len(register))
 
 

@@ -11,7 +11,7 @@ def report(result, config, size, seconds):
     out = []
     m = result.merge
     if m is not None:
-        out.append(note("{} epochs ({}) merged: {} buildings, {} geometry versions; per epoch: "
+        out.append(note("{} epochs ({}) merged: {} buildings, {} versions; per epoch: "
                         "{}".format(len(m.per_epoch), ", ".join(map(str, sorted(m.per_epoch))),
                                     m.buildings, m.versions, ", ".join(
                                         "{} in {}".format(n, y)

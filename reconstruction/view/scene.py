@@ -4,7 +4,8 @@ A :class:`Scene` is the model made ready for a browser or a glTF file: one
 list of vertices (float32, metres east, north and up from a local origin)
 and one of triangles, grouped in *chunks*, one per building and version of
 its geometry. A building of a single map has one chunk; a building of a
-dynamic model (v.histo.timeline, :mod:`reconstruction.epochs.dynamic`) has
+dynamic model (v.histo.timeline, :mod:`reconstruction.epochs.dynamic`: its
+versions ``+BuildingVersion`` city objects of the suite's Extension) has
 one per version, and each chunk says in which years it stands
 (:attr:`Scene.chunk_years`), by the snapshot's own rule
 (:func:`reconstruction.epochs.dynamic.standing_versions`): the slider of a
@@ -43,7 +44,8 @@ from ..cityjson import geometry as citygeometry
 from ..cityjson import seq as cityjsonseq
 from ..cityjson.seq import object_tree
 from ..core.errors import InputError
-from ..epochs.dynamic import epoch_years, standing_versions
+from ..cityjson import versions as cityversions
+from ..epochs.dynamic import buildings, epoch_years, standing_versions, version_index
 
 #: surface kinds, as the pictures of v.histo.lod2 colour them
 GROUND, WALL, ROOF, OTHER = 0, 1, 2, 3
@@ -59,7 +61,7 @@ COPIED_COLOURS = np.array([[150, 150, 150], [205, 222, 240], [35, 85, 170], [190
 #: the background behind a model
 BACKGROUND = (214, 224, 235)
 #: attributes of a dynamic model's building that describe its versions, not the building
-VERSION_ATTRIBUTES = ("geometry_epochs",)
+VERSION_ATTRIBUTES = (cityversions.TRANSITIONS,)
 #: features of a CityJSONSeq file read and cut into triangles at a time (:func:`scene_of_seq`)
 STEP = 500
 #: a scene's arrays: (name, dtype, what its values count (None: nothing), whether it ends
@@ -189,26 +191,39 @@ def _vertices(document):
     return vertices.reshape(-1, 3) * t["scale"] + t["translate"]
 
 
-def _versions(document, oid):
+def _surfaces(obj):
+    return [g for g in obj.get("geometry", ()) if g.get("type") in citygeometry.SURFACE_DEPTH]
+
+
+def _versions(document, oid, index=None):
     """The geometries of a building's tree to draw, grouped by version: {key: [(geometry)]},
-    the key the epochs of the version (a tuple) or None for a model of one date."""
+    the key the epochs of the version (a tuple) or None for a model of one date;
+    ``index``: the model's :func:`~reconstruction.epochs.dynamic.version_index` (None: a
+    model of one date)."""
     objects = document["CityObjects"]
     out = {}
     for member in object_tree(objects, oid):
-        obj = objects[member]
-        geoms = [g for g in obj.get("geometry", ()) if g.get("type") in citygeometry.SURFACE_DEPTH]
-        if not geoms:
+        if index is not None:
+            for version in index.get(member, ()):
+                for g in _surfaces(version):
+                    out.setdefault(tuple(version["epochs"]), []).append(g)
             continue
-        epochs = (obj.get("attributes") or {}).get("geometry_epochs")
-        if epochs is not None and len(epochs) == len(obj.get("geometry", ())):
-            keyed = [(tuple(e), g) for g, e in zip(obj["geometry"], epochs)
-                     if g.get("type") in citygeometry.SURFACE_DEPTH]
-        else:
+        geoms = _surfaces(objects[member])
+        if geoms:
             top = max(citygeometry.lod_value(g.get("lod")) for g in geoms)
-            keyed = [(None, g) for g in geoms if citygeometry.lod_value(g.get("lod")) == top]
-        for key, g in keyed:
-            out.setdefault(key, []).append(g)
+            out.setdefault(None, []).extend(
+                g for g in geoms if citygeometry.lod_value(g.get("lod")) == top)
     return out
+
+
+def _attributes(objects, oid, index):
+    """The attributes a viewer shows of building ``oid``: its own, and for a model over
+    time its lifespan over those of its first version (without its transitions)."""
+    own = objects[oid].get("attributes") or {}
+    first = (index or {}).get(oid)
+    base = dict(first[0].get("attributes") or {}) if first else {}
+    base.update((n, v) for n, v in own.items() if n not in VERSION_ATTRIBUTES)
+    return base
 
 
 def _spans(document, tops, keys):
@@ -265,10 +280,11 @@ def _scene(document, copied, origin):
     """The :class:`Scene` of ``document`` with its vertices from ``origin`` (None: none
     to draw), and the number of faces drawn (0: the scene is empty)."""
     objects = document.get("CityObjects") or {}
-    tops = [oid for oid, obj in objects.items() if not obj.get("parents")]
+    index = version_index(objects) if cityversions.is_versioned(document) else None
+    tops = buildings(objects)
     rings, face_kind, face_chunk, keys = [], [], [], []
     for b, oid in enumerate(tops):
-        for key, geoms in _versions(document, oid).items():
+        for key, geoms in _versions(document, oid, index).items():
             chunk = len(keys)
             keys.append((b, key))
             for g in geoms:
@@ -298,8 +314,7 @@ def _scene(document, copied, origin):
         chunk_years, years = _spans(document, tops, [(b, key) for b, key in keys])
     else:
         chunk_years, years = tuple(() for _ in keys), ()
-    attributes = tuple({n: v for n, v in (objects[o].get("attributes") or {}).items()
-                        if n not in VERSION_ATTRIBUTES} for o in tops)
+    attributes = tuple(_attributes(objects, o, index) for o in tops)
     crs = (document.get("metadata") or {}).get("referenceSystem")
     return Scene(
         ids=tuple(tops), attributes=attributes,
@@ -347,7 +362,7 @@ def _lowest(batches):
         head = {"transform": doc.get("transform"), "metadata": doc.get("metadata")}
         geoms, shift = [], []
         for oid, obj in doc["CityObjects"].items():
-            dynamic = dynamic or "geometry_epochs" in (obj.get("attributes") or {})
+            dynamic = dynamic or obj.get("type") == cityversions.VERSION
             for g in obj.get("geometry", ()):
                 geoms.append(g)
                 shift.append(offsets[oid])

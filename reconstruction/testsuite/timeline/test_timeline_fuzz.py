@@ -171,22 +171,45 @@ def merged_with(change):
     return doc
 
 
+def earlier_form():
+    """The merged model as v.histo.timeline wrote it before the Extension (issue 52): a
+    building's versions its geometries, ``geometry_epochs`` their epochs."""
+    doc = merged_model()
+    objects = doc["CityObjects"]
+    for oid in [o for o, v in objects.items() if v["type"] == "+BuildingVersion"]:
+        version = objects.pop(oid)
+        building = objects[version["versionOf"]]
+        building.setdefault("geometry", []).extend(version["geometry"])
+        building["attributes"].setdefault("geometry_epochs", []).append(version["epochs"])
+        building["attributes"].pop("+transitions", None)
+    del doc["extensions"], doc["+versioning"]
+    return doc
+
+
 MERGED_CASES = {
     "epochs a number": (with_object(merged_model(), "kept", set_attribute("epochs", 1880)),
                         "no list of epochs"),
     "epochs a text": (with_object(merged_model(), "kept", set_attribute("epochs", "1880")),
                       "no list of epochs"),
-    "geometry_epochs a number": (with_object(merged_model(), "kept", set_attribute(
-        "geometry_epochs", 1880)), "the epochs of each of its 1 geometries"),
-    "geometry_epochs of numbers": (with_object(merged_model(), "kept", set_attribute(
-        "geometry_epochs", [1880])), "the epochs of each of its 1 geometries"),
-    "epoch_attributes a list": (with_object(merged_model(), "raised", set_attribute(
-        "epoch_attributes", [1])), "epoch_attributes that are not"),
-    "epoch_attributes of numbers": (with_object(merged_model(), "raised", set_attribute(
-        "epoch_attributes", {"1915": 3})), "epoch_attributes that are not"),
+    "version epochs a number": (with_object(merged_model(), "kept~1880", lambda o: o.update(
+        epochs=1880)), "no list of epochs"),
+    "a version of nothing": (with_object(merged_model(), "kept~1880", lambda o: o.update(
+        versionOf="nobody")), "<kept>: it has no geometry"),
+    "a version of a list": (with_object(merged_model(), "kept~1880", lambda o: o.update(
+        versionOf=["kept"])), "<kept>: it has no geometry"),
+    "epochAttributes a list": (with_object(merged_model(), "raised~1880", lambda o: o.update(
+        epochAttributes=[1])), "epochAttributes that are not"),
+    "epochAttributes of numbers": (with_object(merged_model(), "kept~1880", lambda o: o.update(
+        epochAttributes={"1915": 3})), "epochAttributes that are not"),
+    "a building without the version of an epoch": (merged_with(lambda d: d[
+        "CityObjects"].pop("raised~1915")), "has no version of its epoch 1915"),
+    "a geometry on a building": (merged_with(lambda d: d["CityObjects"]["kept"].update(
+        geometry=d["CityObjects"]["kept~1880"]["geometry"])), "a geometry of its own"),
+    "the form before the Extension": (earlier_form(), "earlier v.histo.timeline"),
     "metadata a string": (merged_with(lambda d: d.update(metadata="x")),
                           "metadata is not an object"),
-    "an index past the vertices": (with_object(merged_model(), "kept", first_index(10 ** 6)),
+    "an index past the vertices": (with_object(merged_model(), "kept~1880",
+                                                first_index(10 ** 6)),
                                    "past its"),
 }
 

@@ -76,6 +76,24 @@ def test_each_version_stands_in_the_years_of_its_snapshot():
                                if not v.get("parents"))
 
 
+def test_a_version_is_drawn_in_its_validity_interval_with_its_building_s_attributes():
+    # issue 52: the versions are +BuildingVersion city objects (the suite's Extension);
+    # the scene keeps its interface: a chunk per version, in the years the version says
+    early = document({"raised": ([(40, 0), (48, 0), (48, 8), (40, 8)], 6.0)})
+    late = document({"raised": ([(40, 0), (48, 0), (48, 8), (40, 8)], 9.0)})
+    merged = merge_epochs([Epoch(1880, early), Epoch(1915, late)]).document
+    scene = build_scene(merged)
+    valid = sorted((v["validFrom"], v.get("validTo", 1915))
+                   for v in merged["CityObjects"].values() if v["type"] == "+BuildingVersion")
+    assert scene.ids == ("raised",) and sorted(s for (s,) in scene.chunk_years) == valid
+    assert valid == [(1880, 1914), (1915, 1915)]
+    shown = scene.attributes[0]
+    assert shown["epochs"] == [1880, 1915] and "+transitions" not in shown
+    assert shown == {**merged["CityObjects"]["raised~1880"]["attributes"],
+                     **{n: v for n, v in merged["CityObjects"]["raised"]["attributes"].items()
+                        if n != "+transitions"}}
+
+
 def unpacked(page):
     """The arrays a viewer page carries, decoded as the browser does."""
     meta = json.loads(re.search(r'<script id="histo-meta" type="application/json">(.*?)</script>',
