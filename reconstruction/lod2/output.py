@@ -36,6 +36,7 @@ from ..cityjson import copied as citycopy
 from ..cityjson import merge as citymerge
 from ..cityjson import model as cityjson
 from ..cityjson import seq as cityjsonseq
+from ..cityjson import versions
 from ..core import crs, safefile
 from ..core.contract import PLOT, SOURCE, SOURCE_ALIGNED
 from ..core.errors import InputError
@@ -132,11 +133,17 @@ def footprint_ids(columns, name):
 def read_existing(request, location_epsg=None):
     """The existing model of ``request`` (:class:`ExistingRequest`), read and
     checked: InputError for a file that is not CityJSON (2.0, 1.1 or
-    CityJSONSeq) and for a reference system that disagrees with the location's."""
+    CityJSONSeq), for a model over time (versions of buildings: take an
+    epoch's snapshot) and for a reference system that disagrees with the
+    location's."""
     if not 0 < request.min_overlap <= 1:
         raise InputError("The least overlap must be in (0, 1], not {}".format(
             request.min_overlap))
     model = existing.read_model(request.path)
+    if versions.is_versioned({"CityObjects": model.objects}):
+        raise InputError("The existing model '{}' is a model over several epochs "
+                         "(v.histo.timeline's): take the epoch wanted from it with "
+                         "v.histo.timeline input= snapshot=".format(request.path))
     existing.check_reference_system(model, location_epsg)
     return model
 

@@ -265,3 +265,19 @@ def test_an_id_of_unrelated_buildings_on_two_maps_names_two_buildings():
     for year, shown in ((1880, {"building_1", "building_2"}),
                         (1915, {"building_1@1915", "building_2"})):
         assert set(snapshot(m.document, year)["CityObjects"]) == shown
+
+
+def test_a_model_over_time_is_refused_as_an_existing_model(tmp_path):
+    """v.histo.lod2 existing= reads buildings to copy; a merged model's
+    versions are no buildings: one error saying how to take an epoch."""
+    import json
+
+    import pytest
+
+    from reconstruction.core.errors import InputError
+    from reconstruction.lod2 import output as lod2_output
+
+    path = tmp_path / "merged.city.json"
+    path.write_text(json.dumps(merge_epochs(town()).document))
+    with pytest.raises(InputError, match="snapshot="):
+        lod2_output.read_existing(lod2_output.ExistingRequest(str(path)))
