@@ -11,8 +11,10 @@ the insurance map's parcels are its buildings):
 writes FOLDER/style_cadaster.png and FOLDER/style_insurance.png (default
 FOLDER: docs/img), and v.histo.subdivide's picture of the footprints read
 from the lines each map draws (the library's ``subdivide.drawn``, on the
-maps' true blocks): v.histo.subdivide/v_histo_subdivide_drawn.png. No GRASS
-needed; made from the synthetic maps only.
+maps' true blocks): v.histo.subdivide/v_histo_subdivide_drawn.png; and
+r.histo.classify's picture of the monochrome map read as the shapes its lines
+close (segmentation=lines): r.histo.classify/r_histo_classify_lines.png. No
+GRASS needed; made from the synthetic maps only.
 """
 
 import os
@@ -26,6 +28,9 @@ sys.path.insert(0, os.path.join(ROOT, "testsuite"))
 import synthetic_map as sm  # noqa: E402
 
 sys.path.insert(0, ROOT)
+from reconstruction.classify import config as classify_config  # noqa: E402
+from reconstruction.classify import lines, stage  # noqa: E402
+from reconstruction.geom.grid import Grid  # noqa: E402
 from reconstruction.subdivide import drawn  # noqa: E402
 
 #: the crop shown (rows, columns of the 600 x 600 map) and the outline's colour
@@ -62,12 +67,48 @@ def drawn_picture(seed=1, size=600):
     return np.concatenate([halves[0], gap, halves[1]], axis=1)
 
 
+#: the colours of the classes of the monochrome map's shapes (the lines black)
+SHAPE_COLOURS = {sm.BLOCK: (250, 232, 160), sm.BUILDING: (220, 70, 60),
+                 sm.WATER: (70, 130, 220), sm.STREET: (255, 255, 255)}
+
+
+def lines_picture(seed=1, size=600):
+    """The monochrome map (a crop) beside the shapes r.histo.classify
+    segmentation=lines reads and classifies (features spectral, fill, size;
+    the map's training points without those on text), each shape filled with
+    its class's colour (:data:`SHAPE_COLOURS`), lines and strokes of colour black."""
+    smap = sm.generate(seed=seed, size=size, style="monochrome")
+    bands = [smap.rgb[..., b].astype(float) for b in range(3)]
+    reading = lines.read_ink(bands, smap.res)
+    shapes = lines.line_shapes(reading)
+    xy, labels = np.asarray(smap.training["xy"]), np.asarray(smap.training["label"])
+    keep = labels != sm.TEXT
+    training = stage.Training(labels=labels[keep], names=dict(smap.classes),
+                              rows=((smap.north - xy[keep, 1]) / smap.res).astype(int),
+                              cols=((xy[keep, 0] - smap.west) / smap.res).astype(int))
+    grid = Grid(values=None, north=smap.north, west=smap.west, nsres=smap.res,
+                ewres=smap.res, size=shapes.segments.shape)
+    config = classify_config.ClassifyConfig(thresholds=(0.0,), minsizes=(0,),
+                                            features=("spectral", "fill", "size"),
+                                            segmentation="lines")
+    classes = stage.classify_map(bands, [(0, shapes.segments)], lambda s: s, training, config,
+                                 grid, reading=reading).classes
+    read = np.zeros_like(smap.rgb)
+    for label, colour in SHAPE_COLOURS.items():
+        read[classes == label] = colour
+    gap = np.full((CROP[0].stop - CROP[0].start, GAP, 3), 255, dtype=np.uint8)
+    return np.concatenate([smap.rgb[CROP], gap, read[CROP]], axis=1)
+
+
 def main(folder):
     os.makedirs(folder, exist_ok=True)
     for style in ("cadaster", "insurance"):
         path = os.path.join(folder, "style_{}.png".format(style))
         sm.write_png(path, picture(style), colours=COLOURS)
         print("{}: {} bytes".format(path, os.path.getsize(path)))
+    path = os.path.join(ROOT, "r.histo.classify", "r_histo_classify_lines.png")
+    sm.write_png(path, lines_picture(), colours=COLOURS)
+    print("{}: {} bytes".format(path, os.path.getsize(path)))
     path = os.path.join(ROOT, "v.histo.subdivide", "v_histo_subdivide_drawn.png")
     sm.write_png(path, drawn_picture(), colours=COLOURS)
     print("{}: {} bytes".format(path, os.path.getsize(path)))
