@@ -64,12 +64,19 @@ ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER = 34962, 34963
 TRIANGLES = 4
 #: the largest vertex count indexed by uint16 (65535 is the primitive restart value)
 UINT16_VERTICES = 65535
-#: the buffer views in the order they lie in the binary chunk, and their targets
-COMPONENTS = (FLOAT, UINT32, UINT16)
-TARGET = {FLOAT: ARRAY_BUFFER, UINT32: ELEMENT_ARRAY_BUFFER, UINT16: ELEMENT_ARRAY_BUFFER}
+#: the view of the feature ids of EXT_mesh_features (float32 scalars, one per vertex:
+#: their own view, as the vertices' view has a stride of 12 bytes)
+FEATURE_IDS = "feature ids"
+#: the buffer views in the order they lie in the binary chunk, their component types,
+#: targets and strides
+COMPONENTS = (FLOAT, UINT32, UINT16, FEATURE_IDS)
+COMPONENT = {FLOAT: FLOAT, UINT32: UINT32, UINT16: UINT16, FEATURE_IDS: FLOAT}
+TARGET = {FLOAT: ARRAY_BUFFER, UINT32: ELEMENT_ARRAY_BUFFER, UINT16: ELEMENT_ARRAY_BUFFER,
+          FEATURE_IDS: ARRAY_BUFFER}
+STRIDE = {FLOAT: 12, FEATURE_IDS: 4}
 #: the placeholder of each view's index in an accessor's text: control characters, which
 #: JSON text never holds raw
-VIEW_MARK = {FLOAT: b"\x01", UINT32: b"\x02", UINT16: b"\x03"}
+VIEW_MARK = {FLOAT: b"\x01", UINT32: b"\x02", UINT16: b"\x03", FEATURE_IDS: b"\x04"}
 #: bytes of a spool kept in memory before it goes to a temporary file
 SPOOLED = 1 << 22
 #: the lists of the glTF document written from spools
@@ -142,15 +149,18 @@ class _Spools:
     def add(self, array, component, kind, **extra):
         """An accessor over ``array`` (its bytes appended to the view of ``component``)."""
         data = np.ascontiguousarray(array).tobytes()
-        accessor = dict({"byteOffset": self.size[component], "componentType": component,
+        accessor = dict({"byteOffset": self.size[component],
+                         "componentType": COMPONENT[component],
                          "count": int(len(array)), "type": kind}, **extra)
         self.binary[component].write(data)
         self.size[component] += len(data)
         return self.text("accessors", accessor, b'{"bufferView":' + VIEW_MARK[component] + b",")
 
-    def views(self):
+    def views(self, blobs=()):
         """The buffer views (dicts) of the views used, their start in the binary chunk,
-        and its length: each view 4-byte aligned, one after the other."""
+        and its length: each view 4-byte aligned, one after the other; then a view of
+        each of ``blobs`` (bytes, e.g. a property table's columns), 8-byte aligned as
+        EXT_structural_metadata wants, the i-th's start ``starts["blob", i]``."""
         views, starts, at = [], {}, 0
         for component in COMPONENTS:
             if not self.size[component]:
@@ -159,10 +169,16 @@ class _Spools:
             starts[component] = at
             view = {"buffer": 0, "byteOffset": at, "byteLength": self.size[component],
                     "target": TARGET[component]}
-            if TARGET[component] == ARRAY_BUFFER:
-                view["byteStride"] = 12   # several accessors share it: glTF then wants the stride
+            if component in STRIDE:
+                # several accessors share it: glTF then wants the stride
+                view["byteStride"] = STRIDE[component]
             views.append(view)
             at += self.size[component]
+        for i, blob in enumerate(blobs):
+            at += -at % 8
+            starts["blob", i] = at
+            views.append({"buffer": 0, "byteOffset": at, "byteLength": len(blob)})
+            at += len(blob)
         return views, starts, at
 
     def marks(self):
@@ -202,14 +218,28 @@ def write_glb(f, scene, year=None, folder=None):
     through temporary files in ``folder`` (None: the system's), never holding a
     city's glTF whole (issue 49, item 14)."""
     chunks, year = _chunks(scene, year)
+    write_parts(f, scene, _drawn(scene, chunks), folder, year=year)
+
+
+def write_parts(f, scene, parts, folder=None, features=None, year=None):
+    """Write to ``f`` the glTF of ``parts`` of ``scene``: (building, its chunks) pairs,
+    a node each (a building drawn with several chunks, or a version of one: 3D Tiles'
+    contents, :mod:`reconstruction.view.tiles`). ``features``: None, or a callable
+    ``features(parts, first_view)`` giving the metadata of the parts as
+    (EXT_structural_metadata's object, its blobs): each part is then feature i of
+    EXT_mesh_features (a ``_FEATURE_ID_0`` per vertex, the property table 0), the
+    blobs the buffer views ``first_view`` on. ``year``: the year drawn, in extras."""
     spools = _Spools(folder)
     try:
-        materials = _buildings(scene, _drawn(scene, chunks), spools)
+        parts = list(parts) if features is not None else parts
+        materials = _buildings(scene, parts, spools, features is not None)
         extras = {"origin": [float(v) for v in scene.origin], "crs": scene.crs,
                   "axes": "x east, y up, z south; metres from origin (east, north, up)"}
         if year is not None:
             extras["year"] = year
-        _container(f, spools, materials, extras)
+        metadata, blobs = (None, ()) if features is None else features(
+            parts, len(spools.views()[0]))
+        _container(f, spools, materials, extras, metadata, blobs)
     finally:
         spools.close()
 
@@ -229,11 +259,13 @@ def _drawn(scene, chunks):
         yield int(scene.chunk_building[ks[0]]), ks.tolist()
 
 
-def _buildings(scene, drawn, spools):
+def _buildings(scene, drawn, spools, feature_ids=False):
     """Write the node, mesh and accessors of each building of ``drawn`` ((building, its
-    chunks), :func:`_drawn`); returns the materials used, in the order of their first use."""
+    chunks), :func:`_drawn`); returns the materials used, in the order of their first use.
+    ``feature_ids``: each vertex has the rank of its building in ``drawn`` as its
+    feature id (EXT_mesh_features)."""
     materials, material_of = [], {}
-    for b, ks in drawn:
+    for feature, (b, ks) in enumerate(drawn):
         copied = bool(scene.copied[b])
         vertex = np.concatenate([np.arange(scene.chunk_vertex[k], scene.chunk_vertex[k + 1])
                                  for k in ks])
@@ -259,8 +291,14 @@ def _buildings(scene, drawn, spools):
                 if key not in material_of:
                     material_of[key] = len(materials)
                     materials.append(_material(*COLOURS[key]))
-                primitives.append({"attributes": {"POSITION": position}, "indices": index,
-                                   "material": material_of[key], "mode": TRIANGLES})
+                primitive = {"attributes": {"POSITION": position}, "indices": index,
+                             "material": material_of[key], "mode": TRIANGLES}
+                if feature_ids:
+                    primitive["attributes"]["_FEATURE_ID_0"] = spools.add(
+                        np.full(len(local), feature, np.float32), FEATURE_IDS, "SCALAR")
+                    primitive["extensions"] = {"EXT_mesh_features": {"featureIds": [
+                        {"featureCount": len(drawn), "attribute": 0, "propertyTable": 0}]}}
+                primitives.append(primitive)
         mesh = spools.text("meshes", {"name": scene.ids[b], "primitives": primitives})
         spools.text("nodes", {"name": scene.ids[b], "mesh": mesh,
                               "translation": [float(v) for v in anchor],
@@ -277,15 +315,19 @@ def _json_bytes(value):
     return _ENCODER.encode(value).encode("utf-8")
 
 
-def _container(f, spools, materials, extras):
+def _container(f, spools, materials, extras, metadata=None, blobs=()):
     """Write the GLB container: header, JSON chunk (padded with spaces), binary chunk
     (zeros); the JSON's lists of nodes, meshes and accessors and the binary views
-    copied from their spools."""
-    views, starts, length = spools.views()
+    copied from their spools. ``metadata``: EXT_structural_metadata's object (None:
+    none), its ``blobs`` (bytes) after the views of the spools."""
+    views, starts, length = spools.views(blobs)
     view = {"name": "histo city model", "nodes": list(range(spools.count["nodes"])),
             "extras": extras}
     head = {"asset": {"version": "2.0", "generator": GENERATOR},
             "scene": 0, "scenes": [{k: v for k, v in view.items() if v != []}]}
+    if metadata is not None:
+        used = ["EXT_mesh_features", "EXT_structural_metadata"]
+        head.update(extensionsUsed=used, extensions={"EXT_structural_metadata": metadata})
     # the document's members in order: text, or the name of a spooled list
     members = [_json_bytes(head)[:-1]]
     for key, value in (("nodes", None), ("meshes", None), ("materials", materials),
@@ -316,6 +358,10 @@ def _container(f, spools, materials, extras):
                 f.write(b"\0" * (starts[component] - at))
                 _copy(spools.binary[component], f)
                 at = starts[component] + spools.size[component]
+        for i, blob in enumerate(blobs):
+            f.write(b"\0" * (starts["blob", i] - at))
+            f.write(blob)
+            at = starts["blob", i] + len(blob)
         f.write(b"\0" * (binary - at))
 
 
