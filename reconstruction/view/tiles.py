@@ -29,7 +29,8 @@ Choices:
   binary availability subtrees to write. Only leaves have content; inner
   tiles refine by ``ADD`` and have the horizontal diagonal of their box as
   ``geometricError`` (what is missing while their children are not drawn),
-  the leaves 0: a viewer loads the tiles near the camera and in view, the
+  the leaves 0, the tileset the diagonal of the whole model (the error of
+  drawing nothing): a viewer loads the tiles near the camera and in view, the
   sheets far away not at all. Bounding boxes are the tight boxes of a
   tile's buildings.
 - **Placement**: the glTF is y-up in metres from the scene's origin (east,
@@ -279,7 +280,10 @@ def write_tileset(directory, scene, title=None, leaf=LEAF_FEATURES, folder=None)
         extras["years"] = list(scene.years)
     if title:
         asset["extras"] = {"title": title}
-    tileset = {"asset": asset, "geometricError": max(node["geometricError"], 1.0),
+    # the error of drawing nothing at all: the whole model (a viewer draws no tile while
+    # this is small on the screen)
+    error = float(np.linalg.norm(np.subtract(root.box[3:], root.box[:3])))
+    tileset = {"asset": asset, "geometricError": max(error, node["geometricError"], 1.0),
                "root": node, "extras": extras}
     with open(os.path.join(directory, TILESET), "w", encoding="utf-8") as f:
         json.dump(tileset, f, ensure_ascii=False, indent=1)
