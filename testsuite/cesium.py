@@ -15,7 +15,8 @@ terrain, no Cesium ion (no token, no geocoder, no ion imagery), no sky box
 (whose pictures are CesiumJS's own assets anyway). The page sets
 ``window.tiles``: ``ready`` once every tile in view is loaded and drawn,
 ``features`` (the tileset's features loaded), ``setYear(year)`` (shows only
-the features standing in it, by a 3D Tiles style on the metadata), ``toWindow(x,
+the features standing in it, by a 3D Tiles style on the metadata), ``shown()``
+(the features shown), ``toWindow(x,
 y, z)`` (the window position of an ECEF point, or null) and, after a click,
 ``picked``: the clicked feature's metadata (id, first_year, last_year, years),
 or null when the click hit no feature.
@@ -54,6 +55,19 @@ tiles.toWindow = (x, y, z) => {
     viewer.scene, new Cesium.Cartesian3(x, y, z));
   return p ? [p.x, p.y] : null;
 };
+tiles.shown = () => {
+  let count = 0;
+  const walk = (tile) => {
+    if (tile.contentReady) {
+      for (let i = 0; i < tile.content.featuresLength; i++) {
+        count += tile.content.getFeature(i).show ? 1 : 0;
+      }
+    }
+    tile.children.forEach(walk);
+  };
+  walk(tileset.root);
+  return count;
+};
 tiles.setYear = (year) => {
   tileset.style = new Cesium.Cesium3DTileStyle({
     show: "${first_year} <= " + year + " && ${last_year} >= " + year});
@@ -66,8 +80,6 @@ new Cesium.ScreenSpaceEventHandler(viewer.scene.canvas).setInputAction((click) =
 }, Cesium.ScreenSpaceEventType.LEFT_CLICK);
 Cesium.Cesium3DTileset.fromUrl("/tiles/tileset.json").then((loaded) => {
   tileset = loaded;
-  tiles.tileset = loaded;
-  tiles.viewer = viewer;
   tileset.tileFailed.addEventListener((e) => { tiles.error = "tile failed: " + e.url + " " + e.message; });
   viewer.scene.primitives.add(tileset);
   tileset.tileLoad.addEventListener((tile) => { tiles.features += tile.content.featuresLength; });

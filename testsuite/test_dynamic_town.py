@@ -27,6 +27,7 @@ import json
 import os
 import subprocess
 
+import numpy as np
 import pytest
 
 from histo_testing import key_values, run_module
@@ -53,7 +54,7 @@ def town(grass_session, tmp_path_factory):
     merged = str(out / "merged.city.json")
     rc, stdout, err = run_module("v.histo.timeline", flags="g", models=",".join(
         models[y] for y in YEARS), years=",".join(map(str, YEARS)), register="town_current",
-        output=merged, viewer=str(out / "town.html"))
+        output=merged, viewer=str(out / "town.html"), tiles=str(out / "tiles"))
     assert rc == 0, err
     snapshots = {}
     for y in YEARS:
@@ -74,7 +75,8 @@ def town(grass_session, tmp_path_factory):
             "models": {y: read(p) for y, p in models.items()},
             "merged": read(merged), "merged_path": merged, "counts": key_values(stdout),
             "snapshots": {y: read(p) for y, p in snapshots.items()},
-            "snapshot_paths": snapshots, "model_paths": models, "viewer": str(out / "town.html")}
+            "snapshot_paths": snapshots, "model_paths": models, "viewer": str(out / "town.html"),
+            "tiles": out / "tiles"}
 
 
 def test_unchanged_plots_keep_their_buildings(town):
@@ -168,3 +170,56 @@ def test_the_viewer_s_year_slider_shows_each_year_s_snapshot(town, browser_page)
     print("\nviewer: first frame after {:.2f} s; buildings drawn by year {}".format(
         waited, drawn))
     assert browser_page.errors == [] and browser_page.blocked == []
+
+
+@pytest.mark.browser
+def test_the_tileset_loads_in_cesium_and_a_click_picks_a_building(town, browser_page):
+    # issue 52, item 2: v.histo.timeline tiles= in CesiumJS (npm), headless chromium,
+    # served on 127.0.0.1 with no request leaving the machine: every feature loads, the
+    # year's style shows as many as the year's snapshot has buildings, and a click on a
+    # building standing in 1915 returns its id and the years of its 1915 version
+    import cesium
+    from pyproj import Transformer
+
+    from dynamic_town import coordinates
+    from reconstruction.cityjson.geometry import resolved
+    from reconstruction.core.crs import epsg_code
+    from reconstruction.epochs.dynamic import snapshot
+    from reconstruction.testsuite.view.test_tiles import features_of
+
+    if cesium.missing():
+        pytest.skip(cesium.missing())
+    _tileset, features = features_of(town["tiles"])
+    year = 1915
+    standing = snapshot(town["merged"], year)
+    buildings = [o for o, v in standing["CityObjects"].items() if not v.get("parents")]
+    # the largest building of the year, a point inside it in ECEF
+    objects = resolved(standing, digits=3)
+    corners = {o: np.array([c for g in objects[o]["geometry"] for c in coordinates(
+        g["boundaries"])]) for o in buildings}
+    target = max(buildings, key=lambda o: np.prod(np.ptp(corners[o][:, :2], axis=0)))
+    middle = (corners[target].min(axis=0) + corners[target].max(axis=0)) / 2
+    crs = epsg_code(town["merged"]["metadata"]["referenceSystem"])
+    ecef = Transformer.from_crs(crs, 4978, always_xy=True).transform(*middle)
+    with cesium.serve(town["tiles"]) as origin:
+        browser_page.allow(origin)
+        page = browser_page.page
+        page.goto(origin + "/")
+        waited = browser_page.wait_ready(
+            "window.tiles && (tiles.ready === true || tiles.error !== null)", timeout_ms=90_000)
+        assert page.evaluate("tiles.error") is None
+        assert page.evaluate("tiles.features") == len(features)
+        page.evaluate("tiles.setYear({})".format(year))
+        page.wait_for_timeout(500)
+        assert page.evaluate("tiles.shown()") == len(buildings)
+        x, y = page.evaluate("tiles.toWindow({}, {}, {})".format(*ecef))
+        page.mouse.click(x, y)
+        browser_page.wait_ready("tiles.picked !== undefined")
+        picked = page.evaluate("tiles.picked")
+    versions = {(f[2], f[3]) for f in features if f[1] == target and f[2] <= year <= f[3]}
+    assert picked is not None, "the click at the middle of {} hit nothing".format(target)
+    assert picked["id"] == target and {(picked["first_year"], picked["last_year"])} == versions
+    print("\nCesiumJS: {} features of {} tiles loaded in {:.1f} s; picked {}".format(
+        len(features), len(list(town["tiles"].glob("content/*.glb"))), waited, picked))
+    assert browser_page.errors == [] and browser_page.blocked == []
+

@@ -194,42 +194,35 @@ def _unique(seen, what, key):
 def check_output_file(path, key):
     """The file an output path writes (a symbolic link's target), checked as
     :func:`check_outputs` says; raises :class:`InputError`."""
-    target = os.path.realpath(path)
-    if os.path.exists(target):
-        if not os.path.isfile(target):
-            raise InputError("Option {}=: '{}' exists and is not a regular file; "
-                             "it is not replaced".format(key, path))
-        if not gs.overwrite():
-            raise InputError("File '{}' given as {}= exists; use --overwrite to replace "
-                             "it".format(path, key))
-    _writable(os.path.dirname(target), key)
-    return target
-
-
-def _writable(directory, key):
-    """Raise :class:`InputError` unless ``directory`` exists and is writable."""
-    if not os.path.isdir(directory):
-        raise InputError("Option {}=: directory '{}' does not exist".format(key, directory))
-    if not os.access(directory, os.W_OK | os.X_OK):
-        raise InputError("Option {}=: directory '{}' is not writable".format(key, directory))
+    return _check_output(path, key)
 
 
 def check_output_directory(path, key, marker):
     """The directory an output path writes, checked as :func:`check_outputs` says
     (``marker``: the file that shows the directory is one this output wrote);
     raises :class:`InputError`."""
+    return _check_output(path, key, marker)
+
+
+def _check_output(path, key, marker=None):
+    """A file (``marker`` None) or directory output, checked; its real path."""
     target = os.path.realpath(path)
+    kind, is_kind = ("directory", os.path.isdir) if marker else ("regular file", os.path.isfile)
     if os.path.exists(target):
-        if not os.path.isdir(target):
-            raise InputError("Option {}=: '{}' exists and is not a directory; "
-                             "it is not replaced".format(key, path))
+        if not is_kind(target):
+            raise InputError("Option {}=: '{}' exists and is not a {}; "
+                             "it is not replaced".format(key, path, kind))
         if not gs.overwrite():
-            raise InputError("Directory '{}' given as {}= exists; use --overwrite to replace "
-                             "it".format(path, key))
-        if os.listdir(target) and not os.path.isfile(os.path.join(target, marker)):
+            raise InputError("{} '{}' given as {}= exists; use --overwrite to replace "
+                             "it".format("Directory" if marker else "File", path, key))
+        if marker and os.listdir(target) and not os.path.isfile(os.path.join(target, marker)):
             raise InputError("Option {}=: directory '{}' holds other files than a {} output "
                              "(no {}); it is not replaced".format(key, path, key, marker))
-    _writable(os.path.dirname(target), key)
+    directory = os.path.dirname(target)
+    if not os.path.isdir(directory):
+        raise InputError("Option {}=: directory '{}' does not exist".format(key, directory))
+    if not os.access(directory, os.W_OK | os.X_OK):
+        raise InputError("Option {}=: directory '{}' is not writable".format(key, directory))
     return target
 
 
