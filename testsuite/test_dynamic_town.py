@@ -209,9 +209,9 @@ def test_the_tileset_loads_in_cesium_and_a_click_picks_a_building(town, browser_
             "window.tiles && (tiles.ready === true || tiles.error !== null)", timeout_ms=90_000)
         assert page.evaluate("tiles.error") is None
         assert page.evaluate("tiles.features") == len(features)
+        assert len([f for f in features if f[2] <= year <= f[3]]) == len(buildings)
         page.evaluate("tiles.setYear({})".format(year))
-        page.wait_for_timeout(500)
-        assert page.evaluate("tiles.shown()") == len(buildings)
+        browser_page.wait_ready("tiles.shown() === {}".format(len(buildings)))
         x, y = page.evaluate("tiles.toWindow({}, {}, {})".format(*ecef))
         page.mouse.click(x, y)
         browser_page.wait_ready("tiles.picked !== undefined")

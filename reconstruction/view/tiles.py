@@ -10,7 +10,9 @@ Choices:
 
 - **Features**: a feature per building of a model of one date; per version
   of a building of a model over time (v.histo.timeline), each version with
-  the years it stands (``Scene.chunk_years``), so that a viewer shows the town
+  the years it stands (``Scene.chunk_years``; a version standing in two
+  spans of years, which a map between them missed, is a feature per span: its
+  geometry twice, the years exact), so that a viewer shows the town
   of a year by styling (``${first_year} <= year && year <= ${last_year}``).
   Each glTF carries them as 3D Tiles 1.1 wants, EXT_mesh_features (a feature
   id per vertex) and EXT_structural_metadata (a property table of class
@@ -69,7 +71,8 @@ PROPERTIES = {
                    "of one date", "type": "SCALAR", "componentType": "INT32", "noData": 0},
     "last_year": {"description": "Last year the building (this version) stands; 0: a model "
                   "of one date", "type": "SCALAR", "componentType": "INT32", "noData": 0},
-    "years": {"description": "The spans of years it stands, e.g. 1880-1914", "type": "STRING"},
+    "years": {"description": "The spans of years the building (this version) stands, e.g. "
+              "1880-1914 or 1880-1900, 1915-1930", "type": "STRING"},
     "certainty": {"description": "Certainty class: 5 copied, 4 measured, 3 aligned, "
                   "2 generated, 1 drawn; 0: none", "type": "SCALAR", "componentType": "UINT8",
                   "noData": 0},
@@ -81,7 +84,7 @@ PROPERTIES = {
 class Tile:
     """A tile of the quadtree: ``level`` and ``x``, ``y`` (its quarter at each level),
     ``box``: (min x, y, z, max x, y, z) of its features in metres from the scene's
-    origin, ``features``: indices of the parts it holds (a leaf; () for an inner
+    origin, ``features``: indices of the :class:`Feature` it holds (a leaf; () for an inner
     tile), ``children``: its tiles."""
 
     level: int
@@ -106,17 +109,35 @@ class TilesetReport:
     depth: int
 
 
-def parts_of(scene):
-    """The features of ``scene``: (building, [chunk]) of every chunk with triangles (a
-    building of a model of one date; a version of one of a model over time)."""
-    k = np.flatnonzero(np.diff(scene.chunk_start.astype(np.int64)) > 0)
-    return [(int(scene.chunk_building[c]), [int(c)]) for c in k]
+@dataclass(frozen=True)
+class Feature:
+    """A feature of the tiles: ``chunk`` of the scene (of ``building``) standing from
+    ``first`` to ``last`` (years, both included; 0 and 0 for a model of one date)."""
+
+    building: int
+    chunk: int
+    first: int = 0
+    last: int = 0
 
 
-def _boxes(scene, parts):
-    """(n, 6) min and max corners of each part's vertices (metres from the origin)."""
-    out = np.empty((len(parts), 6))
-    for i, (_b, (k,)) in enumerate(parts):
+def features_of(scene):
+    """The :class:`Feature` list of ``scene``: every chunk with triangles (a building of
+    a model of one date; a version of one of a model over time), once per span of
+    years it stands (a version that a map missed between two that show it stands
+    twice: a feature each, so that first and last year say exactly when it stands)."""
+    out = []
+    for c in np.flatnonzero(np.diff(scene.chunk_start.astype(np.int64)) > 0):
+        b = int(scene.chunk_building[c])
+        out.extend(Feature(b, int(c), int(first), int(last))
+                   for first, last in scene.chunk_years[c] or ((0, 0),))
+    return out
+
+
+def _boxes(scene, features):
+    """(n, 6) min and max corners of each feature's vertices (metres from the origin)."""
+    out = np.empty((len(features), 6))
+    for i, feature in enumerate(features):
+        k = feature.chunk
         p = scene.positions[scene.chunk_vertex[k]:scene.chunk_vertex[k + 1]]
         out[i, :3], out[i, 3:] = p.min(axis=0), p.max(axis=0)
     return out
@@ -186,14 +207,13 @@ def _spans_text(spans):
     return ", ".join("{}-{}".format(a, b) if a != b else str(a) for a, b in spans)
 
 
-def _feature_rows(scene, parts):
-    """Per part: id, first and last year, years text, certainty, attributes text."""
-    for b, (k,) in parts:
-        spans = scene.chunk_years[k]
-        attributes = scene.attributes[b]
+def _feature_rows(scene, features):
+    """Per feature: id, first and last year, years text, certainty, attributes."""
+    for feature in features:
+        attributes = scene.attributes[feature.building]
         certainty = attributes.get("certainty")
-        yield (scene.ids[b], min(a for a, _ in spans) if spans else 0,
-               max(e for _, e in spans) if spans else 0, _spans_text(spans),
+        yield (scene.ids[feature.building], feature.first, feature.last,
+               _spans_text(scene.chunk_years[feature.chunk]),
                int(certainty) if isinstance(certainty, (int, float)) and 0 < certainty < 256
                else 0, gltf.json_safe(attributes))
 
@@ -205,12 +225,12 @@ def _strings(texts):
     return b"".join(data), offsets.tobytes()
 
 
-def property_table(scene):
-    """The ``features`` callable of :func:`reconstruction.view.gltf.write_parts`: the
-    EXT_structural_metadata of the parts (schema :data:`PROPERTIES`, one property table)
-    and its blobs."""
-    def features(parts, first_view):
-        rows = list(_feature_rows(scene, parts))
+def property_table(scene, features):
+    """The ``features`` callable of :func:`reconstruction.view.gltf.write_parts` for the
+    parts of ``features`` (:class:`Feature`, in order): their EXT_structural_metadata
+    (schema :data:`PROPERTIES`, one property table) and its blobs."""
+    def metadata_of(_parts, first_view):
+        rows = list(_feature_rows(scene, features))
         ids, first, last, years, certainty, attributes = (
             list(c) for c in zip(*rows)) if rows else ([],) * 6
         blobs, properties = [], {}
@@ -235,10 +255,10 @@ def property_table(scene):
                                 "properties": properties}]}
         return metadata, blobs
 
-    return features
+    return metadata_of
 
 
-def _tile_json(tile, scene, parts, directory, folder, features, written):
+def _tile_json(tile, scene, features, directory, folder, written):
     node = {"boundingVolume": _box_volume(tile.box),
             "geometricError": 0.0 if tile.features else float(np.hypot(
                 tile.box[3] - tile.box[0], tile.box[4] - tile.box[1])),
@@ -246,11 +266,13 @@ def _tile_json(tile, scene, parts, directory, folder, features, written):
     if tile.features:
         uri = "{}/{}.glb".format(CONTENT, tile.name)
         with open(os.path.join(directory, uri), "wb") as f:
-            gltf.write_parts(f, scene, [parts[i] for i in tile.features], folder, features)
+            own = [features[i] for i in tile.features]
+            gltf.write_parts(f, scene, [(t.building, [t.chunk]) for t in own], folder,
+                             property_table(scene, own))
         node["content"] = {"uri": uri}
         written.append(tile)
     if tile.children:
-        node["children"] = [_tile_json(c, scene, parts, directory, folder, features, written)
+        node["children"] = [_tile_json(c, scene, features, directory, folder, written)
                             for c in tile.children]
     return node
 
@@ -261,18 +283,17 @@ def write_tileset(directory, scene, title=None, leaf=LEAF_FEATURES, folder=None)
     ``tileset.json`` and ``content/<level>_<x>_<y>.glb``. Returns a
     :class:`TilesetReport`. InputError when the model has nothing to draw or no
     reference system PROJ knows."""
-    parts = parts_of(scene)
-    if not parts:
+    features = features_of(scene)
+    if not features:
         raise InputError("The model has no surfaces to draw")
-    boxes = _boxes(scene, parts)
+    boxes = _boxes(scene, features)
     low, high = boxes[:, :3].min(axis=0), boxes[:, 3:].max(axis=0)
     middle = np.asarray(scene.origin, dtype=float) + (low + high) / 2
     transform = enu_to_ecef(scene.crs, scene.origin, middle)
     root = quadtree(boxes, leaf)
     os.makedirs(os.path.join(directory, CONTENT), exist_ok=True)
     written = []
-    node = _tile_json(root, scene, parts, directory, folder or directory,
-                      property_table(scene), written)
+    node = _tile_json(root, scene, features, directory, folder or directory, written)
     node["transform"] = transform
     asset = {"version": "1.1", "generator": GENERATOR}
     extras = {"crs": scene.crs, "origin": [float(v) for v in scene.origin]}
@@ -287,7 +308,7 @@ def write_tileset(directory, scene, title=None, leaf=LEAF_FEATURES, folder=None)
                "root": node, "extras": extras}
     with open(os.path.join(directory, TILESET), "w", encoding="utf-8") as f:
         json.dump(tileset, f, ensure_ascii=False, indent=1)
-    return TilesetReport(features=len(parts), tiles=len(written), depth=_depth(root))
+    return TilesetReport(features=len(features), tiles=len(written), depth=_depth(root))
 
 
 def _depth(tile):

@@ -1,5 +1,6 @@
 """Tests of reconstruction.view.tiles: 3D Tiles 1.1 read back (issue 52, item 2)."""
 
+import dataclasses
 import json
 import struct
 
@@ -157,6 +158,23 @@ def test_a_feature_per_version_with_its_id_and_years(tmp_path):
         ("raised", "raised", 1915, 1915, "1915")]
     assert all(f[6]["roof_type"] == "flat" for f in features)
     assert (report.features, report.tiles, report.depth) == (5, 1, 1)
+
+
+def test_a_version_standing_twice_is_a_feature_per_span_of_years(tmp_path):
+    # a version a map between two others missed stands in two spans: a feature each,
+    # so that "first_year <= year <= last_year" shows exactly the year's buildings
+    scene = dynamic_scene()
+    kept = [k for k in range(len(scene.chunk_years))
+            if scene.ids[scene.chunk_building[k]] == "kept"]
+    spans = list(scene.chunk_years)
+    spans[kept[0]] = ((1880, 1890), (1900, 1915))
+    tiles.write_tileset(str(tmp_path), dataclasses.replace(scene, chunk_years=tuple(spans)))
+    _tileset, features = features_of(tmp_path)
+    assert sorted(f[1:5] for f in features if f[1] == "kept") == [
+        ("kept", 1880, 1890, "1880-1890, 1900-1915"), ("kept", 1900, 1915, "1880-1890, 1900-1915")]
+    shown = {y: sorted(f[1] for f in features if f[2] <= y <= f[3]) for y in (1885, 1895, 1915)}
+    assert shown == {1885: ["gone", "kept", "raised"], 1895: ["gone", "raised"],
+                     1915: ["kept", "new", "raised"]}
 
 
 def test_a_model_of_one_date_has_no_years_and_its_certainty(tmp_path):
