@@ -416,17 +416,17 @@ def write_model(result, footprints, request, match=None, doing=nullcontext, say=
                              request, copied, report, drawn, doing, say,
                              match.kept_previous if match is not None else frozenset())
         if request.viewer or request.gltf or request.tiles:
-            _views(model_file, (viewer_file, gltf_file, tiles_dir), request, every_copied, doing,
-                   match)
+            _views(model_file, viewer_file, gltf_file, request, every_copied, doing, match,
+                   tiles_dir)
     return report
 
 
-def _views(model_file, paths, request, copied, doing, match=None):
+def _views(model_file, viewer_path, gltf_path, request, copied, doing, match=None,
+           tiles_path=None):
     """Write the page of ``viewer=``, the glTF of ``gltf=`` and the 3D Tiles of ``tiles=``
-    to their temporary files and directory (``paths``: the three; None: not asked for)
-    from the model just written to ``model_file``: every building, the copied ones in
-    their colours."""
-    viewer_path, gltf_path, tiles_path = paths
+    to their temporary files and directory (``viewer_path``, ``gltf_path``,
+    ``tiles_path``; None: not asked for) from the model just written to ``model_file``:
+    every building, the copied ones in their colours."""
     kept = match.kept_previous if match is not None else frozenset()
     shown = _shown_copied(copied, kept)
     with doing("reading back '{}' for the viewer, glTF and 3D Tiles".format(request.path)):
@@ -524,8 +524,8 @@ def write_in_steps(prepared, config, footprints, request, match=None, doing=null
                              request, copied, report, drawn, doing, say,
                              match.kept_previous if match is not None else frozenset())
         if request.viewer or request.gltf or request.tiles:
-            _views(model_file, (viewer_file, gltf_file, tiles_dir), request, every_copied, doing,
-                   match)
+            _views(model_file, viewer_file, gltf_file, request, every_copied, doing, match,
+                   tiles_dir)
     return lod2.summary(steps, prepared.report), report, invalid
 
 

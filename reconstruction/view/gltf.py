@@ -223,16 +223,19 @@ def write_glb(f, scene, year=None, folder=None):
 
 def write_parts(f, scene, parts, folder=None, features=None, year=None):
     """Write to ``f`` the glTF of ``parts`` of ``scene``: (building, its chunks) pairs,
-    a node each (a building drawn with several chunks, or a version of one: 3D Tiles'
-    contents, :mod:`reconstruction.view.tiles`). ``features``: None, or a callable
-    ``features(parts, first_view)`` giving the metadata of the parts as
-    (EXT_structural_metadata's object, its blobs): each part is then feature i of
-    EXT_mesh_features (a ``_FEATURE_ID_0`` per vertex, the property table 0), the
-    blobs the buffer views ``first_view`` on. ``year``: the year drawn, in extras."""
+    a node each (a building drawn with several chunks). ``features``: None, or a
+    callable ``features(parts, first_view)`` giving the metadata of the parts as
+    (EXT_structural_metadata's object, its blobs): the parts are then one node, part i
+    feature i of EXT_mesh_features (a ``_FEATURE_ID_0`` per vertex, the property table
+    0), the blobs the buffer views ``first_view`` on (3D Tiles' contents,
+    :mod:`reconstruction.view.tiles`). ``year``: the year drawn, in extras."""
     spools = _Spools(folder)
     try:
-        parts = list(parts) if features is not None else parts
-        materials = _buildings(scene, parts, spools, features is not None)
+        if features is None:
+            materials = _buildings(scene, parts, spools)
+        else:
+            parts = list(parts)
+            materials = _features(scene, parts, spools)
         extras = {"origin": [float(v) for v in scene.origin], "crs": scene.crs,
                   "axes": "x east, y up, z south; metres from origin (east, north, up)"}
         if year is not None:
@@ -259,51 +262,105 @@ def _drawn(scene, chunks):
         yield int(scene.chunk_building[ks[0]]), ks.tolist()
 
 
-def _buildings(scene, drawn, spools, feature_ids=False):
+def _runs(scene, ks):
+    """The triangles of chunks ``ks`` by kind of surface: (kind, first vertex, end vertex,
+    triangles (t, 3) indexing from the first), a chunk's vertices of a kind being one run."""
+    for k in ks:
+        triangles = scene.triangles[scene.chunk_start[k]:scene.chunk_start[k + 1]]
+        kinds = scene.kinds[triangles[:, 0]]
+        for kind in np.unique(kinds):
+            own = triangles[kinds == kind]
+            first, last = int(own.min()), int(own.max()) + 1
+            yield int(kind), first, last, own - first
+
+
+def _anchor(points):
+    """A node's translation: the middle of the foot of ``points`` (glTF's y-up)."""
+    low, high = points.min(axis=0), points.max(axis=0)
+    return np.array([(low[0] + high[0]) / 2, low[1], (low[2] + high[2]) / 2])
+
+
+def _chunk_points(scene, ks):
+    vertex = np.concatenate([np.arange(scene.chunk_vertex[k], scene.chunk_vertex[k + 1])
+                             for k in ks])
+    return _y_up(scene.positions[vertex].astype(np.float64))
+
+
+class _Materials:
+    """The materials used, in the order of their first use: their index by key."""
+
+    def __init__(self):
+        self.list, self.index = [], {}
+
+    def __call__(self, key):
+        if key not in self.index:
+            self.index[key] = len(self.list)
+            self.list.append(_material(*COLOURS[key]))
+        return self.index[key]
+
+
+def _primitive(spools, local, triangles, material, feature_ids=None, features=0):
+    """The primitive of vertices ``local`` (float32, y-up) and ``triangles`` (indexing
+    them); with ``feature_ids`` (one per vertex) EXT_mesh_features of ``features``."""
+    position = spools.add(local, FLOAT, "VEC3", min=local.min(axis=0).tolist(),
+                          max=local.max(axis=0).tolist())
+    small = len(local) <= UINT16_VERTICES
+    index = spools.add(triangles.astype(np.uint16 if small else np.uint32).ravel(),
+                       UINT16 if small else UINT32, "SCALAR")
+    primitive = {"attributes": {"POSITION": position}, "indices": index,
+                 "material": material, "mode": TRIANGLES}
+    if feature_ids is not None:
+        primitive["attributes"]["_FEATURE_ID_0"] = spools.add(
+            feature_ids.astype(np.float32), FEATURE_IDS, "SCALAR")
+        primitive["extensions"] = {"EXT_mesh_features": {"featureIds": [
+            {"featureCount": features, "attribute": 0, "propertyTable": 0}]}}
+    return primitive
+
+
+def _buildings(scene, drawn, spools):
     """Write the node, mesh and accessors of each building of ``drawn`` ((building, its
-    chunks), :func:`_drawn`); returns the materials used, in the order of their first use.
-    ``feature_ids``: each vertex has the rank of its building in ``drawn`` as its
-    feature id (EXT_mesh_features)."""
-    materials, material_of = [], {}
-    for feature, (b, ks) in enumerate(drawn):
+    chunks), :func:`_drawn`); returns the materials used, in the order of their first use."""
+    materials = _Materials()
+    for b, ks in drawn:
         copied = bool(scene.copied[b])
-        vertex = np.concatenate([np.arange(scene.chunk_vertex[k], scene.chunk_vertex[k + 1])
-                                 for k in ks])
-        points = _y_up(scene.positions[vertex].astype(np.float64))
-        low, high = points.min(axis=0), points.max(axis=0)
-        anchor = np.array([(low[0] + high[0]) / 2, low[1], (low[2] + high[2]) / 2])
+        anchor = _anchor(_chunk_points(scene, ks))
         primitives = []
-        for k in ks:
-            triangles = scene.triangles[scene.chunk_start[k]:scene.chunk_start[k + 1]]
-            kinds = scene.kinds[triangles[:, 0]]
-            for kind in np.unique(kinds):
-                # a chunk's vertices are sorted by kind: each kind's are one run
-                own = triangles[kinds == kind]
-                first, last = int(own.min()), int(own.max()) + 1
-                local = (_y_up(scene.positions[first:last].astype(np.float64))
-                         - anchor).astype(np.float32)
-                position = spools.add(local, FLOAT, "VEC3", min=local.min(axis=0).tolist(),
-                                      max=local.max(axis=0).tolist())
-                small = last - first <= UINT16_VERTICES
-                indices = (own - first).astype(np.uint16 if small else np.uint32).ravel()
-                index = spools.add(indices, UINT16 if small else UINT32, "SCALAR")
-                key = (copied, int(kind))
-                if key not in material_of:
-                    material_of[key] = len(materials)
-                    materials.append(_material(*COLOURS[key]))
-                primitive = {"attributes": {"POSITION": position}, "indices": index,
-                             "material": material_of[key], "mode": TRIANGLES}
-                if feature_ids:
-                    primitive["attributes"]["_FEATURE_ID_0"] = spools.add(
-                        np.full(len(local), feature, np.float32), FEATURE_IDS, "SCALAR")
-                    primitive["extensions"] = {"EXT_mesh_features": {"featureIds": [
-                        {"featureCount": len(drawn), "attribute": 0, "propertyTable": 0}]}}
-                primitives.append(primitive)
+        for kind, first, last, own in _runs(scene, ks):
+            local = (_y_up(scene.positions[first:last].astype(np.float64))
+                     - anchor).astype(np.float32)
+            primitives.append(_primitive(spools, local, own, materials((copied, kind))))
         mesh = spools.text("meshes", {"name": scene.ids[b], "primitives": primitives})
         spools.text("nodes", {"name": scene.ids[b], "mesh": mesh,
                               "translation": [float(v) for v in anchor],
                               "extras": json_safe(scene.attributes[b])})
-    return materials
+    return materials.list
+
+
+def _features(scene, drawn, spools):
+    """Write ``drawn`` ((building, its chunks), a list) as one node whose mesh has a
+    primitive per material, each part i its vertices' feature id i (EXT_mesh_features):
+    what 3D Tiles' content wants, a few draw calls a tile instead of some per building.
+    Returns the materials used."""
+    materials = _Materials()
+    runs = {}         # material: [(first, last, triangles, feature)]
+    for feature, (b, ks) in enumerate(drawn):
+        for kind, first, last, own in _runs(scene, ks):
+            runs.setdefault(materials((bool(scene.copied[b]), kind)), []).append(
+                (first, last, own, feature))
+    anchor = _anchor(_chunk_points(scene, [k for _b, ks in drawn for k in ks]))
+    primitives = []
+    for material, items in runs.items():
+        local = (_y_up(np.concatenate([scene.positions[a:e] for a, e, _t, _f in items])
+                       .astype(np.float64)) - anchor).astype(np.float32)
+        starts = np.cumsum([0] + [e - a for a, e, _t, _f in items])
+        triangles = np.concatenate([t + s for (_a, _e, t, _f), s in zip(items, starts)])
+        ids = np.repeat([f for _a, _e, _t, f in items], np.diff(starts))
+        primitives.append(_primitive(spools, local, triangles, material, ids, len(drawn)))
+    if primitives:
+        mesh = spools.text("meshes", {"name": "buildings", "primitives": primitives})
+        spools.text("nodes", {"name": "buildings", "mesh": mesh,
+                              "translation": [float(v) for v in anchor]})
+    return materials.list
 
 
 #: the glTF's JSON as ``json.dumps(..., ensure_ascii=False, separators=(",", ":"),

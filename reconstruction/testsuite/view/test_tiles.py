@@ -121,9 +121,10 @@ def check_tileset(tileset, directory):
 
 
 def features_of(directory):
-    """Every feature of every tile: (node name, id, first year, last year, years text,
-    certainty, attributes); and checks each tile's glTF: EXT_mesh_features feature ids
-    per vertex equal to the node's feature, one property table of as many rows."""
+    """Every feature of every tile: (its vertices in the tile, id, first year, last year,
+    years text, certainty, attributes); and checks each tile's glTF: one node, a
+    primitive per material, a feature id per vertex (EXT_mesh_features) naming a row of
+    the one property table, every row drawn."""
     tileset = json.loads((directory / "tileset.json").read_text())
     out = []
     for path in check_tileset(tileset, directory):
@@ -131,17 +132,25 @@ def features_of(directory):
         assert {"EXT_mesh_features", "EXT_structural_metadata"} <= set(gltf["extensionsUsed"])
         table = property_table(gltf, binary)
         count = gltf["extensions"]["EXT_structural_metadata"]["propertyTables"][0]["count"]
-        assert len(gltf["nodes"]) == count
-        for i, node in enumerate(gltf["nodes"]):
-            for primitive in gltf["meshes"][node["mesh"]]["primitives"]:
-                ids = primitive["extensions"]["EXT_mesh_features"]["featureIds"]
-                assert ids == [{"featureCount": count, "attribute": 0, "propertyTable": 0}]
-                feature = accessor(gltf, binary, primitive["attributes"]["_FEATURE_ID_0"])
-                positions = gltf["accessors"][primitive["attributes"]["POSITION"]]["count"]
-                assert feature.ravel().tolist() == [i] * positions
-            out.append((node["name"], table["id"][i], table["first_year"][i],
-                        table["last_year"][i], table["years"][i], table["certainty"][i],
-                        json.loads(table["attributes"][i])))
+        assert len(gltf["nodes"]) == 1
+        primitives = gltf["meshes"][gltf["nodes"][0]["mesh"]]["primitives"]
+        assert len({p["material"] for p in primitives}) == len(primitives)
+        vertices = np.zeros(count, dtype=int)
+        for primitive in primitives:
+            ids = primitive["extensions"]["EXT_mesh_features"]["featureIds"]
+            assert ids == [{"featureCount": count, "attribute": 0, "propertyTable": 0}]
+            feature = accessor(gltf, binary, primitive["attributes"]["_FEATURE_ID_0"]).ravel()
+            positions = gltf["accessors"][primitive["attributes"]["POSITION"]]["count"]
+            assert len(feature) == positions and feature.min() >= 0 and feature.max() < count
+            assert np.array_equal(feature, np.round(feature))
+            triangles = accessor(gltf, binary, primitive["indices"]).reshape(-1, 3)
+            # a triangle's corners are one feature's
+            assert (feature[triangles] == feature[triangles[:, :1]]).all()
+            vertices += np.bincount(feature.astype(int), minlength=count)
+        assert vertices.min() > 0
+        out.extend((int(vertices[i]), table["id"][i], table["first_year"][i],
+                    table["last_year"][i], table["years"][i], table["certainty"][i],
+                    json.loads(table["attributes"][i])) for i in range(count))
     return tileset, out
 
 
@@ -150,12 +159,12 @@ def test_a_feature_per_version_with_its_id_and_years(tmp_path):
     tileset, features = features_of(tmp_path)
     assert tileset["extras"]["years"] == [1880, 1915]
     assert tileset["asset"]["extras"]["title"] == "town"
-    assert sorted(f[:5] for f in features) == [
-        ("gone", "gone", 1880, 1914, "1880-1914"),
-        ("kept", "kept", 1880, 1915, "1880-1915"),
-        ("new", "new", 1915, 1915, "1915"),
-        ("raised", "raised", 1880, 1914, "1880-1914"),
-        ("raised", "raised", 1915, 1915, "1915")]
+    assert sorted(f[1:5] for f in features) == [
+        ("gone", 1880, 1914, "1880-1914"),
+        ("kept", 1880, 1915, "1880-1915"),
+        ("new", 1915, 1915, "1915"),
+        ("raised", 1880, 1914, "1880-1914"),
+        ("raised", 1915, 1915, "1915")]
     assert all(f[6]["roof_type"] == "flat" for f in features)
     assert (report.features, report.tiles, report.depth) == (5, 1, 1)
 
@@ -199,8 +208,8 @@ def test_the_root_transform_puts_the_vertices_where_proj_does(tmp_path):
     to_ecef = pyproj.Transformer.from_crs(7415, 4978, always_xy=True)
     gltf, binary = read_glb(tmp_path / tileset["root"]["content"]["uri"])
     checked = 0
-    for node in gltf["nodes"]:
-        primitive = gltf["meshes"][node["mesh"]]["primitives"][0]
+    node = gltf["nodes"][0]
+    for primitive in gltf["meshes"][node["mesh"]]["primitives"]:
         y_up = accessor(gltf, binary, primitive["attributes"]["POSITION"]) + node["translation"]
         local = np.column_stack([y_up[:, 0], -y_up[:, 2], y_up[:, 1]])
         ecef = (matrix @ np.column_stack([local, np.ones(len(local))]).T).T[:, :3]
@@ -224,12 +233,14 @@ def test_many_buildings_make_a_quadtree_with_each_once(tmp_path):
     report = tiles.write_tileset(str(tmp_path), build_scene(document(squares)), leaf=50)
     tileset, features = features_of(tmp_path)
     assert sorted(f[1] for f in features) == sorted(squares)
-    assert all(f[0] == f[1] for f in features)
+    # a square prism: 4 corners of its ground, 4 of its roof, 8 of its walls
+    assert {f[0] for f in features} == {16}
     assert report.tiles > 12 and report.depth >= 3
     for tile, parent in tile_nodes(tileset):
         if "content" in tile:
             gltf, _binary = read_glb(tmp_path / tile["content"]["uri"])
-            assert 0 < len(gltf["nodes"]) <= 50
+            table = gltf["extensions"]["EXT_structural_metadata"]["propertyTables"][0]
+            assert 0 < table["count"] <= 50
             assert tile["geometricError"] == 0 and "children" not in tile
         else:
             assert tile["geometricError"] > 0
