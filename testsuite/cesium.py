@@ -28,6 +28,8 @@ import http.server
 import os
 import threading
 
+import numpy as np
+
 NODE_DIR = os.environ.get("HISTO_NODE", os.path.expanduser("~/.local/share/histo/node"))
 CESIUM = os.path.join(NODE_DIR, "node_modules", "cesium", "Build", "Cesium")
 
@@ -148,3 +150,56 @@ def serve(tiles):
         server.shutdown()
         server.server_close()
         thread.join(timeout=10)
+
+
+def corners(document, oid):
+    """The lowest and highest corners (model coordinates) of city object ``oid`` of a
+    CityJSON ``document``."""
+    from reconstruction.cityjson.geometry import indices
+
+    geometry = document["CityObjects"][oid]["geometry"]
+    rows = np.array([document["vertices"][i] for i in
+                     np.unique(indices(geometry, [0] * len(geometry))).tolist()])
+    t = document.get("transform") or {"scale": [1, 1, 1], "translate": [0, 0, 0]}
+    xyz = rows * t["scale"] + t["translate"]
+    return xyz.min(axis=0), xyz.max(axis=0)
+
+
+def largest(document, ids):
+    """The one of ``ids`` whose box covers the most ground."""
+    return max(ids, key=lambda o: float(np.prod(np.subtract(*corners(document, o)[::-1])[:2])))
+
+
+def middle_ecef(document, oid):
+    """The middle of the box of city object ``oid`` of a CityJSON ``document`` in ECEF
+    (x, y, z): a point inside a building, to click (PROJ, from the model's CRS)."""
+    from pyproj import Transformer
+
+    from reconstruction.core.crs import epsg_code
+
+    middle = np.add(*corners(document, oid)) / 2
+    crs = epsg_code(document["metadata"]["referenceSystem"])
+    return Transformer.from_crs(crs, 4978, always_xy=True).transform(*middle)
+
+
+def load_and_click(browser_page, tiles, ecef, year=None, shown=None, timeout_ms=90_000):
+    """Open the tileset in the directory ``tiles`` in CesiumJS (:func:`serve`, the page in
+    ``browser_page``, a :class:`browser.BrowserPage`), show ``year``'s features (None:
+    all; ``shown``: how many it must show) and click at the ECEF point ``ecef``.
+    Returns the features loaded, the seconds until every tile in view was drawn and
+    the clicked feature's metadata (None: the click hit none)."""
+    with serve(tiles) as origin:
+        browser_page.allow(origin)
+        page = browser_page.page
+        page.goto(origin + "/")
+        waited = browser_page.wait_ready(
+            "window.tiles && (tiles.ready === true || tiles.error !== null)",
+            timeout_ms=timeout_ms)
+        assert page.evaluate("tiles.error") is None
+        if year is not None:
+            page.evaluate("tiles.setYear({})".format(int(year)))
+            browser_page.wait_ready("tiles.shown() === {}".format(int(shown)))
+        x, y = page.evaluate("tiles.toWindow({}, {}, {})".format(*ecef))
+        page.mouse.click(x, y)
+        browser_page.wait_ready("tiles.picked !== undefined")
+        return page.evaluate("tiles.features"), waited, page.evaluate("tiles.picked")

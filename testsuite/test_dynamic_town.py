@@ -27,7 +27,6 @@ import json
 import os
 import subprocess
 
-import numpy as np
 import pytest
 
 from histo_testing import key_values, run_module
@@ -179,11 +178,6 @@ def test_the_tileset_loads_in_cesium_and_a_click_picks_a_building(town, browser_
     # year's style shows as many as the year's snapshot has buildings, and a click on a
     # building standing in 1915 returns its id and the years of its 1915 version
     import cesium
-    from pyproj import Transformer
-
-    from dynamic_town import coordinates
-    from reconstruction.cityjson.geometry import resolved
-    from reconstruction.core.crs import epsg_code
     from reconstruction.epochs.dynamic import snapshot
     from reconstruction.testsuite.view.test_tiles import features_of
 
@@ -193,29 +187,13 @@ def test_the_tileset_loads_in_cesium_and_a_click_picks_a_building(town, browser_
     year = 1915
     standing = snapshot(town["merged"], year)
     buildings = [o for o, v in standing["CityObjects"].items() if not v.get("parents")]
-    # the largest building of the year, a point inside it in ECEF
-    objects = resolved(standing, digits=3)
-    corners = {o: np.array([c for g in objects[o]["geometry"] for c in coordinates(
-        g["boundaries"])]) for o in buildings}
-    target = max(buildings, key=lambda o: np.prod(np.ptp(corners[o][:, :2], axis=0)))
-    middle = (corners[target].min(axis=0) + corners[target].max(axis=0)) / 2
-    crs = epsg_code(town["merged"]["metadata"]["referenceSystem"])
-    ecef = Transformer.from_crs(crs, 4978, always_xy=True).transform(*middle)
-    with cesium.serve(town["tiles"]) as origin:
-        browser_page.allow(origin)
-        page = browser_page.page
-        page.goto(origin + "/")
-        waited = browser_page.wait_ready(
-            "window.tiles && (tiles.ready === true || tiles.error !== null)", timeout_ms=90_000)
-        assert page.evaluate("tiles.error") is None
-        assert page.evaluate("tiles.features") == len(features)
-        assert len([f for f in features if f[2] <= year <= f[3]]) == len(buildings)
-        page.evaluate("tiles.setYear({})".format(year))
-        browser_page.wait_ready("tiles.shown() === {}".format(len(buildings)))
-        x, y = page.evaluate("tiles.toWindow({}, {}, {})".format(*ecef))
-        page.mouse.click(x, y)
-        browser_page.wait_ready("tiles.picked !== undefined")
-        picked = page.evaluate("tiles.picked")
+    assert len([f for f in features if f[2] <= year <= f[3]]) == len(buildings)
+    # the year's largest building, clicked at its middle
+    target = cesium.largest(standing, buildings)
+    loaded, waited, picked = cesium.load_and_click(
+        browser_page, town["tiles"], cesium.middle_ecef(standing, target), year,
+        len(buildings))
+    assert loaded == len(features)
     versions = {(f[2], f[3]) for f in features if f[1] == target and f[2] <= year <= f[3]}
     assert picked is not None, "the click at the middle of {} hit nothing".format(target)
     assert picked["id"] == target and {(picked["first_year"], picked["last_year"])} == versions
