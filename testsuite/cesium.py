@@ -82,7 +82,9 @@ new Cesium.ScreenSpaceEventHandler(viewer.scene.canvas).setInputAction((click) =
 }, Cesium.ScreenSpaceEventType.LEFT_CLICK);
 Cesium.Cesium3DTileset.fromUrl("/tiles/tileset.json").then((loaded) => {
   tileset = loaded;
-  tileset.tileFailed.addEventListener((e) => { tiles.error = "tile failed: " + e.url + " " + e.message; });
+  tileset.tileFailed.addEventListener((e) => {
+    tiles.error = "tile failed: " + e.url + " " + e.message;
+  });
   viewer.scene.primitives.add(tileset);
   tileset.tileLoad.addEventListener((tile) => { tiles.features += tile.content.featuresLength; });
   tileset.allTilesLoaded.addEventListener(() => {

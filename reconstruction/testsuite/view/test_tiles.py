@@ -245,7 +245,8 @@ def test_many_buildings_make_a_quadtree_with_each_once(tmp_path):
         else:
             assert tile["geometricError"] > 0
         if parent is not None:   # a child's box lies in its parent's
-            a, b = np.array(tile["boundingVolume"]["box"]), np.array(parent["boundingVolume"]["box"])
+            a = np.array(tile["boundingVolume"]["box"])
+            b = np.array(parent["boundingVolume"]["box"])
             ha, hb = np.abs(a[[3, 7, 11]]), np.abs(b[[3, 7, 11]])
             assert np.all(a[:3] - ha >= b[:3] - hb - 1e-6)
             assert np.all(a[:3] + ha <= b[:3] + hb + 1e-6)
