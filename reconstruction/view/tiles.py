@@ -3,8 +3,9 @@
 :func:`write_tileset` writes a directory: ``tileset.json`` and a binary glTF
 per tile in ``content/``. It reads the model only through a
 :class:`~reconstruction.view.scene.Scene` and writes each tile's glTF with
-:func:`reconstruction.view.gltf.write_parts` (the glTF export's colours,
-axes and nodes).
+:func:`reconstruction.view.gltf.write_parts` (the glTF export's colours and
+axes; a tile's buildings one node, a primitive per material, so that a viewer
+draws a tile in a few calls).
 
 Choices:
 
