@@ -64,11 +64,17 @@ DIST ?= $(CURDIR)/dist
 DEMO_DIR ?= $(CURDIR)/demo-output
 PYTEST_ARGS ?=
 # Khronos's glTF validator (npm, no dependencies of its own), which the tests
-# of the glTF export run on a written file; in NODE_DIR, outside the checkout
-# like the venv. Debian's npm is installed first where no npm is found (a
-# machine that has Node.js with its own npm keeps it).
+# of the glTF export run on a written file, and CesiumJS, which the tests of
+# the 3D Tiles (tiles=) load in headless chromium from a server on 127.0.0.1
+# (its built files, Build/Cesium: 23 MB; the package 133 MB with its
+# dependencies; it asks for Node.js 22 but only its build tools need it);
+# in NODE_DIR, outside the checkout like the venv. Debian's npm is installed
+# first where no npm is found (a machine that has Node.js with its own npm
+# keeps it).
 NODE_DIR ?= $(HOME)/.local/share/histo/node
 GLTF_VALIDATOR := gltf-validator@2.0.0-dev.3.10
+CESIUM := cesium@1.145.0
+NODE_PACKAGES := $(GLTF_VALIDATOR) $(CESIUM)
 # GRASS 8.2 (core + Make system), what g.extension wants (make, gcc, svn),
 # venv for Debian's python3, man for `g.manual -m`; the run-time libraries of
 # val3dity (../shared/tools/val3dity, the tests' oracle of valid solids); EGL
@@ -104,13 +110,13 @@ venv: debian-packages
 
 node-tools:
 	@if ! command -v npm > /dev/null; then \
-	  echo "installing Debian's npm (for $(GLTF_VALIDATOR))"; \
+	  echo "installing Debian's npm (for $(NODE_PACKAGES))"; \
 	  apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q npm; \
 	fi
-	@if [ "$$(cat $(NODE_DIR)/.histo-node 2>/dev/null)" != "$(GLTF_VALIDATOR)" ]; then \
-	  echo "installing $(GLTF_VALIDATOR) into $(NODE_DIR)"; mkdir -p $(NODE_DIR) && \
+	@if [ "$$(cat $(NODE_DIR)/.histo-node 2>/dev/null)" != "$(NODE_PACKAGES)" ]; then \
+	  echo "installing $(NODE_PACKAGES) into $(NODE_DIR)"; mkdir -p $(NODE_DIR) && \
 	  flock $(NODE_DIR).lock npm install -q --prefix $(NODE_DIR) --no-save --no-audit --no-fund \
-	    $(GLTF_VALIDATOR) && echo $(GLTF_VALIDATOR) > $(NODE_DIR)/.histo-node; \
+	    --engine-strict=false $(NODE_PACKAGES) && echo "$(NODE_PACKAGES)" > $(NODE_DIR)/.histo-node; \
 	fi
 
 deps: debian-packages venv node-tools actinia

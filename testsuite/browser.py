@@ -39,8 +39,9 @@ VIEWPORT = {"width": 1024, "height": 768}
 # promises to do without the flag (it deprecated the automatic fallback).
 SOFTWARE_WEBGL = ("--use-gl=angle", "--use-angle=swiftshader", "--enable-unsafe-swiftshader")
 # No host name resolves, for the requests a page route never sees (the
-# browser's own, a service worker's).
-OFFLINE = ("--host-resolver-rules=MAP * ~NOTFOUND",)
+# browser's own, a service worker's); but 127.0.0.1, where a test may serve
+# pages of its own (testsuite/cesium.py), which the route still guards.
+OFFLINE = ("--host-resolver-rules=MAP * ~NOTFOUND, EXCLUDE 127.0.0.1",)
 LOCAL_SCHEMES = ("file", "data", "blob")
 # Long enough for a first frame drawn in software on a busy 2-core machine,
 # short enough that a page that never gets ready fails the test quickly.
@@ -92,6 +93,7 @@ class BrowserPage:
     def __init__(self, context):
         self.errors = []
         self.blocked = []
+        self.allowed = []        # origins let through besides the local schemes (allow)
         # the guard first: not even the page's first request passes before it
         context.route("**/*", self.guard)
         context.route_web_socket("**/*", self.guard_web_socket)
@@ -106,9 +108,17 @@ class BrowserPage:
             self.errors.append("console error: {} ({}:{})".format(
                 message.text, where.get("url", ""), where.get("lineNumber", "")))
 
+    def allow(self, origin):
+        """Let the requests to ``origin`` through too: a server of the test's own on
+        127.0.0.1 (e.g. ``http://127.0.0.1:8123``), never another host."""
+        if not origin.startswith("http://127.0.0.1:"):
+            raise ValueError("only a server on 127.0.0.1 may be allowed, not " + origin)
+        self.allowed.append(origin + "/")
+
     def guard(self, route):
         """Let local requests through, abort and record any other."""
-        if route.request.url.split(":", 1)[0] in LOCAL_SCHEMES:
+        url = route.request.url
+        if url.split(":", 1)[0] in LOCAL_SCHEMES or url.startswith(tuple(self.allowed)):
             route.continue_()
         else:
             self.blocked.append(route.request.url)

@@ -26,19 +26,20 @@ def buildings(document):
         if obj.get("parents"):
             continue
         geometry = obj.get("geometry", ())
-        xyz = np.array([c for g in geometry for c in _coordinates(g["boundaries"])] or
+        xyz = np.array([c for g in geometry for c in coordinates(g["boundaries"])] or
                        [[np.nan] * 3], dtype=float)
         out[oid] = (json.dumps(geometry, sort_keys=True), obj.get("attributes") or {},
                     tuple(np.nanmean(xyz[:, :2], axis=0)))
     return out
 
 
-def _coordinates(nested):
+def coordinates(nested):
+    """The (x, y, z) of resolved boundaries (nested lists), one after the other."""
     if nested and isinstance(nested[0], (int, float)):
         yield nested
         return
     for item in nested:
-        yield from _coordinates(item)
+        yield from coordinates(item)
 
 
 def _in_plots(centres, plots):

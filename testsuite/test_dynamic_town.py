@@ -53,7 +53,7 @@ def town(grass_session, tmp_path_factory):
     merged = str(out / "merged.city.json")
     rc, stdout, err = run_module("v.histo.timeline", flags="g", models=",".join(
         models[y] for y in YEARS), years=",".join(map(str, YEARS)), register="town_current",
-        output=merged, viewer=str(out / "town.html"))
+        output=merged, viewer=str(out / "town.html"), tiles=str(out / "tiles"))
     assert rc == 0, err
     snapshots = {}
     for y in YEARS:
@@ -74,7 +74,8 @@ def town(grass_session, tmp_path_factory):
             "models": {y: read(p) for y, p in models.items()},
             "merged": read(merged), "merged_path": merged, "counts": key_values(stdout),
             "snapshots": {y: read(p) for y, p in snapshots.items()},
-            "snapshot_paths": snapshots, "model_paths": models, "viewer": str(out / "town.html")}
+            "snapshot_paths": snapshots, "model_paths": models, "viewer": str(out / "town.html"),
+            "tiles": out / "tiles"}
 
 
 def test_unchanged_plots_keep_their_buildings(town):
@@ -171,3 +172,35 @@ def test_the_viewer_s_year_slider_shows_each_year_s_snapshot(town, browser_page)
     print("\nviewer: first frame after {:.2f} s; buildings drawn by year {}".format(
         waited, drawn))
     assert browser_page.errors == [] and browser_page.blocked == []
+
+
+@pytest.mark.browser
+def test_the_tileset_loads_in_cesium_and_a_click_picks_a_building(town, browser_page):
+    # issue 52, item 2: v.histo.timeline tiles= in CesiumJS (npm), headless chromium,
+    # served on 127.0.0.1 with no request leaving the machine: every feature loads, the
+    # year's style shows as many as the year's snapshot has buildings, and a click on a
+    # building standing in 1915 returns its id and the years of its 1915 version
+    import cesium
+    from reconstruction.epochs.dynamic import snapshot
+    from reconstruction.testsuite.view.test_tiles import features_of
+
+    if cesium.missing():
+        pytest.skip(cesium.missing())
+    _tileset, features = features_of(town["tiles"])
+    year = 1915
+    standing = snapshot(town["merged"], year)
+    buildings = [o for o, v in standing["CityObjects"].items() if not v.get("parents")]
+    assert len([f for f in features if f[2] <= year <= f[3]]) == len(buildings)
+    # the year's largest building, clicked at its middle
+    target = cesium.largest(standing, buildings)
+    loaded, waited, picked = cesium.load_and_click(
+        browser_page, town["tiles"], cesium.middle_ecef(standing, target), year,
+        len(buildings))
+    assert loaded == len(features)
+    versions = {(f[2], f[3]) for f in features if f[1] == target and f[2] <= year <= f[3]}
+    assert picked is not None, "the click at the middle of {} hit nothing".format(target)
+    assert picked["id"] == target and {(picked["first_year"], picked["last_year"])} == versions
+    print("\nCesiumJS: {} features of {} tiles loaded in {:.1f} s; picked {}".format(
+        len(features), len(list(town["tiles"].glob("content/*.glb"))), waited, picked))
+    assert browser_page.errors == [] and browser_page.blocked == []
+

@@ -346,6 +346,17 @@
 # %end
 
 # %option
+# % key: tiles
+# % type: string
+# % key_desc: name
+# % gisprompt: new,dir,dir
+# % required: no
+# % label: Directory of 3D Tiles 1.1 of the model for CesiumJS and other globes
+# % description: tileset.json and a glTF per tile; each building's id, attributes and certainty as its metadata; made if missing
+# % guisection: Output
+# %end
+
+# %option
 # % key: view
 # % type: double
 # % key_desc: azimuth,elevation
@@ -418,7 +429,8 @@ def main(options, flags):
 
     grassio.require_projected()      # (a missing input map: when reading it)
     grassio.check_outputs(options, files=("output", "render", "viewer", "gltf"),
-                          inputs={"file": ("rules", "existing", "previous")})
+                          inputs={"file": ("rules", "existing", "previous")},
+                          directories={"tiles": "tileset.json"})
     config = lod2.read_config(options, flags, grassio.location_epsg(), street_labels(options,
                                                                                   flags))
 

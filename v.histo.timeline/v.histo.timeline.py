@@ -93,6 +93,20 @@
 # % required: no
 # % description: HTML page that shows the model in a web browser, offline, with a year slider: the buildings standing in each year
 # %end
+# %option G_OPT_F_OUTPUT
+# % key: gltf
+# % required: no
+# % description: Binary glTF (.glb) of the town in the last year (or in snapshot=) for Blender, CesiumJS and other 3D tools: one node per building, its attributes in extras
+# %end
+# %option
+# % key: tiles
+# % type: string
+# % key_desc: name
+# % gisprompt: new,dir,dir
+# % required: no
+# % label: Directory of 3D Tiles 1.1 of the model for CesiumJS and other globes
+# % description: tileset.json and a glTF per tile; every version of a building with its id, first and last year and attributes as its metadata; made if missing
+# %end
 # %flag
 # % key: g
 # % description: Print the counts in shell script style (key=value)
@@ -127,8 +141,9 @@ def main(options, flags):
     from reconstruction import grassio, timeline
 
     start = time.perf_counter()
-    grassio.check_outputs(options, files=("output", "report", "viewer"),
-                          inputs={"file": ("models", "input")})
+    grassio.check_outputs(options, files=("output", "report", "viewer", "gltf"),
+                          inputs={"file": ("models", "input")},
+                          directories={"tiles": "tileset.json"})
     config = timeline.read_config(options, flags)
     result = timeline.run(config, grassio.read_table, grassio.doing)
     with grassio.doing("writing '{}'".format(config.output)):

@@ -14,11 +14,14 @@ item 3: a model and its picture): each is written under a temporary name,
 and only when all are complete are they renamed into place, one after the
 other with Ctrl-C and SIGTERM held back until the last rename is done. A
 failure or an interruption at any moment before leaves every target as it
-was. Pure Python, no GRASS.
+was. An output directory (3D Tiles, issue 52, item 2) is written the same
+way, as a temporary directory beside it (:meth:`OutputFiles.reserve_dir`);
+the directory it replaces is removed after the renames. Pure Python, no GRASS.
 """
 
 import contextlib
 import os
+import shutil
 import signal
 import stat
 import tempfile
@@ -53,6 +56,7 @@ class OutputFiles:
 
     def __init__(self):
         self._files = []         # (temporary name, target)
+        self._replaced = []      # directories replaced, removed once all are in place
 
     def reserve(self, path, suffix=""):
         """A unique temporary file name beside ``path``'s target (ending in
@@ -73,6 +77,25 @@ class OutputFiles:
         self._files.append((tmp, target))
         return tmp
 
+    def reserve_dir(self, path):
+        """A new empty temporary directory beside ``path``, renamed to ``path`` when
+        the block ends (a directory there is replaced, then removed). Raises
+        :class:`InputError` when ``path`` is something else than a directory or
+        its parent cannot hold it."""
+        target = os.path.realpath(path)
+        if os.path.exists(target) and not os.path.isdir(target):
+            raise InputError("'{}' exists and is not a directory; it is not replaced".format(path))
+        directory, name = os.path.split(target)
+        if any(t == target for _tmp, t in self._files):
+            raise InputError("'{}' is given twice as an output".format(path))
+        try:
+            tmp = tempfile.mkdtemp(prefix=".{}.".format(name), suffix=".part", dir=directory)
+        except OSError as error:
+            raise InputError("Cannot write '{}': {}".format(
+                path, error.strerror or error)) from None
+        self._files.append((tmp, target))
+        return tmp
+
     def open(self, path, mode="w", encoding="utf-8", newline=None):
         """The file object of :meth:`reserve`'s temporary file of ``path``
         (``mode`` ``"w"`` or ``"wb"``; ``encoding`` and ``newline`` as for ``open``,
@@ -84,12 +107,23 @@ class OutputFiles:
         """Every file renamed into place, interruptions held back meanwhile."""
         with _signals_held():
             for tmp, target in self._files:
-                os.chmod(tmp, _mode(target))
+                os.chmod(tmp, _mode(target) | (0o111 if os.path.isdir(tmp) else 0))
+                if os.path.isdir(tmp) and os.path.isdir(target):
+                    # a directory is renamed over an empty one only: the old one aside first
+                    old = tempfile.mkdtemp(prefix=".{}.".format(os.path.basename(target)),
+                                           suffix=".old", dir=os.path.dirname(target))
+                    os.replace(target, old)
+                    self._replaced.append(old)
                 os.replace(tmp, target)
             self._files = []
+        for old in self._replaced:
+            shutil.rmtree(old, ignore_errors=True)
+        self._replaced = []
 
     def _discard(self):
         for tmp, _target in self._files:
+            if os.path.isdir(tmp):
+                shutil.rmtree(tmp, ignore_errors=True)
             with contextlib.suppress(FileNotFoundError):
                 os.remove(tmp)
         self._files = []

@@ -112,7 +112,7 @@ def vector_counts(name):
 # Outputs
 # ---------------------------------------------------------------------------
 
-def check_outputs(options, rasters=(), vectors=(), files=(), inputs=None):
+def check_outputs(options, rasters=(), vectors=(), files=(), inputs=None, directories=None):
     """Raise :class:`InputError` now when an output named by ``options`` cannot be written.
 
     ``rasters``, ``vectors``, ``files``: the option keys of the output raster
@@ -127,6 +127,9 @@ def check_outputs(options, rasters=(), vectors=(), files=(), inputs=None):
     one of them (issue 33, item 4: ``render=`` given the ``existing=`` model
     would replace the user's model with a picture; as GRASS's own modules
     refuse an output map that is their input).
+    ``directories``: option key -> the file that marks a directory that output
+    wrote (``{"tiles": "tileset.json"}``): as a file, and an existing directory
+    is replaced only with --overwrite and when it is empty or holds that file.
     """
     seen = {}
     for kind, keys in (("raster", rasters), ("vector", vectors)):
@@ -143,6 +146,9 @@ def check_outputs(options, rasters=(), vectors=(), files=(), inputs=None):
     for key in files:
         if options[key]:
             _unique(seen, ("file", check_output_file(options[key], key)), key)
+    for key, marker in (directories or {}).items():
+        if options.get(key):
+            _unique(seen, ("file", check_output_directory(options[key], key, marker)), key)
     for kind, keys in (inputs or {}).items():
         for key in keys:
             for given in [v.strip() for v in (options.get(key) or "").split(",") if v.strip()]:
@@ -188,14 +194,30 @@ def _unique(seen, what, key):
 def check_output_file(path, key):
     """The file an output path writes (a symbolic link's target), checked as
     :func:`check_outputs` says; raises :class:`InputError`."""
+    return _check_output(path, key)
+
+
+def check_output_directory(path, key, marker):
+    """The directory an output path writes, checked as :func:`check_outputs` says
+    (``marker``: the file that shows the directory is one this output wrote);
+    raises :class:`InputError`."""
+    return _check_output(path, key, marker)
+
+
+def _check_output(path, key, marker=None):
+    """A file (``marker`` None) or directory output, checked; its real path."""
     target = os.path.realpath(path)
+    kind, is_kind = ("directory", os.path.isdir) if marker else ("regular file", os.path.isfile)
     if os.path.exists(target):
-        if not os.path.isfile(target):
-            raise InputError("Option {}=: '{}' exists and is not a regular file; "
-                             "it is not replaced".format(key, path))
+        if not is_kind(target):
+            raise InputError("Option {}=: '{}' exists and is not a {}; "
+                             "it is not replaced".format(key, path, kind))
         if not gs.overwrite():
-            raise InputError("File '{}' given as {}= exists; use --overwrite to replace "
-                             "it".format(path, key))
+            raise InputError("{} '{}' given as {}= exists; use --overwrite to replace "
+                             "it".format("Directory" if marker else "File", path, key))
+        if marker and os.listdir(target) and not os.path.isfile(os.path.join(target, marker)):
+            raise InputError("Option {}=: directory '{}' holds other files than a {} output "
+                             "(no {}); it is not replaced".format(key, path, key, marker))
     directory = os.path.dirname(target)
     if not os.path.isdir(directory):
         raise InputError("Option {}=: directory '{}' does not exist".format(key, directory))

@@ -55,8 +55,9 @@ class OutputRequest:
     ``title``; ``render``: path of a PNG picture (None: none), its ``view``
     (:class:`~reconstruction.lod2.render.View`) and ``map_image``
     (:class:`~reconstruction.geom.grid.MapImage` or None); ``viewer``: path
-    of the HTML page that shows the model in a browser and ``gltf`` of its
-    binary glTF (None: none; :mod:`reconstruction.view`); ``maps``: the red, green and blue rasters of
+    of the HTML page that shows the model in a browser, ``gltf`` of its
+    binary glTF and ``tiles`` the directory of its 3D Tiles (None: none;
+    :mod:`reconstruction.view`); ``maps``: the red, green and blue rasters of
     ``map_image`` (read by the script), draped in the picture and the page."""
     path: str
     format: str = "cityjson"
@@ -68,6 +69,7 @@ class OutputRequest:
     maps: tuple = ()
     viewer: Optional[str] = None
     gltf: Optional[str] = None
+    tiles: Optional[str] = None
 
 
 @dataclass(frozen=True)
@@ -208,6 +210,9 @@ def read_config(options, flags, location_epsg=None, street_labels=None):
                              "URL, not <{}>".format(options["crs"])) from None
         if options["crs"]:
             check_crs(epsg_code(crs), location_epsg)
+    elif options.get("tiles"):
+        raise InputError("Option tiles= needs the model's reference system to put it on the "
+                         "globe: give crs= (an EPSG code) or use a location with an EPSG code")
     output, existing = _requests(options, crs, title="LoD2 model from <{}>".format(
         options["input"]))
     heights = HeightConfig(
@@ -261,7 +266,8 @@ def _requests(options, reference_system=None, title=None):
     request = OutputRequest(path=options["output"], format=parse_format(options.get("format")),
                             reference_system=reference_system, title=title, render=render,
                             view=parse_view(options.get("view")), maps=maps, viewer=viewer,
-                            gltf=options.get("gltf") or None)
+                            gltf=options.get("gltf") or None,
+                            tiles=options.get("tiles") or None)
     if not options.get("existing"):
         for key in ("id_column", "id_prefix", "existing_lod"):
             if options.get(key):

@@ -400,6 +400,7 @@ def write_model(result, footprints, request, match=None, doing=nullcontext, say=
         picture_file = files.reserve(request.render, ".png") if request.render else None
         viewer_file = files.reserve(request.viewer, ".html") if request.viewer else None
         gltf_file = files.reserve(request.gltf, ".glb") if request.gltf else None
+        tiles_dir = files.reserve_dir(request.tiles) if request.tiles else None
         pieces = None
         with doing("writing '{}'".format(request.path)), open(model_file, "wb") as f:
             if fmt == "cityjson":
@@ -421,18 +422,21 @@ def write_model(result, footprints, request, match=None, doing=nullcontext, say=
             report = _render(pieces or _single_text(result, copied, request), picture_file,
                              request, copied, report, drawn, doing, say,
                              match.kept_previous if match is not None else frozenset())
-        if request.viewer or request.gltf:
-            _views(model_file, viewer_file, gltf_file, request, every_copied, doing, match)
+        if request.viewer or request.gltf or request.tiles:
+            _views(model_file, viewer_file, gltf_file, request, every_copied, doing, match,
+                   tiles_dir)
     return report
 
 
-def _views(model_file, viewer_path, gltf_path, request, copied, doing, match=None):
-    """Write the page of ``viewer=`` and the glTF of ``gltf=`` to their temporary files
-    (``viewer_path``, ``gltf_path``; None: not asked for) from the model just written
-    to ``model_file``: every building, the copied ones in their colours."""
+def _views(model_file, viewer_path, gltf_path, request, copied, doing, match=None,
+           tiles_path=None):
+    """Write the page of ``viewer=``, the glTF of ``gltf=`` and the 3D Tiles of ``tiles=``
+    to their temporary files and directory (``viewer_path``, ``gltf_path``,
+    ``tiles_path``; None: not asked for) from the model just written to ``model_file``:
+    every building, the copied ones in their colours."""
     kept = match.kept_previous if match is not None else frozenset()
     shown = _shown_copied(copied, kept)
-    with doing("reading back '{}' for the viewer and glTF".format(request.path)):
+    with doing("reading back '{}' for the viewer, glTF and 3D Tiles".format(request.path)):
         if request.format == "cityjson":
             with open(model_file, encoding="utf-8") as f:
                 scene = view.build_scene(json.load(f), copied=shown)
@@ -446,6 +450,9 @@ def _views(model_file, viewer_path, gltf_path, request, copied, doing, match=Non
     if gltf_path:
         with doing("writing the glTF '{}'".format(request.gltf)), open(gltf_path, "wb") as f:
             view.write_glb(f, scene, folder=os.path.dirname(os.path.abspath(gltf_path)))
+    if tiles_path:
+        with doing("writing the 3D Tiles '{}'".format(request.tiles)):
+            view.write_tileset(tiles_path, scene, request.title)
 
 
 def _shown_copied(copied, kept):
@@ -495,6 +502,7 @@ def write_in_steps(prepared, config, footprints, request, match=None, doing=null
         picture_file = files.reserve(request.render, ".png") if request.render else None
         viewer_file = files.reserve(request.viewer, ".html") if request.viewer else None
         gltf_file = files.reserve(request.gltf, ".glb") if request.gltf else None
+        tiles_dir = files.reserve_dir(request.tiles) if request.tiles else None
         with doing("writing '{}'".format(request.path)), open(model_file, "wb") as f:
             writer = cityjsonseq.SeqWriter(f, _origin(prepared, copied), request.reference_system,
                                            request.title, copied)
@@ -522,8 +530,9 @@ def write_in_steps(prepared, config, footprints, request, match=None, doing=null
             report = _render(_single_text(_joined(kept), copied, request), picture_file,
                              request, copied, report, drawn, doing, say,
                              match.kept_previous if match is not None else frozenset())
-        if request.viewer or request.gltf:
-            _views(model_file, viewer_file, gltf_file, request, every_copied, doing, match)
+        if request.viewer or request.gltf or request.tiles:
+            _views(model_file, viewer_file, gltf_file, request, every_copied, doing, match,
+                   tiles_dir)
     return lod2.summary(steps, prepared.report), report, invalid
 
 

@@ -67,6 +67,8 @@ LAZY = {
     "sklearn.svm",
     "pyvista",                 # VTK: about 1 s, only v.histo.lod2 render= and viewer=
     "PIL",                     # only the map of a viewer
+    "pyproj",                  # PROJ: only 3D Tiles (tiles=), put on the globe
+    "pyproj.exceptions",
     "pySVCGAL.pySVCGAL",       # CGAL's skeleton (a native library): only concave roofs
     "orjson",                  # only where copied buildings are written
     "jsonschema",              # only the schema check of written models

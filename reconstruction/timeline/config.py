@@ -16,7 +16,9 @@ class TimelineConfig:
     in ``year_column``; None: the first of the usual names); ``output`` (a file of
     ``format``), ``snapshot`` (a year, or None for the whole model), ``report_file``,
     ``viewer`` (the HTML page that shows the model in a browser, with a year slider
-    for the whole model; None: none) and ``shell`` (-g)."""
+    for the whole model; None: none), ``gltf`` (a binary glTF of its last year, or of
+    the snapshot), ``tiles`` (a directory of 3D Tiles with every version and its
+    years) and ``shell`` (-g)."""
 
     output: str
     models: tuple = ()
@@ -31,6 +33,8 @@ class TimelineConfig:
     title: Optional[str] = None
     shell: bool = False
     viewer: Optional[str] = None
+    gltf: Optional[str] = None
+    tiles: Optional[str] = None
 
 
 def _list(text):
@@ -68,4 +72,5 @@ def read_config(options, flags):
         year_column=options.get("year_column") or None, format=fmt,
         snapshot=None if snapshot is None else _year(snapshot, "snapshot"),
         report_file=options.get("report") or None, title=options.get("title") or None,
-        shell=bool(flags.get("g")), viewer=options.get("viewer") or None)
+        shell=bool(flags.get("g")), viewer=options.get("viewer") or None,
+        gltf=options.get("gltf") or None, tiles=options.get("tiles") or None)

@@ -96,8 +96,8 @@ def _lines(document):
 
 
 def write(result, config, report_json=None):
-    """Write the model (and the JSON report and the viewer's page) together: all appear,
-    or none."""
+    """Write the model (and the JSON report, the viewer's page, the glTF and the 3D
+    Tiles) together: all appear, or none."""
     with together() as files:
         with files.open(config.output, mode="wb", encoding=None) as f:
             if config.format == "cityjsonseq":
@@ -108,8 +108,14 @@ def write(result, config, report_json=None):
         if config.report_file and report_json is not None:
             with files.open(config.report_file) as f:
                 f.write(orjson.dumps(report_json, option=orjson.OPT_INDENT_2).decode())
+        scene = (view.build_scene(result.document) if config.viewer or config.gltf or
+                 config.tiles else None)
         if config.viewer:
-            scene = view.build_scene(result.document)
             with files.open(config.viewer) as f:
                 view.write_viewer(f, scene, _title(config))
+        if config.gltf:
+            with files.open(config.gltf, mode="wb", encoding=None) as f:
+                view.write_glb(f, scene, folder=os.path.dirname(os.path.abspath(config.gltf)))
+        if config.tiles:
+            view.write_tileset(files.reserve_dir(config.tiles), scene, _title(config))
     return os.path.getsize(config.output)

@@ -8,16 +8,19 @@
   (:func:`viewer_html`, written piece by piece by :func:`write_viewer`; its
   script ``viewer.js`` and style ``viewer.css``);
 - ``gltf``: a scene as one binary glTF file, a node per building
-  (:func:`glb_bytes`, written building by building by :func:`write_glb`).
+  (:func:`glb_bytes`, written building by building by :func:`write_glb`);
+- ``tiles``: a scene as 3D Tiles 1.1, a quadtree of glTF tiles with each
+  building's id, years and attributes as metadata (:func:`write_tileset`).
 
 Imports ``core``, ``geom``, ``cityjson`` and ``epochs``; used by the stages
 that write models (``lod2``, ``timeline``).
 """
 
-from . import gltf, html, scene
+from . import gltf, html, scene, tiles
 from .gltf import glb_bytes, write_glb
 from .html import viewer_html, write_viewer
 from .scene import Scene, build_scene, scene_of_seq
+from .tiles import write_tileset
 
 __all__ = ["Scene", "build_scene", "glb_bytes", "gltf", "html", "scene", "scene_of_seq",
-           "viewer_html", "write_glb", "write_viewer"]
+           "tiles", "viewer_html", "write_glb", "write_tileset", "write_viewer"]

@@ -64,12 +64,19 @@ ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER = 34962, 34963
 TRIANGLES = 4
 #: the largest vertex count indexed by uint16 (65535 is the primitive restart value)
 UINT16_VERTICES = 65535
-#: the buffer views in the order they lie in the binary chunk, and their targets
-COMPONENTS = (FLOAT, UINT32, UINT16)
-TARGET = {FLOAT: ARRAY_BUFFER, UINT32: ELEMENT_ARRAY_BUFFER, UINT16: ELEMENT_ARRAY_BUFFER}
+#: the view of the feature ids of EXT_mesh_features (float32 scalars, one per vertex:
+#: their own view, as the vertices' view has a stride of 12 bytes)
+FEATURE_IDS = "feature ids"
+#: the buffer views in the order they lie in the binary chunk, their component types,
+#: targets and strides
+COMPONENTS = (FLOAT, UINT32, UINT16, FEATURE_IDS)
+COMPONENT = {FLOAT: FLOAT, UINT32: UINT32, UINT16: UINT16, FEATURE_IDS: FLOAT}
+TARGET = {FLOAT: ARRAY_BUFFER, UINT32: ELEMENT_ARRAY_BUFFER, UINT16: ELEMENT_ARRAY_BUFFER,
+          FEATURE_IDS: ARRAY_BUFFER}
+STRIDE = {FLOAT: 12, FEATURE_IDS: 4}
 #: the placeholder of each view's index in an accessor's text: control characters, which
 #: JSON text never holds raw
-VIEW_MARK = {FLOAT: b"\x01", UINT32: b"\x02", UINT16: b"\x03"}
+VIEW_MARK = {FLOAT: b"\x01", UINT32: b"\x02", UINT16: b"\x03", FEATURE_IDS: b"\x04"}
 #: bytes of a spool kept in memory before it goes to a temporary file
 SPOOLED = 1 << 22
 #: the lists of the glTF document written from spools
@@ -142,15 +149,18 @@ class _Spools:
     def add(self, array, component, kind, **extra):
         """An accessor over ``array`` (its bytes appended to the view of ``component``)."""
         data = np.ascontiguousarray(array).tobytes()
-        accessor = dict({"byteOffset": self.size[component], "componentType": component,
+        accessor = dict({"byteOffset": self.size[component],
+                         "componentType": COMPONENT[component],
                          "count": int(len(array)), "type": kind}, **extra)
         self.binary[component].write(data)
         self.size[component] += len(data)
         return self.text("accessors", accessor, b'{"bufferView":' + VIEW_MARK[component] + b",")
 
-    def views(self):
+    def views(self, blobs=()):
         """The buffer views (dicts) of the views used, their start in the binary chunk,
-        and its length: each view 4-byte aligned, one after the other."""
+        and its length: each view 4-byte aligned, one after the other; then a view of
+        each of ``blobs`` (bytes, e.g. a property table's columns), 8-byte aligned as
+        EXT_structural_metadata wants, the i-th's start ``starts["blob", i]``."""
         views, starts, at = [], {}, 0
         for component in COMPONENTS:
             if not self.size[component]:
@@ -159,10 +169,16 @@ class _Spools:
             starts[component] = at
             view = {"buffer": 0, "byteOffset": at, "byteLength": self.size[component],
                     "target": TARGET[component]}
-            if TARGET[component] == ARRAY_BUFFER:
-                view["byteStride"] = 12   # several accessors share it: glTF then wants the stride
+            if component in STRIDE:
+                # several accessors share it: glTF then wants the stride
+                view["byteStride"] = STRIDE[component]
             views.append(view)
             at += self.size[component]
+        for i, blob in enumerate(blobs):
+            at += -at % 8
+            starts["blob", i] = at
+            views.append({"buffer": 0, "byteOffset": at, "byteLength": len(blob)})
+            at += len(blob)
         return views, starts, at
 
     def marks(self):
@@ -202,14 +218,31 @@ def write_glb(f, scene, year=None, folder=None):
     through temporary files in ``folder`` (None: the system's), never holding a
     city's glTF whole (issue 49, item 14)."""
     chunks, year = _chunks(scene, year)
+    write_parts(f, scene, _drawn(scene, chunks), folder, year=year)
+
+
+def write_parts(f, scene, parts, folder=None, features=None, year=None):
+    """Write to ``f`` the glTF of ``parts`` of ``scene``: (building, its chunks) pairs,
+    a node each (a building drawn with several chunks). ``features``: None, or a
+    callable ``features(parts, first_view)`` giving the metadata of the parts as
+    (EXT_structural_metadata's object, its blobs): the parts are then one node, part i
+    feature i of EXT_mesh_features (a ``_FEATURE_ID_0`` per vertex, the property table
+    0), the blobs the buffer views ``first_view`` on (3D Tiles' contents,
+    :mod:`reconstruction.view.tiles`). ``year``: the year drawn, in extras."""
     spools = _Spools(folder)
     try:
-        materials = _buildings(scene, _drawn(scene, chunks), spools)
+        if features is None:
+            materials = _buildings(scene, parts, spools)
+        else:
+            parts = list(parts)
+            materials = _features(scene, parts, spools)
         extras = {"origin": [float(v) for v in scene.origin], "crs": scene.crs,
                   "axes": "x east, y up, z south; metres from origin (east, north, up)"}
         if year is not None:
             extras["year"] = year
-        _container(f, spools, materials, extras)
+        metadata, blobs = (None, ()) if features is None else features(
+            parts, len(spools.views()[0]))
+        _container(f, spools, materials, extras, metadata, blobs)
     finally:
         spools.close()
 
@@ -229,43 +262,105 @@ def _drawn(scene, chunks):
         yield int(scene.chunk_building[ks[0]]), ks.tolist()
 
 
+def _runs(scene, ks):
+    """The triangles of chunks ``ks`` by kind of surface: (kind, first vertex, end vertex,
+    triangles (t, 3) indexing from the first), a chunk's vertices of a kind being one run."""
+    for k in ks:
+        triangles = scene.triangles[scene.chunk_start[k]:scene.chunk_start[k + 1]]
+        kinds = scene.kinds[triangles[:, 0]]
+        for kind in np.unique(kinds):
+            own = triangles[kinds == kind]
+            first, last = int(own.min()), int(own.max()) + 1
+            yield int(kind), first, last, own - first
+
+
+def _anchor(points):
+    """A node's translation: the middle of the foot of ``points`` (glTF's y-up)."""
+    low, high = points.min(axis=0), points.max(axis=0)
+    return np.array([(low[0] + high[0]) / 2, low[1], (low[2] + high[2]) / 2])
+
+
+def _chunk_points(scene, ks):
+    vertex = np.concatenate([np.arange(scene.chunk_vertex[k], scene.chunk_vertex[k + 1])
+                             for k in ks])
+    return _y_up(scene.positions[vertex].astype(np.float64))
+
+
+class _Materials:
+    """The materials used, in the order of their first use: their index by key."""
+
+    def __init__(self):
+        self.list, self.index = [], {}
+
+    def __call__(self, key):
+        if key not in self.index:
+            self.index[key] = len(self.list)
+            self.list.append(_material(*COLOURS[key]))
+        return self.index[key]
+
+
+def _primitive(spools, local, triangles, material, feature_ids=None, features=0):
+    """The primitive of vertices ``local`` (float32, y-up) and ``triangles`` (indexing
+    them); with ``feature_ids`` (one per vertex) EXT_mesh_features of ``features``."""
+    position = spools.add(local, FLOAT, "VEC3", min=local.min(axis=0).tolist(),
+                          max=local.max(axis=0).tolist())
+    small = len(local) <= UINT16_VERTICES
+    index = spools.add(triangles.astype(np.uint16 if small else np.uint32).ravel(),
+                       UINT16 if small else UINT32, "SCALAR")
+    primitive = {"attributes": {"POSITION": position}, "indices": index,
+                 "material": material, "mode": TRIANGLES}
+    if feature_ids is not None:
+        primitive["attributes"]["_FEATURE_ID_0"] = spools.add(
+            feature_ids.astype(np.float32), FEATURE_IDS, "SCALAR")
+        primitive["extensions"] = {"EXT_mesh_features": {"featureIds": [
+            {"featureCount": features, "attribute": 0, "propertyTable": 0}]}}
+    return primitive
+
+
 def _buildings(scene, drawn, spools):
     """Write the node, mesh and accessors of each building of ``drawn`` ((building, its
     chunks), :func:`_drawn`); returns the materials used, in the order of their first use."""
-    materials, material_of = [], {}
+    materials = _Materials()
     for b, ks in drawn:
         copied = bool(scene.copied[b])
-        vertex = np.concatenate([np.arange(scene.chunk_vertex[k], scene.chunk_vertex[k + 1])
-                                 for k in ks])
-        points = _y_up(scene.positions[vertex].astype(np.float64))
-        low, high = points.min(axis=0), points.max(axis=0)
-        anchor = np.array([(low[0] + high[0]) / 2, low[1], (low[2] + high[2]) / 2])
+        anchor = _anchor(_chunk_points(scene, ks))
         primitives = []
-        for k in ks:
-            triangles = scene.triangles[scene.chunk_start[k]:scene.chunk_start[k + 1]]
-            kinds = scene.kinds[triangles[:, 0]]
-            for kind in np.unique(kinds):
-                # a chunk's vertices are sorted by kind: each kind's are one run
-                own = triangles[kinds == kind]
-                first, last = int(own.min()), int(own.max()) + 1
-                local = (_y_up(scene.positions[first:last].astype(np.float64))
-                         - anchor).astype(np.float32)
-                position = spools.add(local, FLOAT, "VEC3", min=local.min(axis=0).tolist(),
-                                      max=local.max(axis=0).tolist())
-                small = last - first <= UINT16_VERTICES
-                indices = (own - first).astype(np.uint16 if small else np.uint32).ravel()
-                index = spools.add(indices, UINT16 if small else UINT32, "SCALAR")
-                key = (copied, int(kind))
-                if key not in material_of:
-                    material_of[key] = len(materials)
-                    materials.append(_material(*COLOURS[key]))
-                primitives.append({"attributes": {"POSITION": position}, "indices": index,
-                                   "material": material_of[key], "mode": TRIANGLES})
+        for kind, first, last, own in _runs(scene, ks):
+            local = (_y_up(scene.positions[first:last].astype(np.float64))
+                     - anchor).astype(np.float32)
+            primitives.append(_primitive(spools, local, own, materials((copied, kind))))
         mesh = spools.text("meshes", {"name": scene.ids[b], "primitives": primitives})
         spools.text("nodes", {"name": scene.ids[b], "mesh": mesh,
                               "translation": [float(v) for v in anchor],
                               "extras": json_safe(scene.attributes[b])})
-    return materials
+    return materials.list
+
+
+def _features(scene, drawn, spools):
+    """Write ``drawn`` ((building, its chunks), a list) as one node whose mesh has a
+    primitive per material, each part i its vertices' feature id i (EXT_mesh_features):
+    what 3D Tiles' content wants, a few draw calls a tile instead of some per building.
+    Returns the materials used."""
+    materials = _Materials()
+    runs = {}         # material: [(first, last, triangles, feature)]
+    for feature, (b, ks) in enumerate(drawn):
+        for kind, first, last, own in _runs(scene, ks):
+            runs.setdefault(materials((bool(scene.copied[b]), kind)), []).append(
+                (first, last, own, feature))
+    anchor = _anchor(_chunk_points(scene, [k for _b, ks in drawn for k in ks]))
+    primitives = []
+    for material, items in runs.items():
+        local = (_y_up(np.concatenate([scene.positions[a:e] for a, e, _t, _f in items])
+                       .astype(np.float64)) - anchor).astype(np.float32)
+        starts = np.cumsum([0] + [e - a for a, e, _t, _f in items])
+        triangles = np.concatenate([t + s for (_a, _e, t, _f), s in zip(items, starts)])
+        ids = np.repeat([f for _a, _e, _t, f in items], np.diff(starts))
+        primitives.append(_primitive(spools, local, triangles, material, ids, len(drawn)))
+    if primitives:
+        mesh = spools.text("meshes", {"name": "buildings", "primitives": primitives})
+        spools.text("nodes", {"name": "buildings", "mesh": mesh,
+                              "translation": [float(v) for v in anchor]})
+    return materials.list
 
 
 #: the glTF's JSON as ``json.dumps(..., ensure_ascii=False, separators=(",", ":"),
@@ -277,15 +372,19 @@ def _json_bytes(value):
     return _ENCODER.encode(value).encode("utf-8")
 
 
-def _container(f, spools, materials, extras):
+def _container(f, spools, materials, extras, metadata=None, blobs=()):
     """Write the GLB container: header, JSON chunk (padded with spaces), binary chunk
     (zeros); the JSON's lists of nodes, meshes and accessors and the binary views
-    copied from their spools."""
-    views, starts, length = spools.views()
+    copied from their spools. ``metadata``: EXT_structural_metadata's object (None:
+    none), its ``blobs`` (bytes) after the views of the spools."""
+    views, starts, length = spools.views(blobs)
     view = {"name": "histo city model", "nodes": list(range(spools.count["nodes"])),
             "extras": extras}
     head = {"asset": {"version": "2.0", "generator": GENERATOR},
             "scene": 0, "scenes": [{k: v for k, v in view.items() if v != []}]}
+    if metadata is not None:
+        used = ["EXT_mesh_features", "EXT_structural_metadata"]
+        head.update(extensionsUsed=used, extensions={"EXT_structural_metadata": metadata})
     # the document's members in order: text, or the name of a spooled list
     members = [_json_bytes(head)[:-1]]
     for key, value in (("nodes", None), ("meshes", None), ("materials", materials),
@@ -316,6 +415,10 @@ def _container(f, spools, materials, extras):
                 f.write(b"\0" * (starts[component] - at))
                 _copy(spools.binary[component], f)
                 at = starts[component] + spools.size[component]
+        for i, blob in enumerate(blobs):
+            f.write(b"\0" * (starts["blob", i] - at))
+            f.write(blob)
+            at = starts["blob", i] + len(blob)
         f.write(b"\0" * (binary - at))
 
 

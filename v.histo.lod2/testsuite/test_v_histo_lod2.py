@@ -359,3 +359,34 @@ def test_viewer_and_gltf_are_written_with_the_model(footprints, tmp_path):
     assert not os.path.exists(out) and not os.path.exists(glb + "2")
     with open(page) as f:
         assert f.read() == "keep"
+
+
+def test_tiles_are_written_with_the_model(footprints, tmp_path):
+    # issue 52, item 2: tiles= writes 3D Tiles 1.1 beside the model: every building one
+    # feature with its id and certainty; an existing directory needs --overwrite and is
+    # replaced whole, one holding other files never
+    from reconstruction.testsuite.view.test_tiles import features_of
+
+    out, tiles = str(tmp_path / "model.city.json"), tmp_path / "tiles"
+    rc, _out, err = run(input=footprints, output=out, tiles=str(tiles), crs=7415, seed=3)
+    assert rc == 0, err
+    model = load(out)
+    tileset, features = features_of(tiles)
+    assert sorted(f[1] for f in features) == sorted(model["CityObjects"])
+    assert all(f[5] == model["CityObjects"][f[1]]["attributes"]["certainty"] > 0
+               for f in features)
+    assert all(f[6] == model["CityObjects"][f[1]]["attributes"] for f in features)
+    (tiles / "content" / "stale.glb").write_bytes(b"x")
+    rc, _out, err = run(input=footprints, output=out + "2", tiles=str(tiles), crs=7415, seed=3)
+    assert rc != 0 and "use --overwrite" in err and not os.path.exists(out + "2")
+    rc, _out, err = run("", overwrite=True, input=footprints, output=out, tiles=str(tiles),
+                        crs=7415, seed=3)
+    assert rc == 0, err
+    assert not (tiles / "content" / "stale.glb").exists() and features_of(tiles)[1]
+    other = tmp_path / "photos"
+    other.mkdir()
+    (other / "a.jpg").write_bytes(b"x")
+    rc, _out, err = run("", overwrite=True, input=footprints, output=out, tiles=str(other),
+                        crs=7415, seed=3)
+    assert rc != 0 and "it is not replaced" in " ".join(err.split())
+    assert (other / "a.jpg").exists() and "Traceback" not in err and err.count("ERROR") == 1

@@ -3,10 +3,13 @@ register (a vector map's table), a snapshot, and one ERROR line for bad options 
 nothing written."""
 
 import json
+import pathlib
 
 import pytest
 
 from histo_testing import key_values, run_module
+from reconstruction.epochs.dynamic import snapshot
+from reconstruction.testsuite.view.test_tiles import features_of, read_glb
 from reconstruction.testsuite.timeline.test_timeline import write_epochs
 
 pytestmark = pytest.mark.grass
@@ -106,3 +109,30 @@ def test_bad_epoch_models_end_in_one_error_line_and_nothing_written(epochs, tmp_
     text = " ".join(err.split())
     assert text.count("ERROR:") == 1 and message in text, text
     assert "Traceback" not in err
+
+
+def test_tiles_give_each_year_s_buildings_and_gltf_the_last_year(epochs, tmp_path):
+    out, tiles, glb = tmp_path / "town.city.json", tmp_path / "tiles", tmp_path / "town.glb"
+    rc, _out, err = run_module("v.histo.timeline", models="{},{}".format(
+        epochs[1880], epochs[1915]), years="1880,1915", register="bag", output=str(out),
+        tiles=str(tiles), gltf=str(glb))
+    assert rc == 0, err
+    document = json.loads(out.read_text())
+    tileset, features = features_of(tiles)
+    assert tileset["extras"]["years"] == [1880, 1915]
+    for year in (1880, 1901, 1902, 1914, 1915):
+        standing = {f[1] for f in features if f[2] <= year <= f[3]}
+        expected = {o for o, obj in snapshot(document, year)["CityObjects"].items()
+                    if not obj.get("parents")}
+        assert standing == expected, year
+    gltf, _binary = read_glb(glb)
+    last = {o for o, obj in snapshot(document, 1915)["CityObjects"].items()
+            if not obj.get("parents")}
+    assert {n["name"] for n in gltf["nodes"]} == last
+    assert gltf["scenes"][0]["extras"]["year"] == 1915
+    # a second run: the directory exists, --overwrite needed, nothing written
+    rc, _out, err = run_module("v.histo.timeline", models="{},{}".format(
+        epochs[1880], epochs[1915]), years="1880,1915", output=str(tmp_path / "b.city.json"),
+        tiles=str(tiles))
+    assert rc != 0 and "use --overwrite" in err and err.count("ERROR") == 1
+    assert not pathlib.Path(tmp_path / "b.city.json").exists()

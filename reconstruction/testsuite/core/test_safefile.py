@@ -1,6 +1,7 @@
 """Files written whole or not at all, through links, never over devices (issue 12, item 6)."""
 
 import os
+import pathlib
 import stat
 
 import pytest
@@ -145,3 +146,29 @@ def test_integer_columns_refuse_fractions_and_text():
     for bad in (1.5, "two", float("nan"), float("inf")):
         with pytest.raises(InputError, match="Column <plot> of vector map <m> must hold whole"):
             integer_column([1, bad], "plot", "m")
+
+
+def test_a_directory_is_written_whole_with_its_files_or_not_at_all(tmp_path):
+    # issue 52, item 2 (tiles=): a directory output appears with a file, replaces an old
+    # one whole (its files gone), and a failure leaves the old one and no temporary one
+    target = tmp_path / "tiles"
+    with safefile.together() as files:
+        (pathlib.Path(files.reserve_dir(str(target))) / "a.json").write_text("1")
+        model = files.reserve(str(tmp_path / "model.json"))
+        pathlib.Path(model).write_text("m")
+        assert not target.exists()
+    assert (target / "a.json").read_text() == "1" and (tmp_path / "model.json").exists()
+    assert stat.S_IMODE(os.stat(target).st_mode) & 0o700 == 0o700
+    with safefile.together() as files:
+        (pathlib.Path(files.reserve_dir(str(target))) / "b.json").write_text("2")
+    assert sorted(os.listdir(target)) == ["b.json"]
+    with pytest.raises(RuntimeError):
+        with safefile.together() as files:
+            (pathlib.Path(files.reserve_dir(str(target))) / "c.json").write_text("3")
+            raise RuntimeError("failed while writing")
+    assert sorted(os.listdir(target)) == ["b.json"]
+    assert sorted(os.listdir(tmp_path)) == ["model.json", "tiles"]
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(InputError, match="is not a directory"):
+        with safefile.together() as files:
+            files.reserve_dir(str(tmp_path / "file"))
