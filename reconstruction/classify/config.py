@@ -147,7 +147,8 @@ def read_config(options, flags=None):
         seed=parse_number(options["seed"], "seed", int),
         nprocs=processes(options["nprocs"]),
         memory=parse_number(options.get("memory") or 300, "memory", int, minimum=1),
-        bands=tuple(bands), segmentation=segmentation, label_column=options.get("label_column", "label"),
+        bands=tuple(bands), segmentation=segmentation,
+        label_column=options.get("label_column", "label"),
         class_column=options.get("class_column", "class"),
         keep_segments=bool(options.get("segments")), exhaustive=bool(flags.get("e")),
         print_table=bool(flags.get("p")), register=bool(flags.get("b")))

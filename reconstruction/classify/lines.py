@@ -13,12 +13,12 @@ numpy and scipy; the ink as read in :mod:`reconstruction.geom.ink`):
    measured on the map (:func:`~reconstruction.geom.ink.stroke_scale`); on a
    colour scan, ink of a colour (:data:`COLOURED`: red district limits and
    names) is not read, but a black line one crosses goes on under it.
-2. **Hatching**: where ink covers more than :data:`HATCH_SHARE` of a window
-   :data:`HATCH_WINDOW` stroke widths wide, in a patch wider than a stroke on
-   every side (an opening by a disk :data:`HATCH_OPENING` stroke widths wide
-   leaves a line or a word out) and at least the map's least region: dense
-   parallel strokes fill a building or the river; a line, a dotted line or
-   a word does not.
+2. **Hatching**: dense parallel strokes: the ink closed over gaps of
+   :data:`HATCH_GAP` stroke widths and opened by a disk :data:`HATCH_OPENING`
+   stroke widths wide (a lone line or a word's strokes go), where the
+   strokes run one way (:data:`HATCH_COHERENCE`), in patches of at least the
+   map's least region: the hatching of a building or of the river; a line,
+   a dotted line or a word is none.
 3. **Lines**: the ink outside the hatching's interior that runs at least
    :data:`~reconstruction.geom.ink.LINE_STROKES` stroke widths (its box's
    diagonal: letters and numbers are no lines, and stay in the shape they
@@ -29,8 +29,9 @@ numpy and scipy; the ink as read in :mod:`reconstruction.geom.ink`):
    lines) joins the region nearest to each of its cells.
 
 The segments are the shapes, numbered first, then the 8-connected parts of
-the lines, then those of the strokes of colour: the classifier decides, from the training points, what each is
-(block, hatched building, water, street, garden; outline). What a shape is
+the lines, then those of the strokes of colour: the classifier decides, from
+the training points, what each is (block, hatched building, water, street,
+garden; outline). What a shape is
 filled with is in :func:`fill_features`.
 """
 
@@ -40,7 +41,7 @@ import numpy as np
 from scipy import ndimage
 
 from ..geom.ink import (LINE_STROKES, StrokeScale, brightness, close_gaps, grow, ink_contrast,
-                        ink_threshold, otsu, stroke_scale)
+                        ink_threshold, long_parts, otsu, stroke_scale)
 from ..geom.strokes import disk
 
 #: hatching: the gaps between its strokes are closed by a disk this many
@@ -92,18 +93,12 @@ class InkReading:
 class LineShapes:
     """What :func:`line_shapes` read: ``segments`` (int32, 1..``shapes`` the closed
     shapes, then the parts of the lines, then the strokes of colour; 0 where
-    the map is not), ``shapes``
-    how many closed shapes, ``lines`` (bool) the cells of line work,
+    the map is not), ``shapes`` how many closed shapes, ``lines`` (bool) the cells of line work,
     ``reading`` the :class:`InkReading` they come from."""
     segments: np.ndarray
     shapes: int
     lines: np.ndarray
     reading: InkReading
-
-
-def _odd(value):
-    size = max(3, int(round(value)))
-    return size if size % 2 else size + 1
 
 
 def _greyscale(bands):
@@ -119,7 +114,7 @@ def hatching(ink, scale):
     patches of at least the map's least region (``scale`` a
     :class:`~reconstruction.geom.ink.StrokeScale`)."""
     gap = max(1, int(round(HATCH_GAP * scale.stroke)))
-    dense = ndimage.binary_closing(np.pad(ink, gap), structure=disk(gap))[gap:-gap, gap:-gap]
+    dense = _closed(ink, gap)
     dense = ndimage.binary_opening(dense, structure=disk(max(1, int(round(
         HATCH_OPENING * scale.stroke)))))
     tensor = structure_tensor(ink.astype(np.float32), HATCH_WINDOW * scale.stroke)
@@ -132,13 +127,10 @@ def hatching(ink, scale):
     return keep[parts]
 
 
-def _long_parts(cells, length):
-    """The 8-connected parts of ``cells`` whose box's diagonal is at least ``length`` cells."""
-    parts, count = ndimage.label(cells, structure=EIGHT)
-    keep = np.zeros(count + 1, dtype=bool)
-    for k, box in enumerate(ndimage.find_objects(parts), 1):
-        keep[k] = np.hypot(box[0].stop - box[0].start, box[1].stop - box[1].start) >= length
-    return keep[parts]
+def _closed(cells, reach):
+    """``cells`` (bool) closed by a disk of ``reach`` cells, nothing beyond the map."""
+    return ndimage.binary_closing(np.pad(cells, reach), structure=disk(reach))[
+        reach:-reach, reach:-reach]
 
 
 def read_ink(bands, cell, stroke=None, min_area=None):
@@ -173,12 +165,11 @@ def line_shapes(reading):
     ink, hatched, valid, scale = reading.ink, reading.hatched, reading.valid, reading.scale
     interior = ndimage.binary_erosion(hatched, structure=disk(max(1, int(round(
         HATCH_INTERIOR * scale.stroke)))))
-    lines = _long_parts(ink & ~interior, LINE_STROKES * scale.stroke)
+    lines = long_parts(ink & ~interior, LINE_STROKES * scale.stroke)
     lines = close_gaps(lines, scale.stroke) | (hatched & ~ndimage.binary_erosion(hatched))
     # a black line a stroke of colour is drawn across goes on under it
     reach = max(1, int(round(BRIDGE_STROKES * scale.stroke)))
-    lines |= reading.coloured & ndimage.binary_closing(
-        np.pad(lines, reach), structure=disk(reach))[reach:-reach, reach:-reach]
+    lines |= reading.coloured & _closed(lines, reach)
     lines &= valid
     regions, count = ndimage.label(valid & ~lines, structure=FOUR)
     sizes = np.bincount(regions.ravel(), minlength=count + 1)
@@ -211,13 +202,9 @@ def structure_tensor(image, sigma):
     return tuple(ndimage.gaussian_filter(v, sigma) for v in (gx * gx, gx * gy, gy * gy))
 
 
-def coherence(image, sigma):
-    """How much one direction dominates the gradients around each cell (0-1):
-    the structure tensor's eigenvalues' difference over their sum."""
-    return _coherence(*structure_tensor(image, sigma))
-
-
 def _coherence(jxx, jxy, jyy):
+    """How much one direction dominates the gradients (0-1): the structure
+    tensor's eigenvalues' difference over their sum."""
     trace = jxx + jyy
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(trace > 1e-6, np.hypot(jxx - jyy, 2 * jxy) / trace, 0.0)
@@ -236,8 +223,8 @@ def fill_features(segments, reading):
       strokes only), from the segment's summed structure tensor;
     - ``edge_density``: the mean gradient energy of the ink, per cell.
 
-    ``reading``: the map's :class:`InkReading`. Hatching of buildings and of water differ by direction and
-    spacing (edge density), not by colour.
+    ``reading``: the map's :class:`InkReading`. Hatching of buildings and of
+    water differ by direction and spacing (edge density), not by colour.
     """
     index = np.maximum(segments, 0).ravel()
     n = int(segments.max())

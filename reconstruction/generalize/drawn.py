@@ -38,7 +38,7 @@ import numpy as np
 from scipy import ndimage
 
 from ..geom.ink import (LINE_STROKES, StrokeScale, close_gaps, ink_contrast, ink_threshold,
-                        labels_coverage, stroke_scale)
+                        labels_coverage, long_parts, stroke_scale)
 from ..geom.polygons import cells_inside, polygon_parts
 
 #: a region the lines close is decided whole when at least this share of its
@@ -77,13 +77,7 @@ def line_cells(contrast, stroke):
     spread, in 8-connected parts at least :data:`LINE_STROKES` stroke widths long,
     gaps up to :data:`~reconstruction.geom.ink.GAP_STROKES` widths closed."""
     ink = contrast > ink_threshold(contrast)
-    labels, n = ndimage.label(ink, structure=np.ones((3, 3), bool))
-    keep = np.zeros(n + 1, bool)
-    for k, box in enumerate(ndimage.find_objects(labels), 1):
-        if box is not None:
-            length = np.hypot(box[0].stop - box[0].start, box[1].stop - box[1].start)
-            keep[k] = length >= LINE_STROKES * stroke
-    return close_gaps(keep[labels], stroke)
+    return close_gaps(long_parts(ink, LINE_STROKES * stroke), stroke)
 
 
 def built_cells(line, building, min_cells):

@@ -111,6 +111,17 @@ def ink_threshold(contrast):
     return max(median + SPREAD * spread, MIN_CONTRAST)
 
 
+def long_parts(cells, length):
+    """The 8-connected parts of ``cells`` (bool) whose box's diagonal is at least
+    ``length`` cells: the ink of lines, not of letters and numbers."""
+    labels, n = ndimage.label(cells, structure=np.ones((3, 3), bool))
+    keep = np.zeros(n + 1, bool)
+    for k, box in enumerate(ndimage.find_objects(labels), 1):
+        if box is not None:
+            keep[k] = np.hypot(box[0].stop - box[0].start, box[1].stop - box[1].start) >= length
+    return keep[labels]
+
+
 def close_gaps(lines, stroke, beyond=False):
     """``lines`` (bool) with gaps up to :data:`GAP_STROKES` stroke widths (a cell
     at least) closed, the cells beyond the window taken as ``beyond``."""
